@@ -1,0 +1,320 @@
+//! The complete controller: one sample of the saturated hybrid law.
+//!
+//! `step(state, reference, dt)` runs, in order: the filtered saturated position law
+//! (Section IV) → thrust `T = m|u|` and thrust direction → desired attitude `R_d`, `ω_d`, `ω̇_d`
+//! (eq:DesiredRotationMatrix, eq:DesiredAngularVelocity, eq:DesiredAngularAcceleration) →
+//! attitude error `R̃ = R_dᵀR` lifted to the MRP `ϑ̃` by the hybrid path lifting (Appendix) →
+//! saturated MRP torque with feedforward (Section V) → exact propagation of the filter states over
+//! the sample with `ubar_p` held. The controller samples the state every `dt` and the caller
+//! holds `(T, τ)` until the next sample (Section VI uses `dt = 0.01 s`).
+//!
+//! The step allocates nothing, logs nothing and never returns NaN: non-finite inputs are an
+//! error and leave the controller's state untouched.
+
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+
+use crate::attitude_control::AttitudeGains;
+use crate::desired_attitude::{desired_attitude, DesiredAttitudeError};
+use crate::mrp::rotation_from_quaternion;
+use crate::params::{Gains, ParameterError, Vehicle};
+use crate::path_lifting::{JumpCounters, PathLifting};
+use crate::position::FilterState;
+use crate::reference::{ReferenceSample, TrajectoryConstants};
+use crate::scalar::{to_f64, Scalar};
+
+/// The measured rigid-body state `x = (p, v, R, ω)` of Problem 1.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VehicleState<T: Scalar> {
+    /// Position `p` [m], inertial (z up).
+    pub position: Vector3<T>,
+    /// Velocity `v` [m/s], inertial.
+    pub velocity: Vector3<T>,
+    /// Attitude: body-to-inertial unit quaternion (Hamilton).
+    pub attitude: UnitQuaternion<T>,
+    /// Angular velocity `ω` [rad/s], body frame.
+    pub angular_velocity: Vector3<T>,
+}
+
+/// Everything the step computed, for logs and plots (frames as noted).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Diagnostics<T: Scalar> {
+    /// `z₁` [m], inertial (eq:Zcoordinates).
+    pub z1: Vector3<T>,
+    /// `z₂` [m/s], inertial.
+    pub z2: Vector3<T>,
+    /// `ubar_p` [m/s²], inertial.
+    pub ubar_p: Vector3<T>,
+    /// Filter state `u_f` at the sample [m/s²], inertial.
+    pub u_f: Vector3<T>,
+    /// Filter state `u_s` at the sample [m/s²], inertial.
+    pub u_s: Vector3<T>,
+    /// Control vector `u` [m/s²], inertial.
+    pub u: Vector3<T>,
+    /// Thrust direction `ρ = u/|u|`, inertial.
+    pub thrust_direction: Vector3<T>,
+    /// Desired attitude `R_d` (desired body to inertial).
+    pub desired_rotation: Matrix3<T>,
+    /// `ω_d` [rad/s], desired body frame.
+    pub desired_angular_velocity: Vector3<T>,
+    /// `ω̇_d` [rad/s²], desired body frame.
+    pub desired_angular_acceleration: Vector3<T>,
+    /// MRP attitude error `ϑ̃` (dimensionless), `|ϑ̃| ≤ 1 + δ`.
+    pub mrp_error: Vector3<T>,
+    /// Angular velocity error `ω̃ = ω − R̃ᵀω_d` [rad/s], body frame.
+    pub omega_error: Vector3<T>,
+    /// `s_ϑ(k_ϑ ϑ̃)` [N m], body.
+    pub s_mrp: Vector3<T>,
+    /// `s_ω(k_ω ω̃)` [N m], body.
+    pub s_omega: Vector3<T>,
+    /// Feedforward `τ_c` [N m], body.
+    pub feedforward: Vector3<T>,
+    /// Path-lifting jumps applied at this sample.
+    pub jumps: JumpCounters,
+    /// Path-lifting jumps since construction.
+    pub jumps_total: JumpCounters,
+}
+
+/// The command of one sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ControlOutput<T: Scalar> {
+    /// Collective thrust `T = m|u|` [N] along the body z axis.
+    pub thrust: T,
+    /// Torque `τ` [N m], body frame.
+    pub torque: Vector3<T>,
+    /// Intermediate signals.
+    pub diagnostics: Diagnostics<T>,
+}
+
+/// Why a step was refused. The controller's state is unchanged when a step fails.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StepError {
+    /// A measured or reference value is NaN or infinite; names the field.
+    NonFiniteInput {
+        /// The offending field (e.g. `"state.position"`).
+        field: &'static str,
+    },
+    /// `dt` is not finite and positive.
+    BadTimeStep {
+        /// The value given [s].
+        dt: f64,
+    },
+    /// The desired attitude is undefined for this reference (see [`DesiredAttitudeError`]).
+    DesiredAttitude(DesiredAttitudeError),
+    /// The law produced a non-finite value (defensive; not expected for finite inputs).
+    NonFiniteOutput,
+}
+
+impl core::fmt::Display for StepError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::NonFiniteInput { field } => write!(f, "non-finite input: {field}"),
+            Self::BadTimeStep { dt } => write!(f, "time step must be finite and > 0 s, got {dt}"),
+            Self::DesiredAttitude(e) => write!(f, "desired attitude undefined: {e:?}"),
+            Self::NonFiniteOutput => write!(f, "non-finite controller output"),
+        }
+    }
+}
+
+/// The saturated hybrid position and heading tracking controller.
+#[derive(Clone, Copy, Debug)]
+pub struct Controller<T: Scalar> {
+    vehicle: Vehicle<T>,
+    gains: Gains<T>,
+    filter: FilterState<T>,
+    lifting: PathLifting<T>,
+}
+
+fn finite3<T: Scalar>(v: &Vector3<T>, field: &'static str) -> Result<(), StepError> {
+    if v.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(StepError::NonFiniteInput { field })
+    }
+}
+
+impl<T: Scalar> Controller<T> {
+    /// A controller for `vehicle` with `gains`, for references bounded by `constants`.
+    ///
+    /// Validates: `m, J_ii, g > 0`; every gain and saturation level `> 0`; `δ > 0`;
+    /// `0 < α < 1`; the constants finite and `≥ 0`; and `M_p < g − K_a3` (Section IV), without
+    /// which the thrust may vanish. Filter states start at `x_f = 0`.
+    /// Errors: [`ParameterError`] naming the parameter and its value.
+    /// The theorems' feasibility conditions are separate: see [`crate::certify`].
+    pub fn new(
+        vehicle: Vehicle<T>,
+        gains: Gains<T>,
+        constants: &TrajectoryConstants<T>,
+    ) -> Result<Self, ParameterError> {
+        vehicle.validate()?;
+        gains.validate()?;
+        let mut c = Self {
+            vehicle,
+            gains,
+            filter: FilterState::zero(),
+            lifting: PathLifting::new(gains.hysteresis, gains.reset_threshold),
+        };
+        c.accept_reference(constants)?;
+        Ok(c)
+    }
+
+    /// Checks that a new reference with these constants keeps `M_p < g − K_a3`.
+    /// Errors: [`ParameterError::SaturationTooLarge`] or `BadTrajectoryConstant`.
+    pub fn accept_reference(
+        &mut self,
+        constants: &TrajectoryConstants<T>,
+    ) -> Result<(), ParameterError> {
+        let ka3 = constants.vertical_acceleration;
+        if !(ka3.is_finite() && ka3 >= T::zero()) {
+            return Err(ParameterError::BadTrajectoryConstant {
+                name: "K_a3",
+                value: to_f64(ka3),
+            });
+        }
+        let limit = self.vehicle.gravity - ka3;
+        if !(self.gains.position.saturation < limit) {
+            return Err(ParameterError::SaturationTooLarge {
+                saturation: to_f64(self.gains.position.saturation),
+                limit: to_f64(limit),
+            });
+        }
+        Ok(())
+    }
+
+    /// The vehicle parameters.
+    pub fn vehicle(&self) -> &Vehicle<T> {
+        &self.vehicle
+    }
+
+    /// The gains.
+    pub fn gains(&self) -> &Gains<T> {
+        &self.gains
+    }
+
+    /// Filter states `(u_f, u_s)` [m/s²].
+    pub fn filter_state(&self) -> FilterState<T> {
+        self.filter
+    }
+
+    /// Sets the filter states; they must lie in `M_p 𝔹⁶_∞` (Lemma 1's premise).
+    /// Errors: [`ParameterError::OutOfRange`] naming `"x_f"` with the largest component.
+    pub fn set_filter_state(&mut self, filter: FilterState<T>) -> Result<(), ParameterError> {
+        let m = self.gains.position.saturation;
+        let largest = filter.u_f.amax().max(filter.u_s.amax());
+        if !(largest.is_finite() && largest <= m) {
+            return Err(ParameterError::OutOfRange {
+                name: "x_f",
+                value: to_f64(largest),
+                low: -to_f64(m),
+                high: to_f64(m),
+            });
+        }
+        self.filter = filter;
+        Ok(())
+    }
+
+    /// Path-lifting jumps since construction.
+    pub fn jump_counters(&self) -> JumpCounters {
+        self.lifting.counters()
+    }
+
+    /// Computes the thrust [N] and torque [N m] for the sample, then advances the filters by
+    /// `dt` [s].
+    ///
+    /// Inputs: measured state (inertial `p, v`; body-to-inertial attitude; body `ω`), the
+    /// reference sample at the same time, and the sampling period `dt`.
+    /// Errors: [`StepError`]; on error nothing in the controller changes.
+    pub fn step(
+        &mut self,
+        state: &VehicleState<T>,
+        reference: &ReferenceSample<T>,
+        dt: T,
+    ) -> Result<ControlOutput<T>, StepError> {
+        finite3(&state.position, "state.position")?;
+        finite3(&state.velocity, "state.velocity")?;
+        finite3(&state.angular_velocity, "state.angular_velocity")?;
+        if !state.attitude.coords.iter().all(|x| x.is_finite()) {
+            return Err(StepError::NonFiniteInput {
+                field: "state.attitude",
+            });
+        }
+        if !reference.is_finite() {
+            return Err(StepError::NonFiniteInput { field: "reference" });
+        }
+        if !(dt.is_finite() && dt > T::zero()) {
+            return Err(StepError::BadTimeStep { dt: to_f64(dt) });
+        }
+
+        let g = &self.gains;
+        let position = g.position.evaluate(
+            &(state.position - reference.position),
+            &(state.velocity - reference.velocity),
+            &self.filter,
+            &reference.acceleration,
+            &reference.jerk,
+            &reference.snap,
+            self.vehicle.gravity,
+        );
+        let desired = desired_attitude(
+            &position.u,
+            &position.u_dot,
+            &position.u_ddot,
+            &reference.heading,
+            &reference.heading_rate,
+            &reference.heading_acceleration,
+        )
+        .map_err(StepError::DesiredAttitude)?;
+
+        let rotation = rotation_from_quaternion(state.attitude.quaternion());
+        let error_rotation = desired.rotation.transpose() * rotation;
+        let mut lifting = self.lifting;
+        let lifted = lifting.lift(&error_rotation);
+        let attitude: &AttitudeGains<T> = &g.attitude;
+        let torque = attitude.evaluate(
+            &lifted.mrp,
+            &state.angular_velocity,
+            &error_rotation,
+            &desired.angular_velocity,
+            &desired.angular_acceleration,
+            &self.vehicle.inertia,
+        );
+        let thrust = self.vehicle.mass * position.u.norm();
+        let next_filter = g.position.propagate(&self.filter, &position.ubar_p, dt);
+
+        let finite = thrust.is_finite()
+            && torque.torque.iter().all(|x| x.is_finite())
+            && next_filter
+                .u_f
+                .iter()
+                .chain(next_filter.u_s.iter())
+                .all(|x| x.is_finite());
+        if !finite {
+            return Err(StepError::NonFiniteOutput);
+        }
+        let diagnostics = Diagnostics {
+            z1: position.z1,
+            z2: position.z2,
+            ubar_p: position.ubar_p,
+            u_f: self.filter.u_f,
+            u_s: self.filter.u_s,
+            u: position.u,
+            thrust_direction: desired.thrust_direction.unit,
+            desired_rotation: desired.rotation,
+            desired_angular_velocity: desired.angular_velocity,
+            desired_angular_acceleration: desired.angular_acceleration,
+            mrp_error: lifted.mrp,
+            omega_error: torque.omega_error,
+            s_mrp: torque.s_mrp,
+            s_omega: torque.s_omega,
+            feedforward: torque.feedforward,
+            jumps: lifted.jumps,
+            jumps_total: lifting.counters(),
+        };
+        self.lifting = lifting;
+        self.filter = next_filter;
+        Ok(ControlOutput {
+            thrust,
+            torque: torque.torque,
+            diagnostics,
+        })
+    }
+}

@@ -1,0 +1,38 @@
+//! Saturated hybrid position and heading tracking on SE(3), after
+//! L. Martins, C. Cardeira, P. Oliveira, "Robust Global Position and Heading Tracking on SE(3)
+//! via Saturated Hybrid Feedback" (the paper; equation labels in the docs are its LaTeX labels).
+//!
+//! `#![no_std]`, no allocation, no hardware: the same code runs on the host (f64 or f32) and on a
+//! Cortex-M4F (f32). Generic over the scalar ([`Scalar`]).
+//!
+//! Conventions: inertial frame z up, gravity `−g e₃`; body-to-inertial Hamilton quaternions;
+//! body-frame angular velocity; SI units (N, N m, rad, rad/s, m, s).
+//!
+//! Modules, one concept each: [`saturation`] (Definition 1), [`position`] (Section IV),
+//! [`desired_attitude`] (eq:DesiredRotationMatrix, Lemma 1), [`mrp`] (Section II),
+//! [`path_lifting`] (Appendix), [`attitude_control`] (Section V), [`reference`]
+//! (Assumption 1's trajectories), [`bounds`] (Assumption 1, Theorems 1–2, Lemma 1),
+//! [`params`], and [`controller`] which composes them.
+#![cfg_attr(not(test), no_std)]
+#![deny(missing_docs)]
+
+pub mod attitude_control;
+pub mod bounds;
+pub mod controller;
+pub mod desired_attitude;
+pub mod mrp;
+pub mod params;
+pub mod path_lifting;
+pub mod position;
+pub mod reference;
+pub mod saturation;
+pub mod scalar;
+
+pub use bounds::{certify, Bounds, Certificate, Condition, FilterStart, Violation};
+pub use controller::{ControlOutput, Controller, Diagnostics, StepError, VehicleState};
+pub use params::{Gains, Limits, ParameterError, Vehicle};
+pub use path_lifting::JumpCounters;
+pub use reference::{
+    HeadingProfile, ReferenceSample, ReferenceTrajectory, Trajectory, TrajectoryConstants,
+};
+pub use scalar::Scalar;

@@ -1,0 +1,273 @@
+//! The filtered saturated position controller of Section IV.
+//!
+//! The control vector `u = R (T/m) e₃` [m/s²] (inertial) is
+//! `u = u_f + g e₃ + p̈_d` (eq:PositionControlLaw), where the feedback `u_f` is the output of two
+//! cascaded first-order filters (eq:FilterDynamics)
+//! `u̇_f = −k_f (u_f − u_s)`, `u̇_s = −k_s (u_s − ubar_p)`,
+//! driven by the saturated feedback `ubar_p = −σ_p(k_p z₁ + k_v z₂)` in the z-coordinates
+//! (eq:Zcoordinates) `z₁ = p̃ + (1/k_f + 1/k_s) ṽ + u_f/(k_s k_f)`, `z₂ = ṽ + u_f/k_f + u_s/k_s`,
+//! in which the loop is the double integrator `ż₁ = z₂`, `ż₂ = ubar_p`.
+//! The derivatives `u̇`, `ü` needed by the attitude reference come from the filter dynamics in
+//! closed form (never by differencing).
+
+use nalgebra::Vector3;
+
+use crate::saturation::tanh_saturation;
+use crate::scalar::Scalar;
+
+/// Gains of the position loop (Table I names in brackets).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PositionGains<T: Scalar> {
+    /// `k_p` [1/s²]: proportional gain on `z₁`.
+    pub kp: T,
+    /// `k_v` [1/s]: gain on `z₂`.
+    pub kv: T,
+    /// `k_f` [1/s]: bandwidth of the output filter (`u_f`).
+    pub kf: T,
+    /// `k_s` [1/s]: bandwidth of the inner filter (`u_s`).
+    pub ks: T,
+    /// `M_p` [m/s²]: saturation level of `σ_p` (per component); must satisfy `M_p < g − K_a3`.
+    pub saturation: T,
+}
+
+/// Filter states `x_f = (u_f, u_s)` [m/s²], inertial frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FilterState<T: Scalar> {
+    /// Filtered feedback `u_f` [m/s²].
+    pub u_f: Vector3<T>,
+    /// Internal filter state `u_s` [m/s²].
+    pub u_s: Vector3<T>,
+}
+
+impl<T: Scalar> FilterState<T> {
+    /// `x_f = 0`, the initial condition of Section VI.
+    pub fn zero() -> Self {
+        Self {
+            u_f: Vector3::zeros(),
+            u_s: Vector3::zeros(),
+        }
+    }
+}
+
+/// What the position loop computes at one sample (all inertial frame).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PositionOutput<T: Scalar> {
+    /// `z₁` [m]: forward-projected position error (eq:Zcoordinates).
+    pub z1: Vector3<T>,
+    /// `z₂` [m/s]: forward-projected velocity error (eq:Zcoordinates).
+    pub z2: Vector3<T>,
+    /// `ubar_p = −σ_p(k_p z₁ + k_v z₂)` [m/s²], each component in `(−M_p, M_p)`.
+    pub ubar_p: Vector3<T>,
+    /// `u = u_f + g e₃ + p̈_d` [m/s²] (eq:PositionControlLaw).
+    pub u: Vector3<T>,
+    /// `u̇ = −k_f (u_f − u_s) + p_d⁽³⁾` [m/s³].
+    pub u_dot: Vector3<T>,
+    /// `ü = −k_f(−k_f(u_f − u_s) + k_s(u_s − ubar_p)) + p_d⁽⁴⁾` [m/s⁴].
+    pub u_ddot: Vector3<T>,
+}
+
+impl<T: Scalar> PositionGains<T> {
+    /// The z-coordinates `(z₁, z₂)` of eq:Zcoordinates from the position error `p̃` [m], the
+    /// velocity error `ṽ` [m/s] and the filter states.
+    pub fn z_coordinates(
+        &self,
+        position_error: &Vector3<T>,
+        velocity_error: &Vector3<T>,
+        filter: &FilterState<T>,
+    ) -> (Vector3<T>, Vector3<T>) {
+        let inv_kf = T::one() / self.kf;
+        let inv_ks = T::one() / self.ks;
+        let z1 =
+            position_error + velocity_error * (inv_kf + inv_ks) + filter.u_f * (inv_kf * inv_ks);
+        let z2 = velocity_error + filter.u_f * inv_kf + filter.u_s * inv_ks;
+        (z1, z2)
+    }
+
+    /// The position law at one sample.
+    ///
+    /// Inputs: `p̃ = p − p_d` [m], `ṽ = v − ṗ_d` [m/s], filter states, the reference's `p̈_d`,
+    /// `p_d⁽³⁾`, `p_d⁽⁴⁾`, and gravity `g` [m/s²]; all inertial. Source: Section IV,
+    /// eq:PositionControlLaw, eq:FilterDynamics, eq:Zcoordinates; `σ_p = M tanh(·/M)` as in
+    /// Section VI.
+    #[allow(clippy::too_many_arguments)]
+    pub fn evaluate(
+        &self,
+        position_error: &Vector3<T>,
+        velocity_error: &Vector3<T>,
+        filter: &FilterState<T>,
+        acceleration: &Vector3<T>,
+        jerk: &Vector3<T>,
+        snap: &Vector3<T>,
+        gravity: T,
+    ) -> PositionOutput<T> {
+        let (z1, z2) = self.z_coordinates(position_error, velocity_error, filter);
+        let ubar_p = -tanh_saturation(&(z1 * self.kp + z2 * self.kv), self.saturation);
+        let filter_gap = filter.u_f - filter.u_s;
+        let u_f_dot = -filter_gap * self.kf;
+        let u_s_dot = (filter.u_s - ubar_p) * (-self.ks);
+        let u = filter.u_f + Vector3::z() * gravity + acceleration;
+        let u_dot = u_f_dot + jerk;
+        let u_ddot = (u_f_dot - u_s_dot) * (-self.kf) + snap;
+        PositionOutput {
+            z1,
+            z2,
+            ubar_p,
+            u,
+            u_dot,
+            u_ddot,
+        }
+    }
+
+    /// Propagates the filter states over `dt` [s] with `ubar_p` held constant, by the exact
+    /// solution of the linear ODE eq:FilterDynamics (the sampled reading of this crate).
+    ///
+    /// With `e_s = u_s − ubar_p`, `e_f = u_f − ubar_p`:
+    /// `e_s(t) = e_s(0) e^{−k_s t}`,
+    /// `e_f(t) = e_f(0) e^{−k_f t} + k_f e_s(0) t e^{−k_f t} · φ₁((k_f − k_s) t)`, with
+    /// `φ₁(x) = (eˣ − 1)/x`, which is well conditioned for `k_s ≈ k_f` (and `= 1` when equal).
+    pub fn propagate(&self, filter: &FilterState<T>, ubar_p: &Vector3<T>, dt: T) -> FilterState<T> {
+        let decay_f = (-self.kf * dt).exp();
+        let decay_s = (-self.ks * dt).exp();
+        let x = (self.kf - self.ks) * dt;
+        let phi1 = if x.abs() < T::default_epsilon().sqrt() {
+            T::one() + x * nalgebra::convert::<f64, T>(0.5)
+        } else {
+            x.exp_m1() / x
+        };
+        let coupling = self.kf * dt * decay_f * phi1;
+        let e_s = filter.u_s - ubar_p;
+        let e_f = filter.u_f - ubar_p;
+        FilterState {
+            u_f: ubar_p + e_f * decay_f + e_s * coupling,
+            u_s: ubar_p + e_s * decay_s,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+    use proptest::prelude::*;
+
+    fn gains() -> PositionGains<f64> {
+        PositionGains {
+            kp: 9.0,
+            kv: 6.0,
+            kf: 2.0,
+            ks: 20.0,
+            saturation: 2.0,
+        }
+    }
+
+    fn v3() -> impl Strategy<Value = Vector3<f64>> {
+        (-5.0..5.0f64, -5.0..5.0f64, -5.0..5.0f64).prop_map(|(a, b, c)| Vector3::new(a, b, c))
+    }
+
+    /// Integrates the filtered double integrator p̃̈ = u_f (ideal inner loop, fixed reference)
+    /// with fine RK4 steps and checks ż₁ = z₂ and ż₂ = ubar_p (the Brunovsky form of Section IV).
+    #[test]
+    fn z_coordinates_are_a_double_integrator() {
+        let g = gains();
+        // State (p̃, ṽ, u_f, u_s); ubar_p recomputed continuously.
+        let f = |x: &[Vector3<f64>; 4]| {
+            let filt = FilterState {
+                u_f: x[2],
+                u_s: x[3],
+            };
+            let (z1, z2) = g.z_coordinates(&x[0], &x[1], &filt);
+            let ub = -tanh_saturation(&(z1 * g.kp + z2 * g.kv), g.saturation);
+            [x[1], x[2], -(x[2] - x[3]) * g.kf, -(x[3] - ub) * g.ks]
+        };
+        let mut x = [
+            Vector3::new(3.0, -1.0, 2.0),
+            Vector3::new(0.5, 0.0, -1.0),
+            Vector3::zeros(),
+            Vector3::zeros(),
+        ];
+        let h = 1e-4;
+        for _ in 0..2000 {
+            let filt = FilterState {
+                u_f: x[2],
+                u_s: x[3],
+            };
+            let (z1, z2) = g.z_coordinates(&x[0], &x[1], &filt);
+            let ub = -tanh_saturation(&(z1 * g.kp + z2 * g.kv), g.saturation);
+            let step = |x: &[Vector3<f64>; 4], k: &[Vector3<f64>; 4], s: f64| {
+                core::array::from_fn(|i| x[i] + k[i] * s)
+            };
+            let k1 = f(&x);
+            let k2 = f(&step(&x, &k1, h / 2.0));
+            let k3 = f(&step(&x, &k2, h / 2.0));
+            let k4 = f(&step(&x, &k3, h));
+            let next: [Vector3<f64>; 4] = core::array::from_fn(|i| {
+                x[i] + (k1[i] + k2[i] * 2.0 + k3[i] * 2.0 + k4[i]) * (h / 6.0)
+            });
+            let nf = FilterState {
+                u_f: next[2],
+                u_s: next[3],
+            };
+            let (n1, n2) = g.z_coordinates(&next[0], &next[1], &nf);
+            assert_relative_eq!((n1 - z1) / h, z2, epsilon = 2e-3);
+            assert_relative_eq!((n2 - z2) / h, ub, epsilon = 2e-3);
+            x = next;
+        }
+    }
+
+    proptest! {
+        /// The exact propagation agrees with a fine RK4 integration of eq:FilterDynamics,
+        /// including the resonant case k_f = k_s.
+        #[test]
+        fn propagation_is_exact(uf in v3(), us in v3(), ub in v3(), dt in 0.001..0.2f64,
+                                equal in proptest::bool::ANY) {
+            let mut g = gains();
+            if equal { g.ks = g.kf; }
+            let exact = g.propagate(&FilterState { u_f: uf, u_s: us }, &ub, dt);
+            let (mut f, mut s) = (uf, us);
+            let n = 4000;
+            let h = dt / n as f64;
+            let deriv = |f: Vector3<f64>, s: Vector3<f64>| (-(f - s) * g.kf, -(s - ub) * g.ks);
+            for _ in 0..n {
+                let (a1, b1) = deriv(f, s);
+                let (a2, b2) = deriv(f + a1 * h / 2.0, s + b1 * h / 2.0);
+                let (a3, b3) = deriv(f + a2 * h / 2.0, s + b2 * h / 2.0);
+                let (a4, b4) = deriv(f + a3 * h, s + b3 * h);
+                f += (a1 + a2 * 2.0 + a3 * 2.0 + a4) * (h / 6.0);
+                s += (b1 + b2 * 2.0 + b3 * 2.0 + b4) * (h / 6.0);
+            }
+            assert_relative_eq!(exact.u_f, f, epsilon = 1e-9);
+            assert_relative_eq!(exact.u_s, s, epsilon = 1e-9);
+        }
+
+        /// u̇ and ü agree with differences of u along the continuous filter flow.
+        #[test]
+        fn u_derivatives_are_analytic(uf in v3(), us in v3(), pe in v3(), ve in v3()) {
+            let g = gains();
+            let filt = FilterState { u_f: uf, u_s: us };
+            let zero = Vector3::zeros();
+            let out = g.evaluate(&pe, &ve, &filt, &zero, &zero, &zero, 9.81);
+            // Hold ubar_p (as the derivative formula does) and propagate exactly by ±h.
+            let h = 1e-5;
+            let plus = g.propagate(&filt, &out.ubar_p, h);
+            let plus2 = g.propagate(&filt, &out.ubar_p, 2.0 * h);
+            let fd1 = (plus.u_f - filt.u_f) / h;
+            let fd2 = (plus2.u_f - plus.u_f * 2.0 + filt.u_f) / (h * h);
+            assert_relative_eq!(out.u_dot, fd1, epsilon = 1e-3 * (1.0 + fd1.norm()));
+            assert_relative_eq!(out.u_ddot, fd2, epsilon = 1e-2 * (1.0 + fd2.norm()));
+        }
+
+        /// Filter states started in M_p 𝔹∞ stay there (Theorem 1 proof; Fig. 2c).
+        #[test]
+        fn filters_stay_in_the_saturation_box(pe in v3(), ve in v3()) {
+            let g = gains();
+            let mut filt = FilterState::zero();
+            let zero = Vector3::zeros();
+            for _ in 0..500 {
+                let out = g.evaluate(&(pe * 10.0), &(ve * 3.0), &filt, &zero, &zero, &zero, 9.81);
+                filt = g.propagate(&filt, &out.ubar_p, 0.01);
+                prop_assert!(filt.u_f.amax() <= g.saturation);
+                prop_assert!(filt.u_s.amax() <= g.saturation);
+            }
+        }
+    }
+}

@@ -1,0 +1,467 @@
+//! Reference trajectories `r(t)` and the constants of Assumption 1 they satisfy.
+//!
+//! A reference gives the desired position `p_d` [m, inertial, z up] with its derivatives up to
+//! the fourth, and the desired heading `ν_d ∈ S¹` (horizontal unit vector, inertial) with two
+//! derivatives. Its [`TrajectoryConstants`] are the bounds `K_a12, K_a3, K_j, K_s, K_ν̇, K_ν̈` of
+//! Assumption 1, computed in closed form from the trajectory's parameters (exact maxima where the
+//! maximum has a closed form, otherwise a documented upper bound, which is what the assumption
+//! needs).
+
+use nalgebra::{Vector2, Vector3};
+
+use crate::scalar::{lit, Scalar};
+
+/// One sample of the reference at time `t`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReferenceSample<T: Scalar> {
+    /// Desired position `p_d` [m], inertial frame (z up).
+    pub position: Vector3<T>,
+    /// `ṗ_d` [m/s], inertial.
+    pub velocity: Vector3<T>,
+    /// `p̈_d` [m/s²], inertial.
+    pub acceleration: Vector3<T>,
+    /// `p_d⁽³⁾` (jerk) [m/s³], inertial.
+    pub jerk: Vector3<T>,
+    /// `p_d⁽⁴⁾` (snap) [m/s⁴], inertial.
+    pub snap: Vector3<T>,
+    /// Desired heading `ν_d` (unit 2-vector in the inertial horizontal plane; `(cos ψ, sin ψ)`).
+    pub heading: Vector2<T>,
+    /// `ν̇_d` [1/s].
+    pub heading_rate: Vector2<T>,
+    /// `ν̈_d` [1/s²].
+    pub heading_acceleration: Vector2<T>,
+}
+
+impl<T: Scalar> ReferenceSample<T> {
+    /// A constant reference: hold `position` [m] with yaw `yaw` [rad]; all derivatives zero.
+    pub fn hold(position: Vector3<T>, yaw: T) -> Self {
+        Self {
+            position,
+            velocity: Vector3::zeros(),
+            acceleration: Vector3::zeros(),
+            jerk: Vector3::zeros(),
+            snap: Vector3::zeros(),
+            heading: Vector2::new(yaw.cos(), yaw.sin()),
+            heading_rate: Vector2::zeros(),
+            heading_acceleration: Vector2::zeros(),
+        }
+    }
+
+    /// Desired yaw `ψ_d = atan2(ν₂, ν₁)` [rad].
+    pub fn yaw(&self) -> T {
+        self.heading.y.atan2(self.heading.x)
+    }
+
+    /// True when every field is finite.
+    pub fn is_finite(&self) -> bool {
+        let v3 = |v: &Vector3<T>| v.iter().all(|x| x.is_finite());
+        let v2 = |v: &Vector2<T>| v.iter().all(|x| x.is_finite());
+        v3(&self.position)
+            && v3(&self.velocity)
+            && v3(&self.acceleration)
+            && v3(&self.jerk)
+            && v3(&self.snap)
+            && v2(&self.heading)
+            && v2(&self.heading_rate)
+            && v2(&self.heading_acceleration)
+    }
+}
+
+/// The constants of Assumption 1 that bound a reference for all `t ≥ 0`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrajectoryConstants<T: Scalar> {
+    /// `K_a12` [m/s²]: bound on the horizontal acceleration `|(p̈_d1, p̈_d2)|`.
+    pub horizontal_acceleration: T,
+    /// `K_a3` [m/s²]: bound on the vertical acceleration `|p̈_d3|`.
+    pub vertical_acceleration: T,
+    /// `K_j` [m/s³]: bound on `|p_d⁽³⁾|`.
+    pub jerk: T,
+    /// `K_s` [m/s⁴]: bound on `|p_d⁽⁴⁾|`.
+    pub snap: T,
+    /// `K_ν̇` [1/s]: bound on `|ν̇_d|`.
+    pub heading_rate: T,
+    /// `K_ν̈` [1/s²]: bound on `|ν̈_d|`.
+    pub heading_acceleration: T,
+}
+
+impl<T: Scalar> TrajectoryConstants<T> {
+    /// All constants zero: a hover reference.
+    pub fn zero() -> Self {
+        Self {
+            horizontal_acceleration: T::zero(),
+            vertical_acceleration: T::zero(),
+            jerk: T::zero(),
+            snap: T::zero(),
+            heading_rate: T::zero(),
+            heading_acceleration: T::zero(),
+        }
+    }
+
+    /// True if `sample` lies inside these bounds (with relative slack `tol` for rounding).
+    /// Source: Assumption 1 (the compact set `Ω_r` and the inclusion `F_r`).
+    pub fn contain(&self, sample: &ReferenceSample<T>, tol: T) -> bool {
+        let ok = |v: T, k: T| v <= k * (T::one() + tol) + tol;
+        let a = &sample.acceleration;
+        ok(Vector2::new(a.x, a.y).norm(), self.horizontal_acceleration)
+            && ok(a.z.abs(), self.vertical_acceleration)
+            && ok(sample.jerk.norm(), self.jerk)
+            && ok(sample.snap.norm(), self.snap)
+            && ok(sample.heading_rate.norm(), self.heading_rate)
+            && ok(
+                sample.heading_acceleration.norm(),
+                self.heading_acceleration,
+            )
+    }
+}
+
+/// A reference trajectory: samples at time `t` and the constants of Assumption 1.
+pub trait Trajectory<T: Scalar> {
+    /// The reference at time `t` [s].
+    fn sample(&self, t: T) -> ReferenceSample<T>;
+    /// Bounds of Assumption 1 valid for all `t ≥ 0`.
+    fn constants(&self) -> TrajectoryConstants<T>;
+}
+
+/// How the desired yaw `ψ_d(t)` evolves; the heading is `ν_d = (cos ψ_d, sin ψ_d)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum HeadingProfile<T: Scalar> {
+    /// Constant yaw [rad].
+    Constant {
+        /// `ψ_d` [rad].
+        yaw: T,
+    },
+    /// `ψ_d = offset + amplitude · sin(frequency · t)`; the paper uses `π sin(f t)`.
+    Sinusoidal {
+        /// Amplitude [rad].
+        amplitude: T,
+        /// Angular frequency [rad/s] inside the sine.
+        frequency: T,
+        /// Offset [rad].
+        offset: T,
+    },
+}
+
+impl<T: Scalar> HeadingProfile<T> {
+    /// `(ψ, ψ̇, ψ̈)` at `t`, in rad, rad/s, rad/s².
+    fn yaw(&self, t: T) -> (T, T, T) {
+        match *self {
+            Self::Constant { yaw } => (yaw, T::zero(), T::zero()),
+            Self::Sinusoidal {
+                amplitude,
+                frequency,
+                offset,
+            } => {
+                let (s, c) = (frequency * t).sin_cos();
+                (
+                    offset + amplitude * s,
+                    amplitude * frequency * c,
+                    -amplitude * frequency * frequency * s,
+                )
+            }
+        }
+    }
+
+    /// `(ν_d, ν̇_d, ν̈_d)` at `t`: `ν̇ = ψ̇ ν⊥`, `ν̈ = ψ̈ ν⊥ − ψ̇² ν` with `ν⊥ = (−sin ψ, cos ψ)`.
+    fn heading(&self, t: T) -> (Vector2<T>, Vector2<T>, Vector2<T>) {
+        let (psi, rate, acc) = self.yaw(t);
+        let (s, c) = psi.sin_cos();
+        let nu = Vector2::new(c, s);
+        let perp = Vector2::new(-s, c);
+        (nu, perp * rate, perp * acc - nu * (rate * rate))
+    }
+
+    /// `(K_ν̇, K_ν̈)`: for the sinusoid, `max|ψ̇| = A f` and
+    /// `max sqrt(ψ̈² + ψ̇⁴) = f² max(A, A²)` (the expression is convex in `cos²(f t)`, so its
+    /// maximum sits at `cos² ∈ {0, 1}`): exact maxima.
+    fn constants(&self) -> (T, T) {
+        match *self {
+            Self::Constant { .. } => (T::zero(), T::zero()),
+            Self::Sinusoidal {
+                amplitude,
+                frequency,
+                ..
+            } => {
+                let a = amplitude.abs();
+                let f = frequency.abs();
+                (a * f, f * f * a.max(a * a))
+            }
+        }
+    }
+}
+
+/// The reference trajectories shipped with the controller.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ReferenceTrajectory<T: Scalar> {
+    /// Hold a point with a heading profile (usually constant).
+    Hover {
+        /// Point [m], inertial.
+        point: Vector3<T>,
+        /// Heading profile.
+        heading: HeadingProfile<T>,
+    },
+    /// `p_d = center + (r cos f t, r sin f t, h cos f t)`: Section VI uses `r = h = 1 m`,
+    /// `f = 2π/15 rad/s`, `center = (−3, 1, 4.5) m`, `ψ_d = π sin(f t)`.
+    Helix {
+        /// Center `p̄` [m], inertial.
+        center: Vector3<T>,
+        /// Horizontal radius `r` [m].
+        radius: T,
+        /// Vertical amplitude `h` [m].
+        vertical_amplitude: T,
+        /// Angular frequency `f` [rad/s].
+        frequency: T,
+        /// Heading profile.
+        heading: HeadingProfile<T>,
+    },
+    /// Lemniscate of Gerono in a horizontal plane:
+    /// `p_d = center + (a sin f t, (b/2) sin 2f t, 0)`.
+    FigureEight {
+        /// Center [m], inertial.
+        center: Vector3<T>,
+        /// Half-width along x, `a` [m].
+        x_amplitude: T,
+        /// Half-width along y, `b` [m] (the y excursion is `b/2`).
+        y_amplitude: T,
+        /// Angular frequency `f` [rad/s].
+        frequency: T,
+        /// Heading profile.
+        heading: HeadingProfile<T>,
+    },
+}
+
+/// `d^n/dt^n [A sin(w t)]` and `d^n/dt^n [A cos(w t)]` for `n = 0..=4`.
+fn sin_cos_derivatives<T: Scalar>(amplitude: T, w: T, t: T) -> ([T; 5], [T; 5]) {
+    let (s, c) = (w * t).sin_cos();
+    let mut sin_d = [T::zero(); 5];
+    let mut cos_d = [T::zero(); 5];
+    // Each derivative multiplies by w and rotates (sin → cos → −sin → −cos).
+    let mut scale = amplitude;
+    let phases = [(s, c), (c, -s), (-s, -c), (-c, s), (s, c)];
+    for (n, (ps, pc)) in phases.iter().enumerate() {
+        sin_d[n] = scale * *ps;
+        cos_d[n] = scale * *pc;
+        scale *= w;
+    }
+    (sin_d, cos_d)
+}
+
+impl<T: Scalar> ReferenceTrajectory<T> {
+    /// The paper's Section VI trajectory (helix about `(−3, 1, 4.5) m`, `f = 2π/15 rad/s`,
+    /// `ψ_d = π sin(f t)`). The paper writes `f = 2π(15)⁻¹ Hz`; it is used as an angular
+    /// frequency inside `cos(f t)`, so a period of 15 s.
+    pub fn paper_helix() -> Self {
+        let f = lit::<T>(2.0 * core::f64::consts::PI / 15.0);
+        Self::Helix {
+            center: Vector3::new(lit(-3.0), lit(1.0), lit(4.5)),
+            radius: T::one(),
+            vertical_amplitude: T::one(),
+            frequency: f,
+            heading: HeadingProfile::Sinusoidal {
+                amplitude: T::pi(),
+                frequency: f,
+                offset: T::zero(),
+            },
+        }
+    }
+
+    fn heading_profile(&self) -> &HeadingProfile<T> {
+        match self {
+            Self::Hover { heading, .. }
+            | Self::Helix { heading, .. }
+            | Self::FigureEight { heading, .. } => heading,
+        }
+    }
+}
+
+impl<T: Scalar> Trajectory<T> for ReferenceTrajectory<T> {
+    fn sample(&self, t: T) -> ReferenceSample<T> {
+        let mut d = [Vector3::<T>::zeros(); 5];
+        match *self {
+            Self::Hover { point, .. } => d[0] = point,
+            Self::Helix {
+                center,
+                radius,
+                vertical_amplitude,
+                frequency,
+                ..
+            } => {
+                let (_, xr) = sin_cos_derivatives(radius, frequency, t);
+                let (yr, _) = sin_cos_derivatives(radius, frequency, t);
+                let (_, zr) = sin_cos_derivatives(vertical_amplitude, frequency, t);
+                for n in 0..5 {
+                    d[n] = Vector3::new(xr[n], yr[n], zr[n]);
+                }
+                d[0] += center;
+            }
+            Self::FigureEight {
+                center,
+                x_amplitude,
+                y_amplitude,
+                frequency,
+                ..
+            } => {
+                let (xs, _) = sin_cos_derivatives(x_amplitude, frequency, t);
+                let (ys, _) = sin_cos_derivatives(y_amplitude * lit(0.5), frequency * lit(2.0), t);
+                for n in 0..5 {
+                    d[n] = Vector3::new(xs[n], ys[n], T::zero());
+                }
+                d[0] += center;
+            }
+        }
+        let (heading, heading_rate, heading_acceleration) = self.heading_profile().heading(t);
+        ReferenceSample {
+            position: d[0],
+            velocity: d[1],
+            acceleration: d[2],
+            jerk: d[3],
+            snap: d[4],
+            heading,
+            heading_rate,
+            heading_acceleration,
+        }
+    }
+
+    /// Helix: exact maxima `K_a12 = r f²`, `K_a3 = h f²`, `K_j = f³ sqrt(r² + h²)`,
+    /// `K_s = f⁴ sqrt(r² + h²)`. Figure-eight: `K_a3 = 0` and, for the others, the upper bound
+    /// `fⁿ sqrt(a² + (b 2ⁿ⁻¹)²)` from the component amplitudes (not the exact maximum).
+    fn constants(&self) -> TrajectoryConstants<T> {
+        let (heading_rate, heading_acceleration) = self.heading_profile().constants();
+        let mut k = TrajectoryConstants {
+            heading_rate,
+            heading_acceleration,
+            ..TrajectoryConstants::zero()
+        };
+        match *self {
+            Self::Hover { .. } => {}
+            Self::Helix {
+                radius,
+                vertical_amplitude,
+                frequency,
+                ..
+            } => {
+                let (r, h, f) = (radius.abs(), vertical_amplitude.abs(), frequency.abs());
+                let f2 = f * f;
+                let rh = (r * r + h * h).sqrt();
+                k.horizontal_acceleration = r * f2;
+                k.vertical_acceleration = h * f2;
+                k.jerk = f2 * f * rh;
+                k.snap = f2 * f2 * rh;
+            }
+            Self::FigureEight {
+                x_amplitude,
+                y_amplitude,
+                frequency,
+                ..
+            } => {
+                let (a, b, f) = (x_amplitude.abs(), y_amplitude.abs(), frequency.abs());
+                let bound = |n: i32| {
+                    let fy = b * lit::<T>(2.0).powi(n - 1);
+                    f.powi(n) * (a * a + fy * fy).sqrt()
+                };
+                k.horizontal_acceleration = bound(2);
+                k.jerk = bound(3);
+                k.snap = bound(4);
+            }
+        }
+        k
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    fn trajectories() -> [ReferenceTrajectory<f64>; 3] {
+        [
+            ReferenceTrajectory::Hover {
+                point: Vector3::new(1.0, 2.0, 3.0),
+                heading: HeadingProfile::Constant { yaw: 0.4 },
+            },
+            ReferenceTrajectory::paper_helix(),
+            ReferenceTrajectory::FigureEight {
+                center: Vector3::new(0.0, 0.0, 2.0),
+                x_amplitude: 2.0,
+                y_amplitude: 1.5,
+                frequency: 0.5,
+                heading: HeadingProfile::Sinusoidal {
+                    amplitude: 0.8,
+                    frequency: 0.3,
+                    offset: 0.1,
+                },
+            },
+        ]
+    }
+
+    /// Each derivative agrees with a central difference of the one below it.
+    #[test]
+    fn derivatives_match_finite_differences() {
+        let h = 1e-5;
+        for traj in trajectories() {
+            for k in 0..50 {
+                let t = 0.37 * k as f64;
+                let (a, b, c) = (traj.sample(t - h), traj.sample(t), traj.sample(t + h));
+                let fd3 =
+                    |f: fn(&ReferenceSample<f64>) -> Vector3<f64>| (f(&c) - f(&a)) / (2.0 * h);
+                let fd2 =
+                    |f: fn(&ReferenceSample<f64>) -> Vector2<f64>| (f(&c) - f(&a)) / (2.0 * h);
+                assert_relative_eq!(fd3(|s| s.position), b.velocity, epsilon = 1e-6);
+                assert_relative_eq!(fd3(|s| s.velocity), b.acceleration, epsilon = 1e-6);
+                assert_relative_eq!(fd3(|s| s.acceleration), b.jerk, epsilon = 1e-6);
+                assert_relative_eq!(fd3(|s| s.jerk), b.snap, epsilon = 1e-6);
+                assert_relative_eq!(fd2(|s| s.heading), b.heading_rate, epsilon = 1e-6);
+                assert_relative_eq!(
+                    fd2(|s| s.heading_rate),
+                    b.heading_acceleration,
+                    epsilon = 1e-6
+                );
+                assert_relative_eq!(b.heading.norm(), 1.0, epsilon = 1e-12);
+            }
+        }
+    }
+
+    /// The constants bound every sample, and for the helix and the heading sinusoid they are
+    /// the exact maxima (a dense sampling gets within 0.1 % of them).
+    #[test]
+    fn constants_bound_samples_and_are_tight_where_exact() {
+        for traj in trajectories() {
+            let k = traj.constants();
+            let mut max = TrajectoryConstants::<f64>::zero();
+            for i in 0..200_000 {
+                let s = traj.sample(i as f64 * 1e-3);
+                assert!(k.contain(&s, 1e-12), "{traj:?} at {i}");
+                let a = s.acceleration;
+                max.horizontal_acceleration = max.horizontal_acceleration.max(a.xy().norm());
+                max.vertical_acceleration = max.vertical_acceleration.max(a.z.abs());
+                max.jerk = max.jerk.max(s.jerk.norm());
+                max.snap = max.snap.max(s.snap.norm());
+                max.heading_rate = max.heading_rate.max(s.heading_rate.norm());
+                max.heading_acceleration =
+                    max.heading_acceleration.max(s.heading_acceleration.norm());
+            }
+            if matches!(traj, ReferenceTrajectory::Helix { .. }) {
+                for (m, e) in [
+                    (max.horizontal_acceleration, k.horizontal_acceleration),
+                    (max.vertical_acceleration, k.vertical_acceleration),
+                    (max.jerk, k.jerk),
+                    (max.snap, k.snap),
+                    (max.heading_rate, k.heading_rate),
+                    (max.heading_acceleration, k.heading_acceleration),
+                ] {
+                    assert!(m > 0.999 * e, "sampled max {m} vs closed form {e}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn paper_helix_values() {
+        let f = 2.0 * core::f64::consts::PI / 15.0;
+        let s = ReferenceTrajectory::<f64>::paper_helix().sample(0.0);
+        assert_relative_eq!(s.position, Vector3::new(-2.0, 1.0, 5.5), epsilon = 1e-12);
+        assert_relative_eq!(s.velocity, Vector3::new(0.0, f, 0.0), epsilon = 1e-12);
+        assert_relative_eq!(s.yaw(), 0.0, epsilon = 1e-12);
+        let k = ReferenceTrajectory::<f64>::paper_helix().constants();
+        assert_relative_eq!(k.heading_rate, core::f64::consts::PI * f, epsilon = 1e-12);
+    }
+}

@@ -1,0 +1,10 @@
+//! host-sim: the controller-core law against a desktop rigid-body model.
+//!
+//! [`scenario`] reads TOML scenarios (the paper's is embedded), [`plant`] integrates
+//! eq:FullDynamics, [`sim`] closes the loop, and [`output`] writes CSV, PNG plots and
+//! `summary.json`.
+
+pub mod output;
+pub mod plant;
+pub mod scenario;
+pub mod sim;

@@ -1,0 +1,453 @@
+//! Scenario files (TOML): vehicle, limits, gains, trajectory, initial state, simulation settings.
+//!
+//! Every key carries its unit in its name. Unknown keys are refused. Errors name the file, the
+//! key and the reason. The paper's Section VI scenario is embedded ([`Scenario::paper`]).
+
+use std::path::Path;
+
+use anyhow::{anyhow, Context, Result};
+use controller_core::scalar::{lit, Scalar};
+use controller_core::{
+    Gains, HeadingProfile, Limits, ParameterError, ReferenceTrajectory, Vehicle,
+};
+use nalgebra::{UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// The embedded Section VI scenario, as TOML text.
+pub const PAPER_SCENARIO: &str = include_str!("../scenarios/paper.toml");
+
+/// A whole scenario.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// Rigid-body parameters.
+    pub vehicle: VehicleConfig,
+    /// Actuator limits.
+    pub limits: LimitsConfig,
+    /// Controller gains (Table I).
+    pub gains: GainsConfig,
+    /// Reference trajectory.
+    pub trajectory: TrajectoryConfig,
+    /// Initial state of the vehicle.
+    pub initial: InitialConfig,
+    /// Simulation settings.
+    pub simulation: SimulationConfig,
+}
+
+/// `[vehicle]`.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleConfig {
+    /// Mass [kg].
+    pub mass_kg: f64,
+    /// Diagonal of the inertia [kg m²], body frame.
+    pub inertia_kg_m2: [f64; 3],
+    /// Gravity [m/s²].
+    pub gravity_m_s2: f64,
+}
+
+/// `[limits]`.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct LimitsConfig {
+    /// Maximum thrust [N].
+    pub thrust_max_N: f64,
+    /// Per-axis maximum torque [N m], body frame.
+    pub torque_max_Nm: [f64; 3],
+}
+
+/// `[gains]`, Table I names.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct GainsConfig {
+    /// `k_p` [1/s²].
+    pub kp: f64,
+    /// `k_v` [1/s].
+    pub kv: f64,
+    /// `k_f` [1/s].
+    pub kf: f64,
+    /// `k_s` [1/s].
+    pub ks: f64,
+    /// `k_ϑ`.
+    pub k_theta: f64,
+    /// `k_ω`.
+    pub k_omega: f64,
+    /// `M_p` [m/s²].
+    pub M_p: f64,
+    /// `M_ϑ` [N m].
+    pub M_theta: f64,
+    /// `M_ω` [N m].
+    pub M_omega: f64,
+    /// Hysteresis `δ`.
+    pub delta: f64,
+    /// Reset threshold `α`.
+    pub alpha: f64,
+}
+
+/// `[trajectory]`, tagged by `kind`.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum TrajectoryConfig {
+    /// Hold a point.
+    Hover {
+        /// Point [m], inertial.
+        point_m: [f64; 3],
+        /// Heading profile (default: yaw 0).
+        #[serde(default)]
+        heading: HeadingConfig,
+    },
+    /// `center + (r cos f t, r sin f t, h cos f t)`.
+    Helix {
+        /// Center [m].
+        center_m: [f64; 3],
+        /// Radius [m].
+        radius_m: f64,
+        /// Vertical amplitude [m].
+        vertical_amplitude_m: f64,
+        /// Angular frequency [rad/s].
+        frequency_rad_s: f64,
+        /// Heading profile.
+        #[serde(default)]
+        heading: HeadingConfig,
+    },
+    /// `center + (a sin f t, (b/2) sin 2 f t, 0)`.
+    FigureEight {
+        /// Center [m].
+        center_m: [f64; 3],
+        /// `a` [m].
+        x_amplitude_m: f64,
+        /// `b` [m].
+        y_amplitude_m: f64,
+        /// Angular frequency [rad/s].
+        frequency_rad_s: f64,
+        /// Heading profile.
+        #[serde(default)]
+        heading: HeadingConfig,
+    },
+}
+
+/// `[trajectory.heading]`, tagged by `kind`.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum HeadingConfig {
+    /// Constant yaw.
+    Constant {
+        /// Yaw [rad].
+        yaw_rad: f64,
+    },
+    /// `offset + amplitude sin(frequency t)`.
+    Sinusoidal {
+        /// Amplitude [rad].
+        amplitude_rad: f64,
+        /// Angular frequency [rad/s].
+        frequency_rad_s: f64,
+        /// Offset [rad].
+        #[serde(default)]
+        offset_rad: f64,
+    },
+}
+
+impl Default for HeadingConfig {
+    fn default() -> Self {
+        Self::Constant { yaw_rad: 0.0 }
+    }
+}
+
+/// `[initial]`.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct InitialConfig {
+    /// Position [m], inertial.
+    pub position_m: [f64; 3],
+    /// Velocity [m/s], inertial.
+    #[serde(default)]
+    pub velocity_m_s: [f64; 3],
+    /// Roll, pitch, yaw [deg] with `R = Rz(yaw) Ry(pitch) Rx(roll)`.
+    pub euler_deg: [f64; 3],
+    /// Body angular velocity [rad/s].
+    #[serde(default)]
+    pub angular_velocity_rad_s: [f64; 3],
+}
+
+/// Controller scalar type.
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq, Eq, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum Precision {
+    /// Single precision, as on the flight controller.
+    F32,
+    /// Double precision.
+    F64,
+}
+
+/// `[simulation]`.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SimulationConfig {
+    /// Length of the run [s].
+    pub duration_s: f64,
+    /// Controller sampling period [s]; commands are held between samples.
+    pub controller_period_s: f64,
+    /// RK4 substep of the plant [s].
+    #[serde(default = "default_plant_step")]
+    pub plant_step_s: f64,
+    /// Controller scalar.
+    #[serde(default = "default_precision")]
+    pub precision: Precision,
+    /// Clip the commands to the physical limits before applying them.
+    #[serde(default)]
+    pub clip_to_limits: bool,
+}
+
+fn default_plant_step() -> f64 {
+    1e-3
+}
+
+fn default_precision() -> Precision {
+    Precision::F32
+}
+
+/// Maps the names used by the core's [`ParameterError`] to scenario keys.
+fn key_of(name: &str) -> &'static str {
+    match name {
+        "mass" => "vehicle.mass_kg",
+        "J_11" | "J_22" | "J_33" => "vehicle.inertia_kg_m2",
+        "gravity" => "vehicle.gravity_m_s2",
+        "thrust_max" => "limits.thrust_max_N",
+        "tau_max_1" | "tau_max_2" | "tau_max_3" => "limits.torque_max_Nm",
+        "k_p" => "gains.kp",
+        "k_v" => "gains.kv",
+        "k_f" => "gains.kf",
+        "k_s" => "gains.ks",
+        "M_p" => "gains.M_p",
+        "k_theta" => "gains.k_theta",
+        "k_omega" => "gains.k_omega",
+        "M_theta" => "gains.M_theta",
+        "M_omega" => "gains.M_omega",
+        "delta" => "gains.delta",
+        "alpha" => "gains.alpha",
+        _ => "trajectory",
+    }
+}
+
+/// Describes a [`ParameterError`] with the scenario key it comes from.
+pub fn describe(e: &ParameterError) -> String {
+    let key = match e {
+        ParameterError::NotPositive { name, .. } | ParameterError::OutOfRange { name, .. } => {
+            key_of(name)
+        }
+        ParameterError::SaturationTooLarge { .. } => "gains.M_p",
+        ParameterError::BadTrajectoryConstant { .. } => "trajectory",
+    };
+    format!("{key}: {e}")
+}
+
+fn v3<T: Scalar>(a: &[f64; 3]) -> Vector3<T> {
+    Vector3::new(lit(a[0]), lit(a[1]), lit(a[2]))
+}
+
+impl Scenario {
+    /// The embedded Section VI scenario.
+    pub fn paper() -> Self {
+        Self::parse(PAPER_SCENARIO, "<embedded paper scenario>")
+            .unwrap_or_else(|e| unreachable!("embedded scenario is valid: {e:#}"))
+    }
+
+    /// Reads and validates a scenario file. Errors name the file, the key and the reason.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read scenario file {}", path.display()))?;
+        Self::parse(&text, &path.display().to_string())
+    }
+
+    /// Parses and validates scenario text; `origin` names it in errors.
+    pub fn parse(text: &str, origin: &str) -> Result<Self> {
+        let scenario: Scenario =
+            toml::from_str(text).map_err(|e| anyhow!("scenario {origin}: {e}"))?;
+        scenario
+            .validate()
+            .map_err(|e| anyhow!("scenario {origin}: {e}"))?;
+        Ok(scenario)
+    }
+
+    /// Checks the values (not only their types): parameters via the core's validation, and the
+    /// simulation settings. Errors: `"<key>: <reason>"`.
+    pub fn validate(&self) -> std::result::Result<(), String> {
+        let vehicle = self.vehicle::<f64>();
+        vehicle.validate().map_err(|e| describe(&e))?;
+        self.limits::<f64>().validate().map_err(|e| describe(&e))?;
+        self.gains::<f64>().validate().map_err(|e| describe(&e))?;
+        let s = &self.simulation;
+        let positive = |key: &str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(format!("{key}: must be finite and > 0, got {v}"))
+            }
+        };
+        positive("simulation.duration_s", s.duration_s)?;
+        positive("simulation.controller_period_s", s.controller_period_s)?;
+        positive("simulation.plant_step_s", s.plant_step_s)?;
+        if s.plant_step_s > s.controller_period_s {
+            return Err(format!(
+                "simulation.plant_step_s: must not exceed controller_period_s ({} s), got {} s",
+                s.controller_period_s, s.plant_step_s
+            ));
+        }
+        let i = &self.initial;
+        for (key, arr) in [
+            ("initial.position_m", i.position_m),
+            ("initial.velocity_m_s", i.velocity_m_s),
+            ("initial.euler_deg", i.euler_deg),
+            ("initial.angular_velocity_rad_s", i.angular_velocity_rad_s),
+        ] {
+            if !arr.iter().all(|x| x.is_finite()) {
+                return Err(format!("{key}: must be finite, got {arr:?}"));
+            }
+        }
+        Ok(())
+    }
+
+    /// The vehicle in scalar `T`.
+    pub fn vehicle<T: Scalar>(&self) -> Vehicle<T> {
+        Vehicle {
+            mass: lit(self.vehicle.mass_kg),
+            inertia: v3(&self.vehicle.inertia_kg_m2),
+            gravity: lit(self.vehicle.gravity_m_s2),
+        }
+    }
+
+    /// The limits in scalar `T`.
+    pub fn limits<T: Scalar>(&self) -> Limits<T> {
+        Limits {
+            thrust_max: lit(self.limits.thrust_max_N),
+            torque_max: v3(&self.limits.torque_max_Nm),
+        }
+    }
+
+    /// The gains in scalar `T`.
+    pub fn gains<T: Scalar>(&self) -> Gains<T> {
+        let g = &self.gains;
+        let mut out = Gains::<T>::paper();
+        out.position.kp = lit(g.kp);
+        out.position.kv = lit(g.kv);
+        out.position.kf = lit(g.kf);
+        out.position.ks = lit(g.ks);
+        out.position.saturation = lit(g.M_p);
+        out.attitude.k_mrp = lit(g.k_theta);
+        out.attitude.k_omega = lit(g.k_omega);
+        out.attitude.mrp_saturation = lit(g.M_theta);
+        out.attitude.omega_saturation = lit(g.M_omega);
+        out.hysteresis = lit(g.delta);
+        out.reset_threshold = lit(g.alpha);
+        out
+    }
+
+    /// The reference trajectory in scalar `T`.
+    pub fn trajectory<T: Scalar>(&self) -> ReferenceTrajectory<T> {
+        let heading = |h: &HeadingConfig| match *h {
+            HeadingConfig::Constant { yaw_rad } => HeadingProfile::Constant { yaw: lit(yaw_rad) },
+            HeadingConfig::Sinusoidal {
+                amplitude_rad,
+                frequency_rad_s,
+                offset_rad,
+            } => HeadingProfile::Sinusoidal {
+                amplitude: lit(amplitude_rad),
+                frequency: lit(frequency_rad_s),
+                offset: lit(offset_rad),
+            },
+        };
+        match &self.trajectory {
+            TrajectoryConfig::Hover {
+                point_m,
+                heading: h,
+            } => ReferenceTrajectory::Hover {
+                point: v3(point_m),
+                heading: heading(h),
+            },
+            TrajectoryConfig::Helix {
+                center_m,
+                radius_m,
+                vertical_amplitude_m,
+                frequency_rad_s,
+                heading: h,
+            } => ReferenceTrajectory::Helix {
+                center: v3(center_m),
+                radius: lit(*radius_m),
+                vertical_amplitude: lit(*vertical_amplitude_m),
+                frequency: lit(*frequency_rad_s),
+                heading: heading(h),
+            },
+            TrajectoryConfig::FigureEight {
+                center_m,
+                x_amplitude_m,
+                y_amplitude_m,
+                frequency_rad_s,
+                heading: h,
+            } => ReferenceTrajectory::FigureEight {
+                center: v3(center_m),
+                x_amplitude: lit(*x_amplitude_m),
+                y_amplitude: lit(*y_amplitude_m),
+                frequency: lit(*frequency_rad_s),
+                heading: heading(h),
+            },
+        }
+    }
+
+    /// The initial attitude (body to inertial) from `initial.euler_deg`.
+    pub fn initial_attitude(&self) -> UnitQuaternion<f64> {
+        let [r, p, y] = self.initial.euler_deg.map(f64::to_radians);
+        // nalgebra's from_euler_angles(roll, pitch, yaw) is Rz(yaw) Ry(pitch) Rx(roll).
+        UnitQuaternion::from_euler_angles(r, p, y)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn embedded_scenario_parses() {
+        let s = Scenario::paper();
+        assert_eq!(s.simulation.duration_s, 30.0);
+        assert_eq!(s.initial.euler_deg, [-179.0, 0.0, 100.0]);
+    }
+
+    #[test]
+    fn unknown_key_is_named() {
+        let text = PAPER_SCENARIO.replace("mass_kg", "mass_kgs");
+        let e = Scenario::parse(&text, "x.toml").unwrap_err().to_string();
+        assert!(e.contains("x.toml") && e.contains("mass_kgs"), "{e}");
+    }
+
+    #[test]
+    fn bad_value_is_named_with_key() {
+        let text = PAPER_SCENARIO.replace("kv = 6.0", "kv = -6.0");
+        let e = Scenario::parse(&text, "y.toml").unwrap_err().to_string();
+        assert!(
+            e.contains("y.toml") && e.contains("gains.kv") && e.contains("-6"),
+            "{e}"
+        );
+        let text = PAPER_SCENARIO.replace("alpha = 0.25", "alpha = 1.5");
+        let e = Scenario::parse(&text, "z.toml").unwrap_err().to_string();
+        assert!(e.contains("gains.alpha"), "{e}");
+    }
+
+    #[test]
+    fn wrong_type_is_named() {
+        let text = PAPER_SCENARIO.replace("duration_s = 30.0", "duration_s = \"long\"");
+        let e = Scenario::parse(&text, "w.toml").unwrap_err().to_string();
+        assert!(e.contains("w.toml") && e.contains("duration_s"), "{e}");
+    }
+
+    #[test]
+    fn euler_convention_is_zyx() {
+        let mut s = Scenario::paper();
+        s.initial.euler_deg = [90.0, 0.0, 90.0];
+        let r = s.initial_attitude().to_rotation_matrix();
+        // Rz(90) Rx(90) maps body y to inertial z... check body z → inertial x.
+        let bz = r * Vector3::z();
+        assert!((bz - Vector3::x()).norm() < 1e-12, "{bz}");
+    }
+}

@@ -1,0 +1,427 @@
+//! One closed-loop run: the controller-core law at its sampling rate, a zero-order hold, and the
+//! RK4 rigid-body plant.
+
+use anyhow::{anyhow, Result};
+use controller_core::scalar::{lit, to_f64, Scalar};
+use controller_core::{certify, Certificate, Controller, FilterStart, Trajectory, VehicleState};
+use nalgebra::{UnitQuaternion, Vector3};
+use serde::Serialize;
+
+use crate::plant::{PlantInput, RigidBody, RigidBodyState};
+use crate::scenario::{Precision, Scenario};
+
+/// One controller sample: the state, the reference, the command and the law's internals.
+/// Column names carry units; angles are in rad unless named `_deg`.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+#[allow(non_snake_case)]
+pub struct Record {
+    /// Time [s].
+    pub t_s: f64,
+    /// Position [m], inertial.
+    pub x_m: f64,
+    /// Position y [m].
+    pub y_m: f64,
+    /// Position z [m].
+    pub z_m: f64,
+    /// Reference position x [m].
+    pub x_ref_m: f64,
+    /// Reference position y [m].
+    pub y_ref_m: f64,
+    /// Reference position z [m].
+    pub z_ref_m: f64,
+    /// Roll [rad] (`R = Rz(yaw) Ry(pitch) Rx(roll)`).
+    pub roll_rad: f64,
+    /// Pitch [rad].
+    pub pitch_rad: f64,
+    /// Yaw [rad].
+    pub yaw_rad: f64,
+    /// Desired yaw `ψ_d` [rad].
+    pub yaw_ref_rad: f64,
+    /// `|p − p_d|` [m].
+    pub position_error_m: f64,
+    /// `|ϑ̃|` (dimensionless).
+    pub mrp_error: f64,
+    /// `|ω̃|` [rad/s].
+    pub angular_velocity_error_rad_s: f64,
+    /// Thrust command [N].
+    pub thrust_N: f64,
+    /// Torque command x [N m], body.
+    pub torque_x_Nm: f64,
+    /// Torque command y [N m], body.
+    pub torque_y_Nm: f64,
+    /// Torque command z [N m], body.
+    pub torque_z_Nm: f64,
+    /// `|ubar_p|` [m/s²].
+    pub ubar_p_norm_m_s2: f64,
+    /// `|u_f|` [m/s²].
+    pub u_f_norm_m_s2: f64,
+    /// `|u_s|` [m/s²].
+    pub u_s_norm_m_s2: f64,
+    /// `|s_ϑ(k_ϑ ϑ̃)|` [N m].
+    pub s_theta_norm_Nm: f64,
+    /// `|s_ω(k_ω ω̃)|` [N m].
+    pub s_omega_norm_Nm: f64,
+    /// `|ω_d|` [rad/s].
+    pub omega_d_norm_rad_s: f64,
+    /// `|ω̇_d|` [rad/s²].
+    pub omega_d_dot_norm_rad_s2: f64,
+    /// Memory-quaternion resets so far.
+    pub q_hat_resets: u32,
+    /// MRP sign flips so far.
+    pub m_flips: u32,
+}
+
+/// A condition of the certificate, for `summary.json`.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ConditionReport {
+    /// Identifier.
+    pub name: String,
+    /// The inequality, with the paper's label.
+    pub statement: String,
+    /// Whether it holds.
+    pub holds: bool,
+    /// Left-hand side.
+    pub lhs: f64,
+    /// Right-hand side.
+    pub rhs: f64,
+}
+
+/// The a-priori bounds (Theorems 1–2, Lemma 1).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+#[allow(non_snake_case)]
+pub struct APriori {
+    /// `T_min` [N].
+    pub thrust_min_N: f64,
+    /// `T_max` of Theorem 1 [N].
+    pub thrust_max_N: f64,
+    /// Per-axis torque bound of Theorem 2 [N m].
+    pub torque_max_Nm: [f64; 3],
+    /// `U_ωd` [rad/s].
+    pub angular_velocity_max_rad_s: f64,
+    /// `U_ω̇d` [rad/s²].
+    pub angular_acceleration_max_rad_s2: f64,
+    /// `ι` [N m].
+    pub feedback_torque_max_Nm: f64,
+    /// True when every condition holds.
+    pub feasible: bool,
+    /// Every condition with both sides.
+    pub conditions: Vec<ConditionReport>,
+}
+
+/// Extremes seen along the run (over the controller samples).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+#[allow(non_snake_case)]
+pub struct Observed {
+    /// Smallest thrust command [N].
+    pub thrust_min_N: f64,
+    /// Largest thrust command [N].
+    pub thrust_max_N: f64,
+    /// Largest `|τ_i|` per axis [N m].
+    pub torque_abs_max_Nm: [f64; 3],
+    /// Largest `|ω_d|` [rad/s].
+    pub angular_velocity_d_max_rad_s: f64,
+    /// Largest `|ω̇_d|` [rad/s²].
+    pub angular_acceleration_d_max_rad_s2: f64,
+    /// Samples whose thrust or torque left the a-priori bounds.
+    pub samples_outside_a_priori_bounds: u64,
+    /// Samples taken.
+    pub samples: u64,
+}
+
+/// Errors at the last sample.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Final {
+    /// Time of the last sample [s].
+    pub time_s: f64,
+    /// `|p − p_d|` [m].
+    pub position_error_m: f64,
+    /// `|ϑ̃|`.
+    pub mrp_error: f64,
+    /// `|ω̃|` [rad/s].
+    pub angular_velocity_error_rad_s: f64,
+}
+
+/// Path-lifting jump counts.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct PathLiftingReport {
+    /// Memory-quaternion resets.
+    pub q_hat_resets: u32,
+    /// MRP sign flips.
+    pub m_flips: u32,
+}
+
+/// Settling times: the time after which an error stays below a threshold (`null` if never).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Settling {
+    /// Position error below 1 mm from this time on [s].
+    pub position_error_below_1mm_from_s: Option<f64>,
+    /// MRP error below 1e-4 from this time on [s].
+    pub mrp_error_below_1e_4_from_s: Option<f64>,
+}
+
+/// Everything `summary.json` holds.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Summary {
+    /// Controller precision.
+    pub precision: Precision,
+    /// Bounds and conditions.
+    pub a_priori: APriori,
+    /// Observed extremes.
+    pub observed: Observed,
+    /// Errors at the end.
+    #[serde(rename = "final")]
+    pub final_: Final,
+    /// Jump counts.
+    pub path_lifting: PathLiftingReport,
+    /// Settling times.
+    pub settling: Settling,
+}
+
+/// Tracks "below threshold from time t on".
+#[derive(Clone, Copy, Debug)]
+struct SettleTracker {
+    threshold: f64,
+    since: Option<f64>,
+}
+
+impl SettleTracker {
+    fn new(threshold: f64) -> Self {
+        Self {
+            threshold,
+            since: None,
+        }
+    }
+    fn push(&mut self, t: f64, value: f64) {
+        if value < self.threshold {
+            self.since.get_or_insert(t);
+        } else {
+            self.since = None;
+        }
+    }
+}
+
+/// The certificate of a scenario, computed in f64 with the filters starting at zero.
+pub fn certificate(scenario: &Scenario) -> Result<Certificate<f64>> {
+    certify(
+        &scenario.vehicle(),
+        &scenario.limits(),
+        &scenario.gains(),
+        &scenario.trajectory::<f64>().constants(),
+        FilterStart::Zero,
+    )
+    .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))
+}
+
+fn a_priori(c: &Certificate<f64>) -> APriori {
+    let b = &c.bounds;
+    APriori {
+        thrust_min_N: b.thrust_min,
+        thrust_max_N: b.thrust_max,
+        torque_max_Nm: b.torque_max.into(),
+        angular_velocity_max_rad_s: b.angular_velocity,
+        angular_acceleration_max_rad_s2: b.angular_acceleration,
+        feedback_torque_max_Nm: b.feedback_torque,
+        feasible: c.require_feasible().is_ok(),
+        conditions: c
+            .conditions
+            .iter()
+            .map(|k| ConditionReport {
+                name: k.name.into(),
+                statement: k.statement.into(),
+                holds: k.holds,
+                lhs: k.lhs,
+                rhs: k.rhs,
+            })
+            .collect(),
+    }
+}
+
+/// Runs the scenario, calling `observe` with every sample's [`Record`], and returns the summary.
+///
+/// Errors: invalid parameters (named by scenario key), or a controller step refused (with the
+/// time and the reason).
+pub fn run_with(scenario: &Scenario, observe: impl FnMut(&Record)) -> Result<Summary> {
+    match scenario.simulation.precision {
+        Precision::F32 => run_generic::<f32>(scenario, observe),
+        Precision::F64 => run_generic::<f64>(scenario, observe),
+    }
+}
+
+/// Runs the scenario and keeps every sample.
+pub fn run(scenario: &Scenario) -> Result<(Summary, Vec<Record>)> {
+    let mut records = Vec::with_capacity(
+        (scenario.simulation.duration_s / scenario.simulation.controller_period_s) as usize + 1,
+    );
+    let summary = run_with(scenario, |r| records.push(r.clone()))?;
+    Ok((summary, records))
+}
+
+fn cast3<T: Scalar>(v: &Vector3<f64>) -> Vector3<T> {
+    Vector3::new(lit(v.x), lit(v.y), lit(v.z))
+}
+
+fn back3<T: Scalar>(v: &Vector3<T>) -> Vector3<f64> {
+    Vector3::new(to_f64(v.x), to_f64(v.y), to_f64(v.z))
+}
+
+fn run_generic<T: Scalar>(
+    scenario: &Scenario,
+    mut observe: impl FnMut(&Record),
+) -> Result<Summary> {
+    let cert = certificate(scenario)?;
+    let trajectory = scenario.trajectory::<T>();
+    let mut controller = Controller::new(
+        scenario.vehicle::<T>(),
+        scenario.gains::<T>(),
+        &trajectory.constants(),
+    )
+    .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;
+    let limits = scenario.limits::<f64>();
+    let vehicle = scenario.vehicle::<f64>();
+    let plant = RigidBody {
+        mass: vehicle.mass,
+        inertia: vehicle.inertia,
+        gravity: vehicle.gravity,
+    };
+    let sim = &scenario.simulation;
+    let init = &scenario.initial;
+    let mut state = RigidBodyState {
+        position: Vector3::from(init.position_m),
+        velocity: Vector3::from(init.velocity_m_s),
+        attitude: scenario.initial_attitude(),
+        angular_velocity: Vector3::from(init.angular_velocity_rad_s),
+    };
+    let dt = sim.controller_period_s;
+    let dt_t: T = lit(dt);
+    let steps = (sim.duration_s / dt).round() as u64;
+    let bounds = &cert.bounds;
+    // Rounding slack for the bound checks: f32 carries ~1e-7 relative error.
+    let slack = 1e-5;
+
+    let mut observed = Observed {
+        thrust_min_N: f64::INFINITY,
+        thrust_max_N: f64::NEG_INFINITY,
+        torque_abs_max_Nm: [0.0; 3],
+        angular_velocity_d_max_rad_s: 0.0,
+        angular_acceleration_d_max_rad_s2: 0.0,
+        samples_outside_a_priori_bounds: 0,
+        samples: 0,
+    };
+    let mut settle_p = SettleTracker::new(1e-3);
+    let mut settle_m = SettleTracker::new(1e-4);
+    let mut last = None;
+
+    for k in 0..=steps {
+        let t = k as f64 * dt;
+        let reference = trajectory.sample(lit(t));
+        let measured = VehicleState {
+            position: cast3(&state.position),
+            velocity: cast3(&state.velocity),
+            attitude: UnitQuaternion::new_normalize(state.attitude.quaternion().cast::<T>()),
+            angular_velocity: cast3(&state.angular_velocity),
+        };
+        let out = controller
+            .step(&measured, &reference, dt_t)
+            .map_err(|e| anyhow!("controller refused the sample at t = {t:.3} s: {e}"))?;
+        let d = &out.diagnostics;
+        let thrust = to_f64(out.thrust);
+        let torque = back3(&out.torque);
+
+        observed.samples += 1;
+        observed.thrust_min_N = observed.thrust_min_N.min(thrust);
+        observed.thrust_max_N = observed.thrust_max_N.max(thrust);
+        for i in 0..3 {
+            observed.torque_abs_max_Nm[i] = observed.torque_abs_max_Nm[i].max(torque[i].abs());
+        }
+        let w_d = back3(&d.desired_angular_velocity).norm();
+        let w_d_dot = back3(&d.desired_angular_acceleration).norm();
+        observed.angular_velocity_d_max_rad_s = observed.angular_velocity_d_max_rad_s.max(w_d);
+        observed.angular_acceleration_d_max_rad_s2 =
+            observed.angular_acceleration_d_max_rad_s2.max(w_d_dot);
+        let outside = thrust < bounds.thrust_min * (1.0 - slack)
+            || thrust > bounds.thrust_max * (1.0 + slack)
+            || (0..3).any(|i| torque[i].abs() > bounds.torque_max[i] * (1.0 + slack));
+        observed.samples_outside_a_priori_bounds += u64::from(outside);
+
+        let reference_f64 = trajectory_sample_f64(&reference);
+        let position_error = (state.position - reference_f64.0).norm();
+        let mrp_error = back3(&d.mrp_error).norm();
+        let omega_error = back3(&d.omega_error).norm();
+        settle_p.push(t, position_error);
+        settle_m.push(t, mrp_error);
+        let (roll, pitch, yaw) = state.attitude.euler_angles();
+        let record = Record {
+            t_s: t,
+            x_m: state.position.x,
+            y_m: state.position.y,
+            z_m: state.position.z,
+            x_ref_m: reference_f64.0.x,
+            y_ref_m: reference_f64.0.y,
+            z_ref_m: reference_f64.0.z,
+            roll_rad: roll,
+            pitch_rad: pitch,
+            yaw_rad: yaw,
+            yaw_ref_rad: reference_f64.1,
+            position_error_m: position_error,
+            mrp_error,
+            angular_velocity_error_rad_s: omega_error,
+            thrust_N: thrust,
+            torque_x_Nm: torque.x,
+            torque_y_Nm: torque.y,
+            torque_z_Nm: torque.z,
+            ubar_p_norm_m_s2: back3(&d.ubar_p).norm(),
+            u_f_norm_m_s2: back3(&d.u_f).norm(),
+            u_s_norm_m_s2: back3(&d.u_s).norm(),
+            s_theta_norm_Nm: back3(&d.s_mrp).norm(),
+            s_omega_norm_Nm: back3(&d.s_omega).norm(),
+            omega_d_norm_rad_s: w_d,
+            omega_d_dot_norm_rad_s2: w_d_dot,
+            q_hat_resets: d.jumps_total.q_hat_resets,
+            m_flips: d.jumps_total.m_flips,
+        };
+        observe(&record);
+        last = Some(record);
+
+        if k == steps {
+            break;
+        }
+        let mut input = PlantInput {
+            thrust,
+            torque,
+            ..Default::default()
+        };
+        if sim.clip_to_limits {
+            input.thrust = thrust.clamp(0.0, limits.thrust_max);
+            input.torque = torque.zip_map(&limits.torque_max, |t, m| t.clamp(-m, m));
+        }
+        state = plant.advance(&state, &input, dt, sim.plant_step_s);
+    }
+
+    let last = last.ok_or_else(|| anyhow!("the run produced no sample"))?;
+    Ok(Summary {
+        precision: sim.precision,
+        a_priori: a_priori(&cert),
+        observed,
+        final_: Final {
+            time_s: last.t_s,
+            position_error_m: last.position_error_m,
+            mrp_error: last.mrp_error,
+            angular_velocity_error_rad_s: last.angular_velocity_error_rad_s,
+        },
+        path_lifting: PathLiftingReport {
+            q_hat_resets: last.q_hat_resets,
+            m_flips: last.m_flips,
+        },
+        settling: Settling {
+            position_error_below_1mm_from_s: settle_p.since,
+            mrp_error_below_1e_4_from_s: settle_m.since,
+        },
+    })
+}
+
+/// Reference position [m] and yaw [rad] as f64.
+fn trajectory_sample_f64<T: Scalar>(
+    s: &controller_core::ReferenceSample<T>,
+) -> (Vector3<f64>, f64) {
+    (back3(&s.position), to_f64(s.yaw()))
+}
