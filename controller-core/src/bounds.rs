@@ -155,6 +155,11 @@ fn feedforward_torque_bound<T: Scalar>(inertia: &Vector3<T>, accel: T, rate: T) 
     })
 }
 
+/// `a < b`, false when either is NaN (so refusals catch NaN too).
+pub(crate) fn strictly_less<T: Scalar>(a: T, b: T) -> bool {
+    a.partial_cmp(&b) == Some(core::cmp::Ordering::Less)
+}
+
 fn check_constants<T: Scalar>(k: &TrajectoryConstants<T>) -> Result<(), ParameterError> {
     for (name, v) in [
         ("K_a12", k.horizontal_acceleration),
@@ -199,7 +204,7 @@ pub fn certify<T: Scalar>(
     let (mp, kf, ks) = (p.saturation, p.kf, p.ks);
     let k = constants;
     let (ka12, ka3) = (k.horizontal_acceleration, k.vertical_acceleration);
-    if !(mp < g - ka3) {
+    if !strictly_less(mp, g - ka3) {
         return Err(ParameterError::SaturationTooLarge {
             saturation: to_f64(mp),
             limit: to_f64(g - ka3),

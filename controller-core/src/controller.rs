@@ -171,7 +171,7 @@ impl<T: Scalar> Controller<T> {
             });
         }
         let limit = self.vehicle.gravity - ka3;
-        if !(self.gains.position.saturation < limit) {
+        if !crate::bounds::strictly_less(self.gains.position.saturation, limit) {
             return Err(ParameterError::SaturationTooLarge {
                 saturation: to_f64(self.gains.position.saturation),
                 limit: to_f64(limit),

@@ -31,7 +31,7 @@ pub fn normalize_with_derivatives<T: Scalar>(
     x_ddot: &Vector3<T>,
 ) -> Option<UnitWithDerivatives<T>> {
     let n = x.norm();
-    if !(n > T::zero()) || !n.is_finite() {
+    if !n.is_finite() || n <= T::zero() {
         return None;
     }
     let y = x / n;
@@ -91,7 +91,8 @@ pub fn desired_attitude<T: Scalar>(
     let rho =
         normalize_with_derivatives(u, u_dot, u_ddot).ok_or(DesiredAttitudeError::ZeroThrust)?;
     let (r, rd, rdd) = (rho.unit, rho.rate, rho.acceleration);
-    if !(r.z > T::zero()) {
+    // r is finite here (n finite and > 0), so this also holds for every non-upward thrust.
+    if r.z <= T::zero() {
         return Err(DesiredAttitudeError::ThrustNotUpward);
     }
     // ϖ with sgn(ρ₃) = +1; its derivatives by the product rule.
@@ -135,18 +136,18 @@ mod tests {
     use approx::assert_relative_eq;
     use proptest::prelude::*;
 
+    /// `(u, u̇, ü, ν_d, ν̇_d, ν̈_d)` at one time.
+    type Signals = (
+        Vector3<f64>,
+        Vector3<f64>,
+        Vector3<f64>,
+        Vector2<f64>,
+        Vector2<f64>,
+        Vector2<f64>,
+    );
+
     /// A smooth test signal: u(t) = a + b sin(ct) + d t², ν_d(t) = (cos ψ, sin ψ).
-    fn signals(
-        t: f64,
-        p: &[f64; 8],
-    ) -> (
-        Vector3<f64>,
-        Vector3<f64>,
-        Vector3<f64>,
-        Vector2<f64>,
-        Vector2<f64>,
-        Vector2<f64>,
-    ) {
+    fn signals(t: f64, p: &[f64; 8]) -> Signals {
         let a = Vector3::new(p[0], p[1], 9.0 + p[2]);
         let b = Vector3::new(p[3], p[4], p[5]);
         let (s, c) = (1.3 * t).sin_cos();

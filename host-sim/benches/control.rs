@@ -1,1 +1,112 @@
-fn main() {}
+//! Benchmarks: one controller step (f32 and f64) at a representative state, and the whole 30 s
+//! Section VI closed-loop simulation (f32 and f64 controller), without any file output.
+//!
+//! Run with `cargo bench -p host-sim`; sample sizes and times are kept small so the run takes
+//! well under two minutes on two cores (after the build).
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use controller_core::scalar::{lit, to_f64, Scalar};
+use controller_core::{
+    ControlOutput, Controller, ReferenceSample, StepError, Trajectory, VehicleState,
+};
+use criterion::{criterion_group, criterion_main, Criterion};
+use host_sim::plant::PlantInput;
+use host_sim::scenario::{Precision, Scenario};
+use host_sim::sim::{measure, run_with};
+use nalgebra::Vector3;
+
+/// The controller, the measured state and the reference of the paper scenario at
+/// `t = samples · 10 ms`, reached by flying the closed loop (so the filters, the path lifting
+/// memory and the state are those of a real flight).
+struct Snapshot<T: Scalar> {
+    controller: Controller<T>,
+    state: VehicleState<T>,
+    reference: ReferenceSample<T>,
+    dt: T,
+}
+
+fn snapshot<T: Scalar>(samples: usize) -> Snapshot<T> {
+    let s = Scenario::paper();
+    let trajectory = s.trajectory::<T>();
+    let mut controller = Controller::new(s.vehicle::<T>(), s.gains::<T>(), &trajectory.constants())
+        .expect("the paper's parameters are valid");
+    let plant = s.plant();
+    let mut state = s.initial_state();
+    let dt = s.simulation.controller_period_s;
+    for k in 0..samples {
+        let out = controller
+            .step(
+                &measure(&state),
+                &trajectory.sample(lit(k as f64 * dt)),
+                lit(dt),
+            )
+            .expect("the paper run is accepted");
+        let input = PlantInput {
+            thrust: to_f64(out.thrust),
+            torque: Vector3::new(
+                to_f64(out.torque.x),
+                to_f64(out.torque.y),
+                to_f64(out.torque.z),
+            ),
+            ..Default::default()
+        };
+        state = plant.advance(&state, &input, dt, s.simulation.plant_step_s);
+    }
+    Snapshot {
+        controller,
+        state: measure(&state),
+        reference: trajectory.sample(lit(samples as f64 * dt)),
+        dt: lit(dt),
+    }
+}
+
+fn step<T: Scalar>(snap: &Snapshot<T>) -> Result<ControlOutput<T>, StepError> {
+    // `Controller` is `Copy`: each iteration steps a fresh copy of the same state.
+    let mut controller = black_box(snap.controller);
+    controller.step(
+        black_box(&snap.state),
+        black_box(&snap.reference),
+        black_box(snap.dt),
+    )
+}
+
+/// One controller step at t = 1 s of the paper scenario (mid-recovery: saturations active,
+/// path lifting already reset once or more).
+fn controller_step(c: &mut Criterion) {
+    let s32 = snapshot::<f32>(100);
+    let s64 = snapshot::<f64>(100);
+    let mut group = c.benchmark_group("controller_step");
+    group
+        .sample_size(50)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
+    group.bench_function("f32", |b| b.iter(|| step(&s32)));
+    group.bench_function("f64", |b| b.iter(|| step(&s64)));
+    group.finish();
+}
+
+/// The whole 30 s paper scenario: 3001 controller samples and 30 000 RK4 plant steps.
+fn paper_scenario(c: &mut Criterion) {
+    let mut group = c.benchmark_group("paper_scenario_30s");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(4));
+    for (name, precision) in [("f32", Precision::F32), ("f64", Precision::F64)] {
+        let mut s = Scenario::paper();
+        s.simulation.precision = precision;
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                run_with(black_box(&s), |r| {
+                    black_box(r);
+                })
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, controller_step, paper_scenario);
+criterion_main!(benches);

@@ -4,7 +4,9 @@
 //! eq:FullDynamics, [`sim`] closes the loop, and [`output`] writes CSV, PNG plots and
 //! `summary.json`.
 
+pub mod cli;
 pub mod output;
 pub mod plant;
+pub mod report;
 pub mod scenario;
 pub mod sim;

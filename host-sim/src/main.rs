@@ -1,29 +1,92 @@
-fn main() -> anyhow::Result<()> {
-    let s = host_sim::scenario::Scenario::paper();
-    for p in [
-        host_sim::scenario::Precision::F64,
-        host_sim::scenario::Precision::F32,
-    ] {
-        let mut s = s.clone();
-        s.simulation.precision = p;
-        let t0 = std::time::Instant::now();
-        let (summary, recs) = host_sim::sim::run(&s)?;
-        println!("{:?}", t0.elapsed());
-        println!("{}", serde_json::to_string_pretty(&summary)?);
-        for r in recs.iter().step_by(100) {
-            println!(
-                "{:.2} pe={:.3e} me={:.3e} T={:.3} tau=({:.3},{:.3},{:.3}) flips={} resets={}",
-                r.t_s,
-                r.position_error_m,
-                r.mrp_error,
-                r.thrust_N,
-                r.torque_x_Nm,
-                r.torque_y_Nm,
-                r.torque_z_Nm,
-                r.m_flips,
-                r.q_hat_resets
-            );
+//! `host-sim`: run the paper scenario (default) or a scenario file; see `host-sim --help`.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Result;
+use clap::Parser;
+use host_sim::cli::{Cli, Command, RunArgs};
+use host_sim::report::human_summary;
+use host_sim::scenario::{Scenario, PAPER_SCENARIO};
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => run(&cli.run),
+        Some(Command::Run(args)) => run(&args),
+        Some(Command::PrintScenario) => {
+            print!("{PAPER_SCENARIO}");
+            Ok(())
         }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("host-sim: error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(args: &RunArgs) -> Result<()> {
+    let (mut scenario, name, title) = match &args.scenario {
+        None => (
+            Scenario::paper(),
+            "paper".to_string(),
+            "the paper's Section VI scenario (embedded)".to_string(),
+        ),
+        Some(path) => {
+            let stem = path
+                .file_stem()
+                .map_or_else(|| "scenario".into(), |s| s.to_string_lossy().into_owned());
+            (Scenario::load(path)?, stem, path.display().to_string())
+        }
+    };
+    if let Some(p) = args.precision {
+        scenario.simulation.precision = p;
+    }
+    scenario.simulation.clip_to_limits |= args.clip;
+    let out: PathBuf = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out").join(&name));
+
+    let certificate = host_sim::sim::certificate(&scenario)?;
+    if let Err(v) = certificate.require_feasible() {
+        eprintln!(
+            "host-sim: WARNING: the a-priori guarantees do not all apply to this scenario: {v}.\n\
+             host-sim: WARNING: the conditions are sufficient, not necessary; the run proceeds. \
+             Violated conditions are listed in the summary."
+        );
+    }
+    let (summary, records) = host_sim::sim::run(&scenario)?;
+    let s = &scenario.simulation;
+    let header = format!(
+        "Scenario: {title}; controller precision {:?}, {} s at {:.0} Hz, plant RK4 step {} s{}",
+        s.precision,
+        s.duration_s,
+        1.0 / s.controller_period_s,
+        s.plant_step_s,
+        if s.clip_to_limits {
+            ", commands clipped to the limits"
+        } else {
+            ""
+        }
+    );
+    print!("{}", human_summary(&header, &summary));
+    let files = if args.no_plots {
+        std::fs::create_dir_all(&out)?;
+        let csv = out.join("timeseries.csv");
+        let json = out.join("summary.json");
+        host_sim::output::write_csv(&csv, &records)?;
+        host_sim::output::write_summary(&json, &summary)?;
+        vec![csv, json]
+    } else {
+        host_sim::output::write_all(&out, &scenario, &summary, &records)?
+    };
+    println!("Wrote {} files to {}:", files.len(), out.display());
+    for f in &files {
+        println!("  {}", f.display());
     }
     Ok(())
 }

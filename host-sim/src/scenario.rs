@@ -11,6 +11,8 @@ use controller_core::{
     Gains, HeadingProfile, Limits, ParameterError, ReferenceTrajectory, Vehicle,
 };
 use nalgebra::{UnitQuaternion, Vector3};
+
+use crate::plant::{RigidBody, RigidBodyState};
 use serde::{Deserialize, Serialize};
 
 /// The embedded Section VI scenario, as TOML text.
@@ -392,6 +394,27 @@ impl Scenario {
                 frequency: lit(*frequency_rad_s),
                 heading: heading(h),
             },
+        }
+    }
+
+    /// The rigid-body model of the scenario's vehicle (f64).
+    pub fn plant(&self) -> RigidBody {
+        let v = &self.vehicle;
+        RigidBody {
+            mass: v.mass_kg,
+            inertia: Vector3::from(v.inertia_kg_m2),
+            gravity: v.gravity_m_s2,
+        }
+    }
+
+    /// The initial state of the rigid body from `[initial]`.
+    pub fn initial_state(&self) -> RigidBodyState {
+        let i = &self.initial;
+        RigidBodyState {
+            position: Vector3::from(i.position_m),
+            velocity: Vector3::from(i.velocity_m_s),
+            attitude: self.initial_attitude(),
+            angular_velocity: Vector3::from(i.angular_velocity_rad_s),
         }
     }
 

@@ -7,7 +7,7 @@ use controller_core::{certify, Certificate, Controller, FilterStart, Trajectory,
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::Serialize;
 
-use crate::plant::{PlantInput, RigidBody, RigidBodyState};
+use crate::plant::{PlantInput, RigidBodyState};
 use crate::scenario::{Precision, Scenario};
 
 /// One controller sample: the state, the reference, the command and the law's internals.
@@ -256,8 +256,14 @@ pub fn run(scenario: &Scenario) -> Result<(Summary, Vec<Record>)> {
     Ok((summary, records))
 }
 
-fn cast3<T: Scalar>(v: &Vector3<f64>) -> Vector3<T> {
-    Vector3::new(lit(v.x), lit(v.y), lit(v.z))
+/// The exact (noise-free) measurement of the plant state in the controller's scalar `T`.
+pub fn measure<T: Scalar>(s: &RigidBodyState) -> VehicleState<T> {
+    VehicleState {
+        position: s.position.map(lit),
+        velocity: s.velocity.map(lit),
+        attitude: UnitQuaternion::new_normalize(s.attitude.quaternion().cast::<T>()),
+        angular_velocity: s.angular_velocity.map(lit),
+    }
 }
 
 fn back3<T: Scalar>(v: &Vector3<T>) -> Vector3<f64> {
@@ -277,20 +283,9 @@ fn run_generic<T: Scalar>(
     )
     .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;
     let limits = scenario.limits::<f64>();
-    let vehicle = scenario.vehicle::<f64>();
-    let plant = RigidBody {
-        mass: vehicle.mass,
-        inertia: vehicle.inertia,
-        gravity: vehicle.gravity,
-    };
+    let plant = scenario.plant();
     let sim = &scenario.simulation;
-    let init = &scenario.initial;
-    let mut state = RigidBodyState {
-        position: Vector3::from(init.position_m),
-        velocity: Vector3::from(init.velocity_m_s),
-        attitude: scenario.initial_attitude(),
-        angular_velocity: Vector3::from(init.angular_velocity_rad_s),
-    };
+    let mut state = scenario.initial_state();
     let dt = sim.controller_period_s;
     let dt_t: T = lit(dt);
     let steps = (sim.duration_s / dt).round() as u64;
@@ -314,12 +309,7 @@ fn run_generic<T: Scalar>(
     for k in 0..=steps {
         let t = k as f64 * dt;
         let reference = trajectory.sample(lit(t));
-        let measured = VehicleState {
-            position: cast3(&state.position),
-            velocity: cast3(&state.velocity),
-            attitude: UnitQuaternion::new_normalize(state.attitude.quaternion().cast::<T>()),
-            angular_velocity: cast3(&state.angular_velocity),
-        };
+        let measured = measure::<T>(&state);
         let out = controller
             .step(&measured, &reference, dt_t)
             .map_err(|e| anyhow!("controller refused the sample at t = {t:.3} s: {e}"))?;

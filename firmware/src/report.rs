@@ -1,0 +1,334 @@
+//! What the firmware computes and reports at boot, as plain values: the set-up (vehicle, limits,
+//! gains, trajectory constants), the a-priori bound certificate of
+//! [`controller_core::certify`] and the controller built from the set-up.
+//!
+//! `main.rs` formats these with defmt; controller-core has no defmt support, so every number is
+//! flattened here into a name, an `f32` and a unit.
+
+use controller_core::{
+    certify, Certificate, Condition, Controller, FilterStart, Gains, Limits, ParameterError,
+    ReferenceTrajectory, Trajectory, TrajectoryConstants, Vehicle,
+};
+
+/// The parameters the firmware flies with.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Setup {
+    /// Rigid-body parameters.
+    pub vehicle: Vehicle<f32>,
+    /// Actuator limits.
+    pub limits: Limits<f32>,
+    /// Controller gains.
+    pub gains: Gains<f32>,
+    /// Assumption 1 constants of the reference the controller must accept.
+    pub constants: TrajectoryConstants<f32>,
+}
+
+impl Setup {
+    /// Section VI of the paper: its quadrotor, limits and Table I gains, with the constants of
+    /// its helix reference.
+    pub fn paper() -> Self {
+        Self {
+            vehicle: Vehicle::paper(),
+            limits: Limits::paper(),
+            gains: Gains::paper(),
+            constants: ReferenceTrajectory::<f32>::paper_helix().constants(),
+        }
+    }
+}
+
+/// One named number of the boot banner.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Value {
+    /// Name as in the paper (ASCII), e.g. `"k_p"`.
+    pub name: &'static str,
+    /// The value.
+    pub value: f32,
+    /// SI unit, `""` if dimensionless.
+    pub unit: &'static str,
+}
+
+const fn value(name: &'static str, value: f32, unit: &'static str) -> Value {
+    Value { name, value, unit }
+}
+
+/// `m`, `J_11`, `J_22`, `J_33`, `g`.
+pub fn vehicle_values(v: &Vehicle<f32>) -> [Value; 5] {
+    [
+        value("m", v.mass, "kg"),
+        value("J_11", v.inertia[0], "kg m^2"),
+        value("J_22", v.inertia[1], "kg m^2"),
+        value("J_33", v.inertia[2], "kg m^2"),
+        value("g", v.gravity, "m/s^2"),
+    ]
+}
+
+/// `T_max` and the per-axis `tau_max` of the actuators.
+pub fn limits_values(l: &Limits<f32>) -> [Value; 4] {
+    [
+        value("T_max", l.thrust_max, "N"),
+        value("tau_max_1", l.torque_max[0], "N m"),
+        value("tau_max_2", l.torque_max[1], "N m"),
+        value("tau_max_3", l.torque_max[2], "N m"),
+    ]
+}
+
+/// The gains of Table I, in its order, then `delta` and `alpha`.
+pub fn gains_values(g: &Gains<f32>) -> [Value; 11] {
+    let (p, a) = (&g.position, &g.attitude);
+    [
+        value("k_p", p.kp, "1/s^2"),
+        value("k_v", p.kv, "1/s"),
+        value("k_f", p.kf, "1/s"),
+        value("k_s", p.ks, "1/s"),
+        value("M_p", p.saturation, "m/s^2"),
+        value("k_theta", a.k_mrp, "N m"),
+        value("k_omega", a.k_omega, "N m s/rad"),
+        value("M_theta", a.mrp_saturation, "N m"),
+        value("M_omega", a.omega_saturation, "N m"),
+        value("delta", g.hysteresis, ""),
+        value("alpha", g.reset_threshold, ""),
+    ]
+}
+
+/// The Assumption 1 constants of the reference.
+pub fn constants_values(k: &TrajectoryConstants<f32>) -> [Value; 6] {
+    [
+        value("K_a12", k.horizontal_acceleration, "m/s^2"),
+        value("K_a3", k.vertical_acceleration, "m/s^2"),
+        value("K_j", k.jerk, "m/s^3"),
+        value("K_s", k.snap, "m/s^4"),
+        value("K_nu_dot", k.heading_rate, "1/s"),
+        value("K_nu_ddot", k.heading_acceleration, "1/s^2"),
+    ]
+}
+
+/// The bounds the certificate guarantees when its conditions hold: the thrust interval of
+/// Theorem 1, Lemma 1's bounds on `omega_d` and its derivative, and Theorem 2's per-axis torque.
+pub fn bound_values(c: &Certificate<f32>) -> [Value; 7] {
+    let b = &c.bounds;
+    [
+        value("T_min", b.thrust_min, "N"),
+        value("T_max", b.thrust_max, "N"),
+        value("U_wd", b.angular_velocity, "rad/s"),
+        value("U_wd_dot", b.angular_acceleration, "rad/s^2"),
+        value("tau_bound_1", b.torque_max[0], "N m"),
+        value("tau_bound_2", b.torque_max[1], "N m"),
+        value("tau_bound_3", b.torque_max[2], "N m"),
+    ]
+}
+
+/// How loudly to report a line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Severity {
+    /// Informational.
+    Info,
+    /// Worth an operator's attention; the firmware goes on.
+    Warn,
+}
+
+/// A condition that holds is informational; a violated one is a warning (the paper's conditions
+/// are sufficient, not necessary: the bounds are then not guaranteed, which is not a failure).
+pub fn condition_severity(c: &Condition<f32>) -> Severity {
+    if c.holds {
+        Severity::Info
+    } else {
+        Severity::Warn
+    }
+}
+
+/// A [`ParameterError`] flattened for logging: `name = value` breaks `requirement`, whose
+/// admissible values are the open interval `(low, high)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Refusal {
+    /// The parameter or constant refused.
+    pub name: &'static str,
+    /// Its value.
+    pub value: f64,
+    /// The requirement it breaks.
+    pub requirement: &'static str,
+    /// Lower end of the admissible interval (`-inf` if none).
+    pub low: f64,
+    /// Upper end of the admissible interval (`+inf` if none).
+    pub high: f64,
+}
+
+/// Flattens a [`ParameterError`] into a [`Refusal`].
+pub fn refusal(e: &ParameterError) -> Refusal {
+    match *e {
+        ParameterError::NotPositive { name, value } => Refusal {
+            name,
+            value,
+            requirement: "must be finite and > 0",
+            low: 0.0,
+            high: f64::INFINITY,
+        },
+        ParameterError::OutOfRange {
+            name,
+            value,
+            low,
+            high,
+        } => Refusal {
+            name,
+            value,
+            requirement: "must lie in the open interval",
+            low,
+            high,
+        },
+        ParameterError::SaturationTooLarge { saturation, limit } => Refusal {
+            name: "M_p",
+            value: saturation,
+            requirement: "M_p < g - K_a3 (Section IV)",
+            low: 0.0,
+            high: limit,
+        },
+        ParameterError::BadTrajectoryConstant { name, value } => Refusal {
+            name,
+            value,
+            requirement: "trajectory constant must be finite and >= 0",
+            low: 0.0,
+            high: f64::INFINITY,
+        },
+    }
+}
+
+/// Everything computed at boot from a [`Setup`].
+#[derive(Clone, Copy, Debug)]
+pub struct Boot {
+    /// The set-up.
+    pub setup: Setup,
+    /// The a-priori bound certificate, filters starting at zero (as [`Controller::new`] does),
+    /// or why the set-up was refused.
+    pub certificate: Result<Certificate<f32>, ParameterError>,
+    /// The controller, or why it was refused.
+    pub controller: Result<Controller<f32>, ParameterError>,
+}
+
+/// Certifies `setup` and builds the controller for it. Never panics: refusals are values.
+pub fn boot(setup: Setup) -> Boot {
+    let Setup {
+        vehicle,
+        limits,
+        gains,
+        constants,
+    } = setup;
+    Boot {
+        setup,
+        certificate: certify(&vehicle, &limits, &gains, &constants, FilterStart::Zero),
+        controller: Controller::new(vehicle, gains, &constants),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The paper's set-up in f32: the thrust interval of Theorem 1 as printed, one violated
+    /// condition (Theorem 2 yaw, as in f64), and a controller.
+    #[test]
+    fn paper_boot_in_f32() {
+        let b = boot(Setup::paper());
+        let c = b.certificate.expect("the paper's set-up is certified");
+        let bounds = bound_values(&c);
+        assert_eq!(bounds[0].name, "T_min");
+        assert!((bounds[0].value - 3.51).abs() < 0.005, "{:?}", bounds[0]);
+        assert!((bounds[1].value - 6.19).abs() < 0.005, "{:?}", bounds[1]);
+        for (v, i) in bounds[4..].iter().zip(0..3) {
+            assert_eq!(v.value, c.bounds.torque_max[i]);
+        }
+        let warned: Vec<_> = c
+            .conditions
+            .iter()
+            .filter(|c| condition_severity(c) == Severity::Warn)
+            .map(|c| c.name)
+            .collect();
+        assert_eq!(warned, ["theorem2.torque_max_yaw"]);
+        assert!(b.controller.is_ok());
+    }
+
+    /// The f32 certificate agrees with the f64 one the host tools use.
+    #[test]
+    fn f32_certificate_matches_f64() {
+        let c32 = boot(Setup::paper()).certificate.unwrap();
+        let c64 = certify(
+            &Vehicle::<f64>::paper(),
+            &Limits::paper(),
+            &Gains::paper(),
+            &ReferenceTrajectory::<f64>::paper_helix().constants(),
+            FilterStart::Zero,
+        )
+        .unwrap();
+        for (a, b) in c32.conditions.iter().zip(c64.conditions.iter()) {
+            assert_eq!((a.name, a.holds), (b.name, b.holds));
+            let rel = |x: f32, y: f64| ((x as f64 - y) / y).abs();
+            assert!(
+                rel(a.lhs, b.lhs) < 1e-5 && rel(a.rhs, b.rhs) < 1e-5,
+                "{}",
+                a.name
+            );
+        }
+    }
+
+    #[test]
+    fn banner_values_follow_the_setup() {
+        let s = Setup::paper();
+        let v = vehicle_values(&s.vehicle);
+        assert_eq!((v[0].name, v[0].value, v[0].unit), ("m", 0.46, "kg"));
+        assert_eq!(v[3].value, 5.3e-3);
+        let l = limits_values(&s.limits);
+        assert_eq!((l[0].name, l[0].value), ("T_max", 7.0));
+        let g = gains_values(&s.gains);
+        let names: Vec<_> = g.iter().map(|v| v.name).collect();
+        assert_eq!(
+            names,
+            [
+                "k_p", "k_v", "k_f", "k_s", "M_p", "k_theta", "k_omega", "M_theta", "M_omega",
+                "delta", "alpha"
+            ]
+        );
+        assert_eq!(g[5].value, 100.0);
+        assert_eq!(g[10].value, 0.25);
+        let k = constants_values(&s.constants);
+        assert_eq!(k[1].value, s.constants.vertical_acceleration);
+        // Every banner name is unique.
+        let mut all: Vec<_> = v
+            .iter()
+            .chain(&l)
+            .chain(&g)
+            .chain(&k)
+            .map(|v| v.name)
+            .collect();
+        let n = all.len();
+        all.sort_unstable();
+        all.dedup();
+        assert_eq!(all.len(), n);
+    }
+
+    /// A refused set-up yields refusals, not a panic, from both the certificate and the controller.
+    #[test]
+    fn refused_setup_is_reported() {
+        let mut s = Setup::paper();
+        s.gains.position.saturation = 9.7;
+        let b = boot(s);
+        let r = refusal(&b.certificate.unwrap_err());
+        assert_eq!(r.name, "M_p");
+        assert!((r.value - 9.7).abs() < 1e-6);
+        assert!(r.high < r.value);
+        assert!(b.controller.is_err());
+
+        let mut s = Setup::paper();
+        s.gains.reset_threshold = 1.5;
+        let r = refusal(&boot(s).controller.unwrap_err());
+        assert_eq!((r.name, r.low, r.high), ("alpha", 0.0, 1.0));
+
+        let mut s = Setup::paper();
+        s.vehicle.mass = f32::NAN;
+        let r = refusal(&boot(s).certificate.unwrap_err());
+        assert_eq!(r.name, "mass");
+        assert!(r.value.is_nan());
+
+        let mut s = Setup::paper();
+        s.constants.jerk = -1.0;
+        let r = refusal(&boot(s).certificate.unwrap_err());
+        assert_eq!((r.name, r.value), ("K_j", -1.0));
+    }
+}

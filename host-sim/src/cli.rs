@@ -1,0 +1,52 @@
+//! Command-line interface (clap).
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+
+use crate::scenario::Precision;
+
+/// Simulate the saturated hybrid SE(3) tracking controller (controller-core) on a rigid-body
+/// quadrotor model. With no arguments, runs the paper's Section VI scenario (embedded) and writes
+/// its time series, plots and summary to ./out/paper.
+#[derive(Debug, Parser)]
+#[command(name = "host-sim", version, about, long_about = None)]
+pub struct Cli {
+    /// Run options (used when no subcommand is given).
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// Optional subcommand.
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// Subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run one scenario (the default when no subcommand is given).
+    Run(RunArgs),
+    /// Print the embedded paper scenario as TOML (a starting point for your own scenario files).
+    PrintScenario,
+}
+
+/// Options of a single run.
+#[derive(Debug, Args, Clone, Default)]
+pub struct RunArgs {
+    /// Scenario file (TOML). Default: the embedded paper scenario (see `print-scenario`).
+    #[arg(long, value_name = "FILE")]
+    pub scenario: Option<PathBuf>,
+    /// Output directory. Default: ./out/<scenario name> ("paper" for the embedded scenario,
+    /// the file stem otherwise). Created if missing; files in it are overwritten.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Controller precision, overriding the scenario's `simulation.precision`.
+    #[arg(long, value_enum)]
+    pub precision: Option<Precision>,
+    /// Clip thrust and torque to the physical limits before applying them to the plant,
+    /// overriding the scenario's `simulation.clip_to_limits`.
+    #[arg(long)]
+    pub clip: bool,
+    /// Write only summary.json and the CSV (skip the PNG plots).
+    #[arg(long)]
+    pub no_plots: bool,
+}
