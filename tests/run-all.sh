@@ -29,4 +29,7 @@ step "firmware for thumbv7em-none-eabihf"
 cargo clippy -p firmware --target thumbv7em-none-eabihf --release -- -D warnings
 cargo build -p firmware --target thumbv7em-none-eabihf --release
 
+step "firmware size budget (flash <= 128 KiB, static RAM <= 32 KiB)"
+bash firmware/check-size.sh
+
 printf '\n==> all checks passed\n'

@@ -82,9 +82,9 @@ pub struct AssumptionBounds<T: Scalar> {
 /// Every bound of the paper for one set-up.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bounds<T: Scalar> {
-    /// `T_min = m(g − M_p − K_a3)` [N] (eq:LowerBoundT).
+    /// `T_min = m(g − M_p − K_a3)` \[N\] (eq:LowerBoundT).
     pub thrust_min: T,
-    /// `T_max = m(√3 M_p + sqrt(K_a12² + (K_a3 + g)²))` [N] (eq:UpperBoundT).
+    /// `T_max = m(√3 M_p + sqrt(K_a12² + (K_a3 + g)²))` \[N\] (eq:UpperBoundT).
     pub thrust_max: T,
     /// `U_l` of Lemma 1 (dimensionless).
     pub filter_overshoot: T,
@@ -181,7 +181,7 @@ fn check_constants<T: Scalar>(k: &TrajectoryConstants<T>) -> Result<(), Paramete
 
 /// Computes every bound and condition of the paper for this set-up.
 ///
-/// Inputs: vehicle (`m` [kg], `J` [kg m²], `g` [m/s²]), limits (`T_max` [N], `τ_max` [N m]),
+/// Inputs: vehicle (`m` \[kg\], `J` [kg m²], `g` [m/s²]), limits (`T_max` \[N\], `τ_max` [N m]),
 /// gains (Table I), trajectory constants (Assumption 1) and where the filters start.
 /// Errors: [`ParameterError`] if an input is not positive and finite or `M_p ≥ g − K_a3` makes
 /// `T_min ≤ 0` (every later bound divides by it). A violated *feasibility* condition is not an

@@ -25,7 +25,7 @@ use crate::scalar::{to_f64, Scalar};
 /// The measured rigid-body state `x = (p, v, R, ω)` of Problem 1.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct VehicleState<T: Scalar> {
-    /// Position `p` [m], inertial (z up).
+    /// Position `p` \[m\], inertial (z up).
     pub position: Vector3<T>,
     /// Velocity `v` [m/s], inertial.
     pub velocity: Vector3<T>,
@@ -38,7 +38,7 @@ pub struct VehicleState<T: Scalar> {
 /// Everything the step computed, for logs and plots (frames as noted).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Diagnostics<T: Scalar> {
-    /// `z₁` [m], inertial (eq:Zcoordinates).
+    /// `z₁` \[m\], inertial (eq:Zcoordinates).
     pub z1: Vector3<T>,
     /// `z₂` [m/s], inertial.
     pub z2: Vector3<T>,
@@ -77,7 +77,7 @@ pub struct Diagnostics<T: Scalar> {
 /// The command of one sample.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ControlOutput<T: Scalar> {
-    /// Collective thrust `T = m|u|` [N] along the body z axis.
+    /// Collective thrust `T = m|u|` \[N\] along the body z axis.
     pub thrust: T,
     /// Torque `τ` [N m], body frame.
     pub torque: Vector3<T>,
@@ -95,7 +95,7 @@ pub enum StepError {
     },
     /// `dt` is not finite and positive.
     BadTimeStep {
-        /// The value given [s].
+        /// The value given \[s\].
         dt: f64,
     },
     /// The desired attitude is undefined for this reference (see [`DesiredAttitudeError`]).
@@ -217,8 +217,8 @@ impl<T: Scalar> Controller<T> {
         self.lifting.counters()
     }
 
-    /// Computes the thrust [N] and torque [N m] for the sample, then advances the filters by
-    /// `dt` [s].
+    /// Computes the thrust \[N\] and torque [N m] for the sample, then advances the filters by
+    /// `dt` \[s\].
     ///
     /// Inputs: measured state (inertial `p, v`; body-to-inertial attitude; body `ω`), the
     /// reference sample at the same time, and the sampling period `dt`.

@@ -10,7 +10,7 @@
 //!
 //! Modules, one concept each: [`saturation`] (Definition 1), [`position`] (Section IV),
 //! [`desired_attitude`] (eq:DesiredRotationMatrix, Lemma 1), [`mrp`] (Section II),
-//! [`path_lifting`] (Appendix), [`attitude_control`] (Section V), [`reference`]
+//! [`path_lifting`] (Appendix), [`attitude_control`] (Section V), [`reference`](mod@reference)
 //! (Assumption 1's trajectories), [`bounds`] (Assumption 1, Theorems 1–2, Lemma 1),
 //! [`params`], and [`controller`] which composes them.
 #![cfg_attr(not(test), no_std)]

@@ -9,7 +9,7 @@ use crate::scalar::{lit, to_f64, Scalar};
 /// Rigid-body parameters of eq:FullDynamics.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vehicle<T: Scalar> {
-    /// Mass `m` [kg].
+    /// Mass `m` \[kg\].
     pub mass: T,
     /// Diagonal of the inertia `J = diag(J₁₁, J₂₂, J₃₃)` [kg m²], body frame.
     pub inertia: Vector3<T>,
@@ -20,7 +20,7 @@ pub struct Vehicle<T: Scalar> {
 /// Physical actuation limits `Ω_T`, `Ω_τ` (Section III).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Limits<T: Scalar> {
-    /// Maximum thrust `T_max` [N].
+    /// Maximum thrust `T_max` \[N\].
     pub thrust_max: T,
     /// Per-axis maximum torque `τ_max` [N m], body frame.
     pub torque_max: Vector3<T>,

@@ -52,7 +52,7 @@ impl<T: Scalar> FilterState<T> {
 /// What the position loop computes at one sample (all inertial frame).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PositionOutput<T: Scalar> {
-    /// `z₁` [m]: forward-projected position error (eq:Zcoordinates).
+    /// `z₁` \[m\]: forward-projected position error (eq:Zcoordinates).
     pub z1: Vector3<T>,
     /// `z₂` [m/s]: forward-projected velocity error (eq:Zcoordinates).
     pub z2: Vector3<T>,
@@ -67,7 +67,7 @@ pub struct PositionOutput<T: Scalar> {
 }
 
 impl<T: Scalar> PositionGains<T> {
-    /// The z-coordinates `(z₁, z₂)` of eq:Zcoordinates from the position error `p̃` [m], the
+    /// The z-coordinates `(z₁, z₂)` of eq:Zcoordinates from the position error `p̃` \[m\], the
     /// velocity error `ṽ` [m/s] and the filter states.
     pub fn z_coordinates(
         &self,
@@ -85,7 +85,7 @@ impl<T: Scalar> PositionGains<T> {
 
     /// The position law at one sample.
     ///
-    /// Inputs: `p̃ = p − p_d` [m], `ṽ = v − ṗ_d` [m/s], filter states, the reference's `p̈_d`,
+    /// Inputs: `p̃ = p − p_d` \[m\], `ṽ = v − ṗ_d` [m/s], filter states, the reference's `p̈_d`,
     /// `p_d⁽³⁾`, `p_d⁽⁴⁾`, and gravity `g` [m/s²]; all inertial. Source: Section IV,
     /// eq:PositionControlLaw, eq:FilterDynamics, eq:Zcoordinates; `σ_p = M tanh(·/M)` as in
     /// Section VI.
@@ -118,7 +118,7 @@ impl<T: Scalar> PositionGains<T> {
         }
     }
 
-    /// Propagates the filter states over `dt` [s] with `ubar_p` held constant, by the exact
+    /// Propagates the filter states over `dt` \[s\] with `ubar_p` held constant, by the exact
     /// solution of the linear ODE eq:FilterDynamics (the sampled reading of this crate).
     ///
     /// With `e_s = u_s − ubar_p`, `e_f = u_f − ubar_p`:

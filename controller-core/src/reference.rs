@@ -14,7 +14,7 @@ use crate::scalar::{lit, Scalar};
 /// One sample of the reference at time `t`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReferenceSample<T: Scalar> {
-    /// Desired position `p_d` [m], inertial frame (z up).
+    /// Desired position `p_d` \[m\], inertial frame (z up).
     pub position: Vector3<T>,
     /// `ṗ_d` [m/s], inertial.
     pub velocity: Vector3<T>,
@@ -33,7 +33,7 @@ pub struct ReferenceSample<T: Scalar> {
 }
 
 impl<T: Scalar> ReferenceSample<T> {
-    /// A constant reference: hold `position` [m] with yaw `yaw` [rad]; all derivatives zero.
+    /// A constant reference: hold `position` \[m\] with yaw `yaw` \[rad\]; all derivatives zero.
     pub fn hold(position: Vector3<T>, yaw: T) -> Self {
         Self {
             position,
@@ -47,7 +47,7 @@ impl<T: Scalar> ReferenceSample<T> {
         }
     }
 
-    /// Desired yaw `ψ_d = atan2(ν₂, ν₁)` [rad].
+    /// Desired yaw `ψ_d = atan2(ν₂, ν₁)` \[rad\].
     pub fn yaw(&self) -> T {
         self.heading.y.atan2(self.heading.x)
     }
@@ -116,7 +116,7 @@ impl<T: Scalar> TrajectoryConstants<T> {
 
 /// A reference trajectory: samples at time `t` and the constants of Assumption 1.
 pub trait Trajectory<T: Scalar> {
-    /// The reference at time `t` [s].
+    /// The reference at time `t` \[s\].
     fn sample(&self, t: T) -> ReferenceSample<T>;
     /// Bounds of Assumption 1 valid for all `t ≥ 0`.
     fn constants(&self) -> TrajectoryConstants<T>;
@@ -125,18 +125,18 @@ pub trait Trajectory<T: Scalar> {
 /// How the desired yaw `ψ_d(t)` evolves; the heading is `ν_d = (cos ψ_d, sin ψ_d)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum HeadingProfile<T: Scalar> {
-    /// Constant yaw [rad].
+    /// Constant yaw \[rad\].
     Constant {
-        /// `ψ_d` [rad].
+        /// `ψ_d` \[rad\].
         yaw: T,
     },
     /// `ψ_d = offset + amplitude · sin(frequency · t)`; the paper uses `π sin(f t)`.
     Sinusoidal {
-        /// Amplitude [rad].
+        /// Amplitude \[rad\].
         amplitude: T,
         /// Angular frequency [rad/s] inside the sine.
         frequency: T,
-        /// Offset [rad].
+        /// Offset \[rad\].
         offset: T,
     },
 }
@@ -194,7 +194,7 @@ impl<T: Scalar> HeadingProfile<T> {
 pub enum ReferenceTrajectory<T: Scalar> {
     /// Hold a point with a heading profile (usually constant).
     Hover {
-        /// Point [m], inertial.
+        /// Point \[m\], inertial.
         point: Vector3<T>,
         /// Heading profile.
         heading: HeadingProfile<T>,
@@ -202,11 +202,11 @@ pub enum ReferenceTrajectory<T: Scalar> {
     /// `p_d = center + (r cos f t, r sin f t, h cos f t)`: Section VI uses `r = h = 1 m`,
     /// `f = 2π/15 rad/s`, `center = (−3, 1, 4.5) m`, `ψ_d = π sin(f t)`.
     Helix {
-        /// Center `p̄` [m], inertial.
+        /// Center `p̄` \[m\], inertial.
         center: Vector3<T>,
-        /// Horizontal radius `r` [m].
+        /// Horizontal radius `r` \[m\].
         radius: T,
-        /// Vertical amplitude `h` [m].
+        /// Vertical amplitude `h` \[m\].
         vertical_amplitude: T,
         /// Angular frequency `f` [rad/s].
         frequency: T,
@@ -216,11 +216,11 @@ pub enum ReferenceTrajectory<T: Scalar> {
     /// Lemniscate of Gerono in a horizontal plane:
     /// `p_d = center + (a sin f t, (b/2) sin 2f t, 0)`.
     FigureEight {
-        /// Center [m], inertial.
+        /// Center \[m\], inertial.
         center: Vector3<T>,
-        /// Half-width along x, `a` [m].
+        /// Half-width along x, `a` \[m\].
         x_amplitude: T,
-        /// Half-width along y, `b` [m] (the y excursion is `b/2`).
+        /// Half-width along y, `b` \[m\] (the y excursion is `b/2`).
         y_amplitude: T,
         /// Angular frequency `f` [rad/s].
         frequency: T,

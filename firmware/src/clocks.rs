@@ -9,7 +9,7 @@
 /// Dividers and multipliers of the STM32F4 main PLL and bus prescalers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ClockPlan {
-    /// External crystal (HSE) frequency [Hz].
+    /// External crystal (HSE) frequency \[Hz\].
     pub hse_hz: u32,
     /// PLLM: HSE divider ahead of the VCO (2..=63).
     pub pll_m: u32,
@@ -27,7 +27,7 @@ pub struct ClockPlan {
     pub apb2_div: u32,
 }
 
-/// The frequencies a [`ClockPlan`] produces [Hz].
+/// The frequencies a [`ClockPlan`] produces \[Hz\].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Frequencies {
     /// VCO input `HSE / PLLM`.
@@ -183,7 +183,7 @@ impl ClockPlan {
     }
 }
 
-/// Bus frequencies the HAL reports after init [Hz]; `None` where it reports none.
+/// Bus frequencies the HAL reports after init \[Hz\]; `None` where it reports none.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Reported {
     /// SYSCLK.
@@ -207,9 +207,9 @@ pub struct Reported {
 pub struct ClockLine {
     /// Clock name, e.g. `"SYSCLK"`.
     pub name: &'static str,
-    /// Planned frequency [Hz].
+    /// Planned frequency \[Hz\].
     pub planned: u32,
-    /// Reported frequency [Hz], `0` if the HAL reports none.
+    /// Reported frequency \[Hz\], `0` if the HAL reports none.
     pub reported: u32,
     /// Whether the two agree exactly.
     pub matches: bool,

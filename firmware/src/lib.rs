@@ -1,5 +1,8 @@
 //! Board-independent parts of the STM32F405 firmware: the clock plan and the boot report
-//! (the set-up, its a-priori bound certificate and the controller built from it).
+//! (the set-up, its a-priori bound certificate and the controller built from it), and the
+//! flight logic: [`pipeline::FlightPipeline`] composes [`config`], [`frames`] (NED/FRD ↔
+//! NWU/FLU), [`link`] (MAVLink 2), [`estimator`], [`imu_attitude`], [`flight_reference`],
+//! [`mixer`] and [`safety`]; host-sim flies the same pipeline in software in the loop.
 //!
 //! Nothing here touches a register or logs: it computes plain values that the binary
 //! (`src/main.rs`) applies to the hardware and formats with defmt. It is `no_std` and builds for
@@ -7,5 +10,17 @@
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
 
+pub mod board;
 pub mod clocks;
+pub mod config;
+pub mod drivers;
+pub mod estimator;
+pub mod flight_reference;
+pub mod frames;
+pub mod imu_attitude;
+pub mod link;
+pub mod mixer;
+pub mod pipeline;
 pub mod report;
+pub mod safety;
+pub mod timing;

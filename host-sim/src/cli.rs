@@ -27,6 +27,18 @@ pub enum Command {
     Run(RunArgs),
     /// Print the embedded paper scenario as TOML (a starting point for your own scenario files).
     PrintScenario,
+    /// Software in the loop: the firmware's flight pipeline against the plant with simulated
+    /// IMU, motion capture over MAVLink and motors.
+    Sil(SilArgs),
+    /// Robustness campaign: N runs from sampled initial conditions (Haar attitudes and 180°
+    /// starts), in parallel; writes campaign.json, runs.csv and plots.
+    Campaign(crate::experiments::CampaignArgs),
+    /// Ablations of the paper's design choices: hysteresis vs memoryless lifting under noise at
+    /// 180°, filtered vs unfiltered outer loop; writes ablation.md, ablation.json and plots.
+    Ablation(crate::experiments::AblationArgs),
+    /// The paper's law against the baselines (Lee et al. 2010, PX4-style cascade) on the same
+    /// runs; writes compare.md (tables, embedded plots) and compare.json.
+    Compare(crate::experiments::CompareArgs),
 }
 
 /// Options of a single run.
@@ -35,7 +47,7 @@ pub struct RunArgs {
     /// Scenario file (TOML). Default: the embedded paper scenario (see `print-scenario`).
     #[arg(long, value_name = "FILE")]
     pub scenario: Option<PathBuf>,
-    /// Output directory. Default: ./out/<scenario name> ("paper" for the embedded scenario,
+    /// Output directory. Default: `./out/<scenario name>` ("paper" for the embedded scenario,
     /// the file stem otherwise). Created if missing; files in it are overwritten.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
@@ -49,4 +61,19 @@ pub struct RunArgs {
     /// Write only summary.json and the CSV (skip the PNG plots).
     #[arg(long)]
     pub no_plots: bool,
+}
+
+/// Options of a software-in-the-loop run.
+#[derive(Debug, Args, Clone)]
+pub struct SilArgs {
+    /// Scenario: `paper` (the helix from the upside-down start), `pose-loss` (failsafe),
+    /// `takeoff-land`.
+    #[arg(long, default_value = "paper")]
+    pub scenario: String,
+    /// Random seed (sensor noise, dropouts, byte chunking).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Output directory. Default: `./out/sil-<scenario>`. Gets timeseries.csv and summary.json.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
 }

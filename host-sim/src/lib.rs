@@ -4,9 +4,17 @@
 //! eq:FullDynamics, [`sim`] closes the loop, and [`output`] writes CSV, PNG plots and
 //! `summary.json`.
 
+pub mod ablation;
+pub mod campaign;
 pub mod cli;
+pub mod closed_loop;
+pub mod compare;
+pub mod controllers;
+pub mod experiments;
 pub mod output;
+pub mod perturbation;
 pub mod plant;
 pub mod report;
 pub mod scenario;
+pub mod sil;
 pub mod sim;

@@ -18,6 +18,10 @@ fn main() -> ExitCode {
             print!("{PAPER_SCENARIO}");
             Ok(())
         }
+        Some(Command::Sil(args)) => host_sim::sil::run_cli(&args),
+        Some(Command::Campaign(args)) => host_sim::experiments::campaign(&args),
+        Some(Command::Ablation(args)) => host_sim::ablation::run_cli(&args),
+        Some(Command::Compare(args)) => host_sim::compare::run_cli(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -9,7 +9,7 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 /// The state of the rigid body (f64).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RigidBodyState {
-    /// Position [m], inertial (z up).
+    /// Position \[m\], inertial (z up).
     pub position: Vector3<f64>,
     /// Velocity [m/s], inertial.
     pub velocity: Vector3<f64>,
@@ -22,7 +22,7 @@ pub struct RigidBodyState {
 /// Rigid-body parameters of the plant.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RigidBody {
-    /// Mass [kg].
+    /// Mass \[kg\].
     pub mass: f64,
     /// Inertia diagonal [kg m²], body frame.
     pub inertia: Vector3<f64>,
@@ -33,11 +33,11 @@ pub struct RigidBody {
 /// Inputs held over an integration step.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct PlantInput {
-    /// Collective thrust [N] along body z.
+    /// Collective thrust \[N\] along body z.
     pub thrust: f64,
     /// Torque [N m], body frame.
     pub torque: Vector3<f64>,
-    /// External force [N], inertial (disturbance).
+    /// External force \[N\], inertial (disturbance).
     pub force_disturbance: Vector3<f64>,
     /// External torque [N m], body frame (disturbance).
     pub torque_disturbance: Vector3<f64>,
@@ -79,7 +79,7 @@ impl RigidBody {
         }
     }
 
-    /// Advances `state` by `h` [s] with one classical RK4 step, inputs held.
+    /// Advances `state` by `h` \[s\] with one classical RK4 step, inputs held.
     pub fn rk4_step(&self, state: &RigidBodyState, input: &PlantInput, h: f64) -> RigidBodyState {
         let (p, v, q, w) = (
             state.position,
@@ -117,7 +117,7 @@ impl RigidBody {
         }
     }
 
-    /// Advances `state` by `duration` [s] in substeps of at most `max_step` [s], inputs held
+    /// Advances `state` by `duration` \[s\] in substeps of at most `max_step` \[s\], inputs held
     /// (zero-order hold between controller samples).
     pub fn advance(
         &self,

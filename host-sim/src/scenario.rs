@@ -12,6 +12,7 @@ use controller_core::{
 };
 use nalgebra::{UnitQuaternion, Vector3};
 
+use crate::perturbation::PerturbationConfig;
 use crate::plant::{RigidBody, RigidBodyState};
 use serde::{Deserialize, Serialize};
 
@@ -34,13 +35,17 @@ pub struct Scenario {
     pub initial: InitialConfig,
     /// Simulation settings.
     pub simulation: SimulationConfig,
+    /// Optional `[perturbations]`: noise, model errors, disturbances, motor lag (all off by
+    /// default; see [`PerturbationConfig`]).
+    #[serde(default, skip_serializing_if = "PerturbationConfig::is_nominal")]
+    pub perturbations: PerturbationConfig,
 }
 
 /// `[vehicle]`.
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct VehicleConfig {
-    /// Mass [kg].
+    /// Mass \[kg\].
     pub mass_kg: f64,
     /// Diagonal of the inertia [kg m²], body frame.
     pub inertia_kg_m2: [f64; 3],
@@ -53,7 +58,7 @@ pub struct VehicleConfig {
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
 pub struct LimitsConfig {
-    /// Maximum thrust [N].
+    /// Maximum thrust \[N\].
     pub thrust_max_N: f64,
     /// Per-axis maximum torque [N m], body frame.
     pub torque_max_Nm: [f64; 3],
@@ -94,7 +99,7 @@ pub struct GainsConfig {
 pub enum TrajectoryConfig {
     /// Hold a point.
     Hover {
-        /// Point [m], inertial.
+        /// Point \[m\], inertial.
         point_m: [f64; 3],
         /// Heading profile (default: yaw 0).
         #[serde(default)]
@@ -102,11 +107,11 @@ pub enum TrajectoryConfig {
     },
     /// `center + (r cos f t, r sin f t, h cos f t)`.
     Helix {
-        /// Center [m].
+        /// Center \[m\].
         center_m: [f64; 3],
-        /// Radius [m].
+        /// Radius \[m\].
         radius_m: f64,
-        /// Vertical amplitude [m].
+        /// Vertical amplitude \[m\].
         vertical_amplitude_m: f64,
         /// Angular frequency [rad/s].
         frequency_rad_s: f64,
@@ -116,11 +121,11 @@ pub enum TrajectoryConfig {
     },
     /// `center + (a sin f t, (b/2) sin 2 f t, 0)`.
     FigureEight {
-        /// Center [m].
+        /// Center \[m\].
         center_m: [f64; 3],
-        /// `a` [m].
+        /// `a` \[m\].
         x_amplitude_m: f64,
-        /// `b` [m].
+        /// `b` \[m\].
         y_amplitude_m: f64,
         /// Angular frequency [rad/s].
         frequency_rad_s: f64,
@@ -136,16 +141,16 @@ pub enum TrajectoryConfig {
 pub enum HeadingConfig {
     /// Constant yaw.
     Constant {
-        /// Yaw [rad].
+        /// Yaw \[rad\].
         yaw_rad: f64,
     },
     /// `offset + amplitude sin(frequency t)`.
     Sinusoidal {
-        /// Amplitude [rad].
+        /// Amplitude \[rad\].
         amplitude_rad: f64,
         /// Angular frequency [rad/s].
         frequency_rad_s: f64,
-        /// Offset [rad].
+        /// Offset \[rad\].
         #[serde(default)]
         offset_rad: f64,
     },
@@ -161,12 +166,12 @@ impl Default for HeadingConfig {
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct InitialConfig {
-    /// Position [m], inertial.
+    /// Position \[m\], inertial.
     pub position_m: [f64; 3],
     /// Velocity [m/s], inertial.
     #[serde(default)]
     pub velocity_m_s: [f64; 3],
-    /// Roll, pitch, yaw [deg] with `R = Rz(yaw) Ry(pitch) Rx(roll)`.
+    /// Roll, pitch, yaw \[deg\] with `R = Rz(yaw) Ry(pitch) Rx(roll)`.
     pub euler_deg: [f64; 3],
     /// Body angular velocity [rad/s].
     #[serde(default)]
@@ -187,11 +192,11 @@ pub enum Precision {
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SimulationConfig {
-    /// Length of the run [s].
+    /// Length of the run \[s\].
     pub duration_s: f64,
-    /// Controller sampling period [s]; commands are held between samples.
+    /// Controller sampling period \[s\]; commands are held between samples.
     pub controller_period_s: f64,
-    /// RK4 substep of the plant [s].
+    /// RK4 substep of the plant \[s\].
     #[serde(default = "default_plant_step")]
     pub plant_step_s: f64,
     /// Controller scalar.
@@ -308,6 +313,7 @@ impl Scenario {
                 return Err(format!("{key}: must be finite, got {arr:?}"));
             }
         }
+        self.perturbations.validate()?;
         Ok(())
     }
 
@@ -462,6 +468,20 @@ mod tests {
         let text = PAPER_SCENARIO.replace("duration_s = 30.0", "duration_s = \"long\"");
         let e = Scenario::parse(&text, "w.toml").unwrap_err().to_string();
         assert!(e.contains("w.toml") && e.contains("duration_s"), "{e}");
+    }
+
+    #[test]
+    fn perturbations_table_is_optional_and_checked() {
+        assert!(Scenario::paper().perturbations.is_nominal());
+        let text = format!("{PAPER_SCENARIO}\n[perturbations]\ngyro_noise_std_rad_s = 0.01\n");
+        let s = Scenario::parse(&text, "p.toml").unwrap();
+        assert_eq!(s.perturbations.gyro_noise_std_rad_s, 0.01);
+        let text = format!("{PAPER_SCENARIO}\n[perturbations]\ngyro_noise = 0.01\n");
+        let e = Scenario::parse(&text, "q.toml").unwrap_err().to_string();
+        assert!(e.contains("q.toml") && e.contains("gyro_noise"), "{e}");
+        let text = format!("{PAPER_SCENARIO}\n[perturbations]\nposition_noise_std_m = -1.0\n");
+        let e = Scenario::parse(&text, "r.toml").unwrap_err().to_string();
+        assert!(e.contains("perturbations.position_noise_std_m"), "{e}");
     }
 
     #[test]

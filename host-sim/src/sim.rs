@@ -15,35 +15,35 @@ use crate::scenario::{Precision, Scenario};
 #[derive(Clone, Debug, Default, Serialize, PartialEq)]
 #[allow(non_snake_case)]
 pub struct Record {
-    /// Time [s].
+    /// Time \[s\].
     pub t_s: f64,
-    /// Position [m], inertial.
+    /// Position \[m\], inertial.
     pub x_m: f64,
-    /// Position y [m].
+    /// Position y \[m\].
     pub y_m: f64,
-    /// Position z [m].
+    /// Position z \[m\].
     pub z_m: f64,
-    /// Reference position x [m].
+    /// Reference position x \[m\].
     pub x_ref_m: f64,
-    /// Reference position y [m].
+    /// Reference position y \[m\].
     pub y_ref_m: f64,
-    /// Reference position z [m].
+    /// Reference position z \[m\].
     pub z_ref_m: f64,
-    /// Roll [rad] (`R = Rz(yaw) Ry(pitch) Rx(roll)`).
+    /// Roll \[rad\] (`R = Rz(yaw) Ry(pitch) Rx(roll)`).
     pub roll_rad: f64,
-    /// Pitch [rad].
+    /// Pitch \[rad\].
     pub pitch_rad: f64,
-    /// Yaw [rad].
+    /// Yaw \[rad\].
     pub yaw_rad: f64,
-    /// Desired yaw `ψ_d` [rad].
+    /// Desired yaw `ψ_d` \[rad\].
     pub yaw_ref_rad: f64,
-    /// `|p − p_d|` [m].
+    /// `|p − p_d|` \[m\].
     pub position_error_m: f64,
     /// `|ϑ̃|` (dimensionless).
     pub mrp_error: f64,
     /// `|ω̃|` [rad/s].
     pub angular_velocity_error_rad_s: f64,
-    /// Thrust command [N].
+    /// Thrust command \[N\].
     pub thrust_N: f64,
     /// Torque command x [N m], body.
     pub torque_x_Nm: f64,
@@ -90,9 +90,9 @@ pub struct ConditionReport {
 #[derive(Clone, Debug, Serialize, PartialEq)]
 #[allow(non_snake_case)]
 pub struct APriori {
-    /// `T_min` [N].
+    /// `T_min` \[N\].
     pub thrust_min_N: f64,
-    /// `T_max` of Theorem 1 [N].
+    /// `T_max` of Theorem 1 \[N\].
     pub thrust_max_N: f64,
     /// Per-axis torque bound of Theorem 2 [N m].
     pub torque_max_Nm: [f64; 3],
@@ -112,9 +112,9 @@ pub struct APriori {
 #[derive(Clone, Debug, Serialize, PartialEq)]
 #[allow(non_snake_case)]
 pub struct Observed {
-    /// Smallest thrust command [N].
+    /// Smallest thrust command \[N\].
     pub thrust_min_N: f64,
-    /// Largest thrust command [N].
+    /// Largest thrust command \[N\].
     pub thrust_max_N: f64,
     /// Largest `|τ_i|` per axis [N m].
     pub torque_abs_max_Nm: [f64; 3],
@@ -131,9 +131,9 @@ pub struct Observed {
 /// Errors at the last sample.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Final {
-    /// Time of the last sample [s].
+    /// Time of the last sample \[s\].
     pub time_s: f64,
-    /// `|p − p_d|` [m].
+    /// `|p − p_d|` \[m\].
     pub position_error_m: f64,
     /// `|ϑ̃|`.
     pub mrp_error: f64,
@@ -153,9 +153,9 @@ pub struct PathLiftingReport {
 /// Settling times: the time after which an error stays below a threshold (`null` if never).
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Settling {
-    /// Position error below 1 mm from this time on [s].
+    /// Position error below 1 mm from this time on \[s\].
     pub position_error_below_1mm_from_s: Option<f64>,
-    /// MRP error below 1e-4 from this time on [s].
+    /// MRP error below 1e-4 from this time on \[s\].
     pub mrp_error_below_1e_4_from_s: Option<f64>,
 }
 
@@ -409,7 +409,7 @@ fn run_generic<T: Scalar>(
     })
 }
 
-/// Reference position [m] and yaw [rad] as f64.
+/// Reference position \[m\] and yaw \[rad\] as f64.
 fn trajectory_sample_f64<T: Scalar>(
     s: &controller_core::ReferenceSample<T>,
 ) -> (Vector3<f64>, f64) {

@@ -42,7 +42,7 @@ pub fn uniform_rotation(u: [f64; 4]) -> UnitQuaternion<f64> {
     }
 }
 
-/// The angle [rad] of the rotation `q` (in `[0, π]`).
+/// The angle \[rad\] of the rotation `q` (in `[0, π]`).
 pub fn rotation_angle(q: &UnitQuaternion<f64>) -> f64 {
     2.0 * q.vector().norm().atan2(q.w.abs())
 }
@@ -62,8 +62,8 @@ pub fn set_initial_attitude(scenario: &mut Scenario, q: &UnitQuaternion<f64>) {
     );
 }
 
-/// The paper scenario with the reference replaced by hovering at `point` [m] with constant
-/// yaw `yaw` [rad].
+/// The paper scenario with the reference replaced by hovering at `point` \[m\] with constant
+/// yaw `yaw` \[rad\].
 pub fn hover_scenario(point: [f64; 3], yaw: f64) -> Scenario {
     let mut s = Scenario::paper();
     s.trajectory = TrajectoryConfig::Hover {
@@ -94,7 +94,7 @@ pub fn to_f64_3<T: Scalar>(v: &Vector3<T>) -> Vector3<f64> {
 pub struct Sample<'a, T: Scalar> {
     /// Sample index `k` (time `k · controller_period_s`).
     pub k: usize,
-    /// Time [s].
+    /// Time \[s\].
     pub t: f64,
     /// Plant state at the sample (f64).
     pub state: &'a RigidBodyState,

@@ -35,7 +35,7 @@ struct Run {
     plant: Vec<RigidBodyState>,
 }
 
-/// The paper scenario for the first 5 s, controller and plant both at period `h` [s].
+/// The paper scenario for the first 5 s, controller and plant both at period `h` \[s\].
 fn record(h: f64) -> Run {
     let mut s = Scenario::paper();
     s.simulation.controller_period_s = h;

@@ -19,7 +19,7 @@ pub const FONT: &str = "sans-serif";
 /// cannot place them.
 pub const LOG_FLOOR: f64 = 1e-12;
 
-/// `(t [s], y)` samples of one line, in time order.
+/// `(t \[s\], y)` samples of one line, in time order.
 pub type Points = Vec<(f64, f64)>;
 
 /// Linear or base-10 logarithmic y axis.
@@ -40,7 +40,7 @@ pub struct Series {
     pub color: RGBColor,
     /// Dashed (references and bounds) or solid (signals).
     pub dashed: bool,
-    /// `(t [s], y)` points in time order.
+    /// `(t \[s\], y)` points in time order.
     pub points: Points,
 }
 

@@ -3,7 +3,7 @@
 //! [`write_all`] writes everything into one directory; [`write_csv`], [`write_summary`] and
 //! [`write_plots`] write the parts. Every error names the file that failed.
 
-mod chart;
+pub(crate) mod chart;
 pub mod csv;
 pub mod plots;
 pub mod summary;

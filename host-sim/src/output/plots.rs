@@ -17,9 +17,9 @@ use crate::sim::{Record, Summary};
 /// File name of the combined figure.
 pub const OVERVIEW_FILE: &str = "overview.png";
 
-/// Size of each single-panel PNG [px].
+/// Size of each single-panel PNG \[px\].
 const PANEL_SIZE: (u32, u32) = (900, 520);
-/// Size of [`OVERVIEW_FILE`] [px]: 4 rows × 2 columns of 700 × 450 cells.
+/// Size of [`OVERVIEW_FILE`] \[px\]: 4 rows × 2 columns of 700 × 450 cells.
 const OVERVIEW_SIZE: (u32, u32) = (1400, 1800);
 const OVERVIEW_GRID: (usize, usize) = (4, 2);
 
@@ -68,7 +68,7 @@ pub fn write_plots(
 
 /// plotters' `ab_glyph` text renderer draws nothing until a font is registered; registering is
 /// global, so it happens once per process.
-fn ensure_font() -> Result<()> {
+pub(crate) fn ensure_font() -> Result<()> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED
         .get_or_init(|| register_font(FONT, FontStyle::Normal, dejavu::sans::regular()).is_ok());
@@ -79,7 +79,7 @@ fn ensure_font() -> Result<()> {
 }
 
 /// Creates a PNG of `size` at `path`, lets `paint` fill it, and saves it.
-fn write_png(
+pub(crate) fn write_png(
     path: &Path,
     size: (u32, u32),
     paint: impl FnOnce(&DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>) -> Result<()>,
@@ -100,7 +100,7 @@ fn column(records: &[Record], f: impl Fn(&Record) -> f64) -> Points {
     records.iter().map(|r| (r.t_s, f(r))).collect()
 }
 
-/// The run's time span [s] (for the horizontal bound lines).
+/// The run's time span \[s\] (for the horizontal bound lines).
 fn time_span(records: &[Record]) -> Range<f64> {
     match (records.first(), records.last()) {
         (Some(a), Some(b)) => a.t_s..b.t_s,
@@ -108,7 +108,7 @@ fn time_span(records: &[Record]) -> Range<f64> {
     }
 }
 
-/// Wraps an angle into `(-π, π]` [rad].
+/// Wraps an angle into `(-π, π]` \[rad\].
 fn wrap_pi(a: f64) -> f64 {
     let w = a.rem_euclid(2.0 * PI);
     if w > PI {
@@ -118,7 +118,7 @@ fn wrap_pi(a: f64) -> f64 {
     }
 }
 
-/// Removes the ±2π jumps of a wrapped angle [rad] so it plots as a continuous curve.
+/// Removes the ±2π jumps of a wrapped angle \[rad\] so it plots as a continuous curve.
 fn unwrap(angles: impl Iterator<Item = f64>) -> Vec<f64> {
     let mut out: Vec<f64> = Vec::new();
     for a in angles {
@@ -131,7 +131,7 @@ fn unwrap(angles: impl Iterator<Item = f64>) -> Vec<f64> {
     out
 }
 
-/// Yaw and desired yaw [rad], both unwrapped. Both are only known modulo 2π, and ψ_d = π sin(f t)
+/// Yaw and desired yaw \[rad\], both unwrapped. Both are only known modulo 2π, and ψ_d = π sin(f t)
 /// touches ±π, so the wrapped values jump across the whole axis. The vehicle's yaw is shifted
 /// by the multiple of 2π that makes it end within π of ψ_d, so converged tracking overlaps.
 fn yaw_series(records: &[Record]) -> (Points, Points) {

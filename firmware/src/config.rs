@@ -1,0 +1,273 @@
+//! The vehicle and flight configuration the pipeline flies with: rigid body, actuator limits,
+//! gains, X-quad rotor geometry, the thrust-to-throttle curve, rates and safety timings.
+//!
+//! Units are SI (kg, m, N, N m, s, µs where named `_us`). Frames: body FLU (x forward, y left,
+//! z up), inertial NWU (z up); see [`crate::frames`].
+
+use controller_core::{Gains, Limits, Vehicle};
+
+/// Position and spin of one rotor.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rotor {
+    /// Rotor hub position `(x, y)` \[m\] in the body FLU frame (x forward, y left).
+    pub position: [f32; 2],
+    /// `+1` if the rotor spins counter-clockwise seen from above (its reaction torque on the
+    /// body is clockwise, i.e. negative about body z), `-1` if clockwise.
+    pub spin: f32,
+}
+
+/// X-quad geometry and rotor model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RotorConfig {
+    /// The four rotors, in motor-output order (see [`crate::mixer`]).
+    pub rotors: [Rotor; 4],
+    /// Arm length \[m\]: distance from the centre of mass to each hub (documentation of the
+    /// positions; [`FlightConfig::paper`] builds the positions from it).
+    pub arm_length: f32,
+    /// Rotor thrust coefficient `k_T` [N/(rad/s)²]: `f = k_T ϖ²`.
+    pub thrust_coefficient: f32,
+    /// Rotor drag-torque coefficient `k_Q` [N m/(rad/s)²]: `q = k_Q ϖ²`; the yaw torque per
+    /// newton of thrust is `k_Q / k_T` \[m\].
+    pub drag_coefficient: f32,
+    /// Smallest thrust one rotor produces when armed \[N\] (at idle throttle).
+    pub thrust_min: f32,
+    /// Largest thrust one rotor produces \[N\] (at full throttle).
+    pub thrust_max: f32,
+    /// Thrust curve factor `k ∈ [0, 1]` (PX4's THR_MDL_FAC idea): the normalised thrust
+    /// `f̂ = (f − f_min)/(f_max − f_min)` relates to the normalised command `u` by
+    /// `f̂ = k u² + (1 − k) u`.
+    pub curve_factor: f32,
+    /// Throttle [0, 1] at which an armed motor idles (produces `thrust_min`).
+    pub throttle_idle: f32,
+}
+
+impl RotorConfig {
+    /// Yaw torque per newton of rotor thrust, `k_Q / k_T` \[m\].
+    pub fn torque_per_thrust(&self) -> f32 {
+        self.drag_coefficient / self.thrust_coefficient
+    }
+
+    /// Throttle [0, 1] for a rotor thrust `f` \[N\], clamped to `[thrust_min, thrust_max]`.
+    /// Inverse of [`RotorConfig::thrust_from_throttle`] on `[throttle_idle, 1]`. A non-finite
+    /// `f` gives the idle throttle (never NaN).
+    pub fn throttle_from_thrust(&self, f: f32) -> f32 {
+        let span = self.thrust_max - self.thrust_min;
+        let mut n = (f - self.thrust_min) / span;
+        if !n.is_finite() {
+            n = 0.0;
+        }
+        let n = n.clamp(0.0, 1.0);
+        let k = self.curve_factor;
+        // Solve k u² + (1 − k) u = n for u ∈ [0, 1].
+        let u = if k < 1e-6 {
+            n
+        } else {
+            let b = 1.0 - k;
+            (-b + libm::sqrtf(b * b + 4.0 * k * n)) / (2.0 * k)
+        };
+        let t = self.throttle_idle + (1.0 - self.throttle_idle) * u.clamp(0.0, 1.0);
+        if t.is_finite() {
+            t.clamp(0.0, 1.0)
+        } else {
+            self.throttle_idle
+        }
+    }
+
+    /// Rotor thrust \[N\] for an armed throttle in `[throttle_idle, 1]` (clamped).
+    pub fn thrust_from_throttle(&self, throttle: f32) -> f32 {
+        let u = ((throttle - self.throttle_idle) / (1.0 - self.throttle_idle)).clamp(0.0, 1.0);
+        let k = self.curve_factor;
+        self.thrust_min + (self.thrust_max - self.thrust_min) * (k * u * u + (1.0 - k) * u)
+    }
+}
+
+/// Time limits of the safety state machine \[µs\].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SafetyConfig {
+    /// A pose older than this refuses arming \[µs\] (issue: 50 ms).
+    pub arm_pose_max_age_us: u64,
+    /// A pose older than this in flight starts the IMU-only failsafe \[µs\] (issue: 100 ms).
+    pub failsafe_pose_age_us: u64,
+    /// Pose lost this long disarms \[µs\] (issue: 2 s).
+    pub disarm_pose_age_us: u64,
+    /// Whether an arm command may ask to arm upside down (it must also say so explicitly).
+    pub allow_inverted_arming: bool,
+    /// Body z must satisfy `e₃ᵀ R e₃ ≥ this` to arm without the inverted flag.
+    pub upright_min_cos: f32,
+    /// Failsafe: commanded vertical descent speed [m/s] (positive down) from the IMU
+    /// dead-reckoned vertical velocity.
+    pub failsafe_descent_speed: f32,
+    /// Failsafe: thrust is kept in `[lo, hi] · m g` \[dimensionless\].
+    pub failsafe_thrust_ratio: [f32; 2],
+    /// Refuse references whose Theorem 2 conditions fail too (default false: Theorem 2's bounds
+    /// are sufficient conditions, violated by the paper's own set-up; they are then reported).
+    pub require_theorem2: bool,
+}
+
+/// Reference smoothing and missions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReferenceConfig {
+    /// Bandwidth `λ` [1/s] of the fourth-order critically damped setpoint filter.
+    pub smoothing_rate: f32,
+    /// Default takeoff height above the arming point \[m\] when the command gives none.
+    pub takeoff_height: f32,
+    /// Landing: below this height above the arming point with `|v| <` `landed_speed` the vehicle
+    /// counts as landed \[m\].
+    pub landed_height: f32,
+    /// Landing speed threshold [m/s].
+    pub landed_speed: f32,
+    /// Land target: this far below the arming height \[m\] so the vehicle settles on the ground.
+    pub land_undershoot: f32,
+}
+
+/// Everything [`crate::pipeline::FlightPipeline::new`] needs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlightConfig {
+    /// Rigid-body parameters (mass \[kg\], inertia diagonal [kg m²], gravity [m/s²]).
+    pub vehicle: Vehicle<f32>,
+    /// Actuator limits the certificate assumes (`T_max` \[N\], `τ_max` [N m]).
+    pub limits: Limits<f32>,
+    /// Controller gains (Table I).
+    pub gains: Gains<f32>,
+    /// Rotor geometry and model.
+    pub rotors: RotorConfig,
+    /// Safety timings.
+    pub safety: SafetyConfig,
+    /// Reference smoothing and missions.
+    pub reference: ReferenceConfig,
+    /// Nominal control period \[s\] (100 Hz).
+    pub control_period: f32,
+    /// Known latency of the motion-capture pose \[µs\], subtracted from the arrival time.
+    pub mocap_latency_us: u64,
+    /// Stillness calibration length [samples of the IMU].
+    pub gyro_calibration_samples: u32,
+    /// Position measurement noise standard deviation \[m\] (velocity filter).
+    pub mocap_position_sigma: f32,
+    /// Acceleration noise spectral density of the velocity filter's model [(m/s²)²/Hz]: what
+    /// the IMU's inertial acceleration gets wrong (noise, bias, vibration).
+    pub velocity_filter_accel_psd: f32,
+    /// Mahony proportional gain [1/s] and integral gain [1/s²] of the IMU-only attitude
+    /// (`k_I = k_P²/4` makes the error dynamics critically damped).
+    pub mahony_gains: [f32; 2],
+    /// MAVLink system id of this vehicle.
+    pub system_id: u8,
+    /// MAVLink component id of this vehicle (1 = autopilot).
+    pub component_id: u8,
+}
+
+impl FlightConfig {
+    /// The paper's vehicle (Section VI: `m = 0.46 kg`, `J = diag(2.24, 2.9, 5.3)·10⁻³ kg m²`),
+    /// its limits (`T_max = 7 N`, `τ_max = 0.5 N m`) and Table I gains, on an X quad whose
+    /// rotors can produce those limits: arm 0.25 m, 0 to 3 N per rotor (12 N in all; roll and
+    /// pitch up to `√2 · 0.25 · 3 = 1.06 N m`), yaw torque 0.1 m per newton (`2 · 0.1 · 3 =
+    /// 0.6 N m`). That yaw ratio is about five times a real propeller's (0.01–0.02 m): it is
+    /// what the paper's `τ_max,3 = 0.5 N m` needs; real vehicles have far less yaw authority,
+    /// which the mixer's yaw-last priority absorbs.
+    ///
+    /// Motor order (Betaflight's quad X): 1 rear-right (CW), 2 front-right (CCW),
+    /// 3 rear-left (CCW), 4 front-left (CW), seen from above.
+    pub fn paper() -> Self {
+        let arm = 0.25f32;
+        let d = arm * core::f32::consts::FRAC_1_SQRT_2;
+        let k_t = 1.0e-5f32;
+        Self {
+            vehicle: Vehicle::paper(),
+            limits: Limits::paper(),
+            gains: Gains::paper(),
+            rotors: RotorConfig {
+                rotors: [
+                    Rotor {
+                        position: [-d, -d],
+                        spin: -1.0,
+                    },
+                    Rotor {
+                        position: [d, -d],
+                        spin: 1.0,
+                    },
+                    Rotor {
+                        position: [-d, d],
+                        spin: 1.0,
+                    },
+                    Rotor {
+                        position: [d, d],
+                        spin: -1.0,
+                    },
+                ],
+                arm_length: arm,
+                thrust_coefficient: k_t,
+                drag_coefficient: 0.1 * k_t,
+                thrust_min: 0.0,
+                thrust_max: 3.0,
+                curve_factor: 0.3,
+                throttle_idle: 0.05,
+            },
+            safety: SafetyConfig {
+                arm_pose_max_age_us: 50_000,
+                failsafe_pose_age_us: 100_000,
+                disarm_pose_age_us: 2_000_000,
+                allow_inverted_arming: true,
+                upright_min_cos: 0.5,
+                failsafe_descent_speed: 0.7,
+                failsafe_thrust_ratio: [0.6, 1.2],
+                require_theorem2: false,
+            },
+            reference: ReferenceConfig {
+                smoothing_rate: 2.0,
+                takeoff_height: 1.0,
+                landed_height: 0.08,
+                landed_speed: 0.15,
+                land_undershoot: 0.3,
+            },
+            control_period: 0.01,
+            mocap_latency_us: 10_000,
+            gyro_calibration_samples: 1000,
+            mocap_position_sigma: 1.0e-3,
+            velocity_filter_accel_psd: 2.0,
+            mahony_gains: [1.0, 0.25],
+            system_id: 1,
+            component_id: 1,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The paper vehicle's rotors meet the paper's T_max = 7 N and τ_max = 0.5 N m, axis by axis
+    /// (hand computation: 4·3 N; √2·L·(f_max − f_min); 2·c·(f_max − f_min)).
+    #[test]
+    fn paper_rotors_meet_the_paper_limits() {
+        let c = FlightConfig::paper();
+        let r = &c.rotors;
+        assert!(4.0 * r.thrust_max >= c.limits.thrust_max);
+        let roll = 2.0f32.sqrt() * r.arm_length * (r.thrust_max - r.thrust_min);
+        assert!(roll >= c.limits.torque_max[0] && roll >= c.limits.torque_max[1]);
+        let yaw = 2.0 * r.torque_per_thrust() * (r.thrust_max - r.thrust_min);
+        assert!(yaw >= c.limits.torque_max[2], "{yaw}");
+        for rotor in &r.rotors {
+            let l = (rotor.position[0].powi(2) + rotor.position[1].powi(2)).sqrt();
+            assert!((l - r.arm_length).abs() < 1e-6);
+        }
+    }
+
+    /// The throttle curve is monotone, maps the thrust range onto [idle, 1], and inverts.
+    #[test]
+    fn throttle_curve_inverts_and_is_monotone() {
+        let r = FlightConfig::paper().rotors;
+        assert!((r.throttle_from_thrust(r.thrust_min) - r.throttle_idle).abs() < 1e-6);
+        assert!((r.throttle_from_thrust(r.thrust_max) - 1.0).abs() < 1e-6);
+        let mut last = 0.0;
+        for i in 0..=300 {
+            let f = i as f32 * 0.01;
+            let u = r.throttle_from_thrust(f);
+            assert!(u >= last);
+            last = u;
+            assert!((r.thrust_from_throttle(u) - f).abs() < 1e-4, "{f}");
+        }
+        assert_eq!(r.throttle_from_thrust(f32::NAN), r.throttle_idle);
+        assert_eq!(r.throttle_from_thrust(f32::INFINITY), r.throttle_idle);
+        assert_eq!(r.throttle_from_thrust(-5.0), r.throttle_idle);
+        assert_eq!(r.throttle_from_thrust(50.0), 1.0);
+    }
+}

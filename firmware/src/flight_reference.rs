@@ -1,0 +1,470 @@
+//! References flown on board: smoothed hover setpoints (also used by takeoff and land) and the
+//! paper's helix as a demo mission, each with guaranteed Assumption 1 constants.
+//!
+//! **Setpoint filter.** Each position axis and the yaw angle go through four identical first
+//! order lags `ẋ₁ = λ(r − x₁)`, `ẋᵢ = λ(xᵢ₋₁ − xᵢ)`, output `p = x₄`: a critically damped
+//! `λ⁴/(s + λ)⁴`, so `p⁽¹⁾…p⁽⁴⁾` exist and are bounded (Assumption 1). With `eᵢ = xᵢ − r`,
+//! `p' = λ(e₃ − e₄)`, `p'' = λ²(e₂ − 2e₃ + e₄)`, `p''' = λ³(e₁ − 3e₂ + 3e₃ − e₄)`,
+//! `p'''' = λ⁴(−4e₁ + 6e₂ − 4e₃ + e₄)`, and `e(t)` evolves in closed form
+//! (`eᵢ(τ) = Σ_{j≤i} τ^{i−j}/(i−j)! e^{−τ} eⱼ(0)`, `τ = λt`), which is also how the filter is
+//! stepped (exactly, for any interval).
+//!
+//! **Constants.** For all future times and no new setpoint,
+//! `|p⁽ᵏ⁾(t)| ≤ λᵏ Σⱼ S_kj |eⱼ|` with `S_kj = sup_τ |φ_kj(τ)|`, `φ_kj` the k-th output's
+//! response to `eⱼ(0) = 1`. [`SupTable`] computes `S` by dense sampling plus a Lipschitz margin
+//! (a guaranteed upper bound up to rounding; the tail beyond `τ = 60` is below 1e-20). A new
+//! setpoint shifts every `eⱼ` by the step, and the constants are recomputed from the shifted
+//! state: valid from that moment on whatever the filter was doing. `K_a12, K_a3` use the
+//! horizontal and vertical parts of `eⱼ`; `K_ν̇ = sup|ψ̇|`, `K_ν̈ ≤ sup|ψ̈| + sup|ψ̇|²`.
+
+use controller_core::{ReferenceSample, ReferenceTrajectory, Trajectory, TrajectoryConstants};
+use nalgebra::{Vector2, Vector3};
+
+/// Output coefficients `c_k` (k = 1..4) on `(e₁, e₂, e₃, e₄)`.
+const OUT: [[f64; 4]; 4] = [
+    [0.0, 0.0, 1.0, -1.0],
+    [0.0, 1.0, -2.0, 1.0],
+    [1.0, -3.0, 3.0, -1.0],
+    [-4.0, 6.0, -4.0, 1.0],
+];
+const FACT: [f64; 4] = [1.0, 1.0, 2.0, 6.0];
+
+/// Guaranteed upper bounds of the filter's free responses: `s[k][j] = sup_{τ≥0} |φ_kj(τ)|`
+/// (derivative k + 1 = 1..4, state j), and `common[k] = sup |Σ_j φ_kj|`, the response to the
+/// same deviation in every state (a step from rest), which is much tighter than `Σ_j s[k][j]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SupTable {
+    /// `sup |φ_kj|`.
+    pub s: [[f32; 4]; 4],
+    /// `sup |Σ_j φ_kj|`.
+    pub common: [f32; 4],
+}
+
+/// Polynomial coefficients (in τ) of `φ_kj(τ) e^{τ}`.
+fn poly(k: usize, j: usize) -> [f64; 4] {
+    let mut a = [0.0; 4];
+    for i in j..4 {
+        a[i - j] += OUT[k][i] / FACT[i - j];
+    }
+    a
+}
+
+/// A guaranteed upper bound of `sup_{τ≥0} |a(τ)| e^{−τ}` for a cubic `a`: samples
+/// `τ ∈ [0, 60]` every `h = 2e-3` and adds `h/2 · L`, with `L = Σ_m |d_m| (m/e)ᵐ` bounding the
+/// derivative (`sup τᵐ e^{−τ} = (m/e)ᵐ`). The tail beyond 60 is below 1e-20.
+fn sup_bound(a: [f64; 4]) -> f32 {
+    let h = 2e-3f64;
+    let decay = libm::exp(-h);
+    let sup_pow = [
+        1.0,
+        libm::exp(-1.0),
+        4.0 * libm::exp(-2.0),
+        27.0 * libm::exp(-3.0),
+    ];
+    let d = [a[1] - a[0], 2.0 * a[2] - a[1], 3.0 * a[3] - a[2], -a[3]];
+    let lip: f64 = d.iter().zip(sup_pow).map(|(c, s)| c.abs() * s).sum();
+    let mut e = 1.0f64;
+    let mut best = 0.0f64;
+    for n in 0..=30_000 {
+        let t = n as f64 * h;
+        let v = ((a[3] * t + a[2]) * t + a[1]) * t + a[0];
+        best = best.max((v * e).abs());
+        e *= decay;
+    }
+    (best + 0.5 * h * lip) as f32 * (1.0 + 1e-6)
+}
+
+impl SupTable {
+    /// [`SupTable::compute`]'s result rounded up to five significant digits, so the MCU does
+    /// not spend ~0.5 M double-precision operations at boot. A test recomputes it and checks
+    /// that every entry is an upper bound within 1e-4 of the computed one.
+    pub const PRECOMPUTED: Self = Self {
+        s: [
+            [0.13174, 0.23259, 1.0024, 1.0011],
+            [0.17133, 1.0044, 2.0034, 1.0011],
+            [1.0076, 3.0078, 3.0044, 1.0011],
+            [4.0153, 6.0122, 4.0054, 1.0011],
+        ],
+        common: [0.22454, 0.13174, 0.17133, 1.0076],
+    };
+
+    /// Computes the table (about 0.5 M multiply-adds).
+    pub fn compute() -> Self {
+        let mut s = [[0.0f32; 4]; 4];
+        let mut common = [0.0f32; 4];
+        for (k, (row, c)) in s.iter_mut().zip(common.iter_mut()).enumerate() {
+            let mut sum = [0.0f64; 4];
+            for (j, out) in row.iter_mut().enumerate() {
+                let a = poly(k, j);
+                *out = sup_bound(a);
+                for (x, y) in sum.iter_mut().zip(a) {
+                    *x += y;
+                }
+            }
+            *c = sup_bound(sum);
+        }
+        Self { s, common }
+    }
+
+    /// Bound on the future `|derivative k + 1|` (before the factor `λ^{k+1}`) for deviations
+    /// with norms given by `norm`: the smallest of three valid bounds, splitting
+    /// `e_j = a + (e_j − a)` with `a ∈ {0, e₁, e₄}`.
+    fn bound(&self, k: usize, e: &[Vector3<f32>; 4], norm: &dyn Fn(&Vector3<f32>) -> f32) -> f32 {
+        let split = |a: &Vector3<f32>| -> f32 {
+            self.common[k] * norm(a)
+                + (0..4)
+                    .map(|j| self.s[k][j] * norm(&(e[j] - a)))
+                    .sum::<f32>()
+        };
+        split(&Vector3::zeros()).min(split(&e[0])).min(split(&e[3]))
+    }
+}
+
+/// One filtered channel group: position (3 axes) and yaw.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SetpointFilter {
+    rate: f32,
+    target: Vector3<f32>,
+    e: [Vector3<f32>; 4],
+    yaw_target: f32,
+    yaw_e: [f32; 4],
+    table: SupTable,
+}
+
+fn wrap_pi(a: f32) -> f32 {
+    let two_pi = 2.0 * core::f32::consts::PI;
+    let mut x = libm::fmodf(a + core::f32::consts::PI, two_pi);
+    if x < 0.0 {
+        x += two_pi;
+    }
+    x - core::f32::consts::PI
+}
+
+impl SetpointFilter {
+    /// At rest at `position` \[m\] (NWU) with `yaw` \[rad\] (NWU), bandwidth `rate` λ [1/s].
+    pub fn new(rate: f32, position: Vector3<f32>, yaw: f32, table: SupTable) -> Self {
+        Self {
+            rate,
+            target: position,
+            e: [Vector3::zeros(); 4],
+            yaw_target: yaw,
+            yaw_e: [0.0; 4],
+            table,
+        }
+    }
+
+    /// The current output position \[m\] and yaw \[rad\].
+    pub fn output(&self) -> (Vector3<f32>, f32) {
+        (self.target + self.e[3], self.yaw_target + self.yaw_e[3])
+    }
+
+    /// The target \[m\] and yaw \[rad\] being approached.
+    pub fn target(&self) -> (Vector3<f32>, f32) {
+        (self.target, self.yaw_target)
+    }
+
+    /// A copy with a new target; yaw goes the short way round.
+    pub fn with_target(&self, position: Vector3<f32>, yaw: f32) -> Self {
+        let mut f = *self;
+        let shift = position - self.target;
+        for e in f.e.iter_mut() {
+            *e -= shift;
+        }
+        let (_, yaw_now) = self.output();
+        let yaw_new = yaw_now + wrap_pi(yaw - yaw_now);
+        let yaw_shift = yaw_new - self.yaw_target;
+        for e in f.yaw_e.iter_mut() {
+            *e -= yaw_shift;
+        }
+        f.target = position;
+        f.yaw_target = yaw_new;
+        f
+    }
+
+    /// Advances the filter by `dt` \[s\] exactly (the closed-form solution).
+    pub fn advance(&mut self, dt: f32) {
+        if !(dt.is_finite() && dt > 0.0) {
+            return;
+        }
+        let tau = self.rate * dt;
+        let d = libm::expf(-tau);
+        let c = [d, tau * d, tau * tau * 0.5 * d, tau * tau * tau / 6.0 * d];
+        let old = self.e;
+        let oy = self.yaw_e;
+        for i in 0..4 {
+            let mut v = Vector3::zeros();
+            let mut y = 0.0;
+            for j in 0..=i {
+                v += old[j] * c[i - j];
+                y += oy[j] * c[i - j];
+            }
+            self.e[i] = v;
+            self.yaw_e[i] = y;
+        }
+    }
+
+    fn derivative(&self, k: usize) -> (Vector3<f32>, f32) {
+        let l = libm::powf(self.rate, (k + 1) as f32);
+        let mut v = Vector3::zeros();
+        let mut y = 0.0;
+        for ((e, ye), c) in self.e.iter().zip(self.yaw_e).zip(OUT[k]) {
+            v += e * c as f32;
+            y += ye * c as f32;
+        }
+        (v * l, y * l)
+    }
+
+    /// The reference sample now.
+    pub fn sample(&self) -> ReferenceSample<f32> {
+        let (p, psi) = self.output();
+        let (v, psi_d) = self.derivative(0);
+        let (a, psi_dd) = self.derivative(1);
+        let (j, _) = self.derivative(2);
+        let (s, _) = self.derivative(3);
+        let nu = Vector2::new(libm::cosf(psi), libm::sinf(psi));
+        let perp = Vector2::new(-nu.y, nu.x);
+        ReferenceSample {
+            position: p,
+            velocity: v,
+            acceleration: a,
+            jerk: j,
+            snap: s,
+            heading: nu,
+            heading_rate: perp * psi_d,
+            heading_acceleration: perp * psi_dd - nu * (psi_d * psi_d),
+        }
+    }
+
+    /// Assumption 1 constants valid from now on (no new target).
+    pub fn constants(&self) -> TrajectoryConstants<f32> {
+        let t = &self.table;
+        let pow = |k: usize| libm::powf(self.rate, (k + 1) as f32);
+        let yaw_e = self.yaw_e.map(|y| Vector3::new(y, 0.0, 0.0));
+        let abs_x = |v: &Vector3<f32>| libm::fabsf(v.x);
+        let w1 = t.bound(0, &yaw_e, &abs_x) * pow(0);
+        let w2 = t.bound(1, &yaw_e, &abs_x) * pow(1);
+        TrajectoryConstants {
+            horizontal_acceleration: t.bound(1, &self.e, &|v| v.xy().norm()) * pow(1),
+            vertical_acceleration: t.bound(1, &self.e, &|v| libm::fabsf(v.z)) * pow(1),
+            jerk: t.bound(2, &self.e, &|v| v.norm()) * pow(2),
+            snap: t.bound(3, &self.e, &|v| v.norm()) * pow(3),
+            heading_rate: w1,
+            heading_acceleration: w2 + w1 * w1,
+        }
+    }
+}
+
+/// What is being flown.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ReferenceMode {
+    /// The setpoint filter (hover, takeoff, land).
+    Setpoint,
+    /// The paper's helix, started at `start_us`.
+    Helix {
+        /// Start time \[µs\].
+        start_us: u64,
+    },
+}
+
+/// The on-board reference: a setpoint filter or the helix.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlightReference {
+    filter: SetpointFilter,
+    mode: ReferenceMode,
+    helix: ReferenceTrajectory<f32>,
+    last_us: Option<u64>,
+}
+
+impl FlightReference {
+    /// At rest at `position` \[m\] NWU, `yaw` \[rad\], smoothing rate λ [1/s].
+    pub fn new(rate: f32, position: Vector3<f32>, yaw: f32, table: SupTable) -> Self {
+        Self {
+            filter: SetpointFilter::new(rate, position, yaw, table),
+            mode: ReferenceMode::Setpoint,
+            helix: ReferenceTrajectory::paper_helix(),
+            last_us: None,
+        }
+    }
+
+    /// The mode.
+    pub fn mode(&self) -> ReferenceMode {
+        self.mode
+    }
+
+    /// The setpoint filter.
+    pub fn filter(&self) -> &SetpointFilter {
+        &self.filter
+    }
+
+    /// Constants of the reference as it stands (from now on).
+    pub fn constants(&self) -> TrajectoryConstants<f32> {
+        match self.mode {
+            ReferenceMode::Setpoint => self.filter.constants(),
+            ReferenceMode::Helix { .. } => self.helix.constants(),
+        }
+    }
+
+    /// The constants a new setpoint would have, given the current output (when flying the
+    /// helix, the filter restarts at rest at the helix's current point: see
+    /// [`FlightReference::set_target`]).
+    pub fn proposed(&self, now_us: u64, position: Vector3<f32>, yaw: f32) -> SetpointFilter {
+        let base = match self.mode {
+            ReferenceMode::Setpoint => self.filter,
+            ReferenceMode::Helix { .. } => {
+                let s = self.sample_at(now_us);
+                SetpointFilter::new(self.filter.rate, s.position, s.yaw(), self.filter.table)
+            }
+        };
+        base.with_target(position, yaw)
+    }
+
+    /// Flies `filter` (from [`FlightReference::proposed`]) from now on.
+    pub fn set_target(&mut self, filter: SetpointFilter) {
+        self.filter = filter;
+        self.mode = ReferenceMode::Setpoint;
+    }
+
+    /// The helix's constants (closed form, controller-core).
+    pub fn helix_constants(&self) -> TrajectoryConstants<f32> {
+        self.helix.constants()
+    }
+
+    /// Starts the helix at `now_us`.
+    pub fn start_helix(&mut self, now_us: u64) {
+        self.mode = ReferenceMode::Helix { start_us: now_us };
+    }
+
+    fn sample_at(&self, now_us: u64) -> ReferenceSample<f32> {
+        match self.mode {
+            ReferenceMode::Setpoint => self.filter.sample(),
+            ReferenceMode::Helix { start_us } => {
+                let t = now_us.saturating_sub(start_us) as f64 * 1e-6;
+                self.helix.sample(t as f32)
+            }
+        }
+    }
+
+    /// Advances to `now_us` and returns the reference sample there.
+    pub fn sample(&mut self, now_us: u64) -> ReferenceSample<f32> {
+        if let Some(t) = self.last_us {
+            if now_us > t {
+                self.filter.advance((now_us - t) as f32 * 1e-6);
+            }
+        }
+        self.last_us = Some(now_us);
+        self.sample_at(now_us)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table() -> SupTable {
+        SupTable::PRECOMPUTED
+    }
+
+    /// The precomputed table bounds the computed one, tightly. Also against two closed forms:
+    /// `common[0]` is the step response's peak velocity `27 e⁻³/6` (at τ = 3) and
+    /// `common[3] = 1` (the snap of a unit step at t = 0), up to the sampling margin.
+    #[test]
+    fn precomputed_table_is_an_upper_bound() {
+        let c = SupTable::compute();
+        let p = SupTable::PRECOMPUTED;
+        let pairs = c.s.iter().flatten().zip(p.s.iter().flatten());
+        for (x, y) in pairs.chain(c.common.iter().zip(p.common.iter())) {
+            assert!(y >= x && *y <= x * 1.0001, "{y} vs {x}");
+        }
+        let peak = 27.0 * (-3.0f32).exp() / 6.0;
+        assert!(p.common[0] >= peak && p.common[0] < peak * 1.003);
+        assert!(p.common[3] >= 1.0 && p.common[3] < 1.01);
+    }
+
+    /// Known closed forms: the step response's velocity peak is `λ · 27 e⁻³ / 6` (τ = 3) and
+    /// the snap starts at `λ⁴` for a unit step from rest: S applied to e = −1 in every state
+    /// must be at least those and within 1 % of a dense independent evaluation.
+    #[test]
+    fn sup_table_against_closed_forms() {
+        let t = table();
+        // Step from rest: e_j = −D for all j; velocity bound = λ Σ_j S_1j D ≥ exact peak.
+        let f = SetpointFilter::new(1.0, Vector3::zeros(), 0.0, t)
+            .with_target(Vector3::new(1.0, 0.0, 0.0), 0.0);
+        // Exact maxima of the step response derivatives, by dense simulation.
+        let mut g = f;
+        let mut max = [0.0f32; 4];
+        for _ in 0..40_000 {
+            for (k, m) in max.iter_mut().enumerate() {
+                *m = m.max(g.derivative(k).0.norm());
+            }
+            g.advance(1e-3);
+        }
+        assert!((max[0] - 27.0 * (-3.0f32).exp() / 6.0).abs() < 1e-4);
+        assert!((max[3] - 1.0).abs() < 1e-3, "{}", max[3]);
+        let k = f.constants();
+        assert!(k.horizontal_acceleration >= max[1] && k.jerk >= max[2] && k.snap >= max[3]);
+        // For a step from rest the common-mode bound is exact up to the sampling margin (< 3 %).
+        assert!(
+            k.snap < 1.03 * max[3] && k.jerk < 1.03 * max[2],
+            "{k:?} {max:?}"
+        );
+        assert!(k.horizontal_acceleration < 1.03 * max[1]);
+    }
+
+    /// Mid-transition retargeting: the constants computed at the switch bound the whole
+    /// future, checked by simulation.
+    #[test]
+    fn constants_bound_the_future_after_retargeting() {
+        let mut f = SetpointFilter::new(2.0, Vector3::zeros(), 0.0, table())
+            .with_target(Vector3::new(2.0, -1.0, 1.0), 1.0);
+        f.advance(0.7);
+        let f = f.with_target(Vector3::new(-1.0, 0.5, 0.2), -2.5);
+        let k = f.constants();
+        let mut g = f;
+        for _ in 0..20_000 {
+            let s = g.sample();
+            assert!(k.contain(&s, 1e-5), "{s:?} {k:?}");
+            g.advance(1e-3);
+        }
+        // Yaw went the short way: from ~0.x to −2.5 is shorter than via +π? check the target.
+        let (_, yaw) = f.target();
+        assert!(
+            (yaw - -2.5).abs() < 1e-5 || (yaw - (-2.5 + 2.0 * core::f32::consts::PI)).abs() < 1e-5
+        );
+    }
+
+    /// The filter's derivatives are consistent (finite differences) and it settles at the target.
+    #[test]
+    fn derivatives_and_settling() {
+        let mut f = SetpointFilter::new(3.0, Vector3::zeros(), 0.0, table())
+            .with_target(Vector3::new(0.0, 0.0, 1.0), 0.0);
+        let h = 1e-3;
+        for _ in 0..500 {
+            let a = f.sample();
+            f.advance(h);
+            let b = f.sample();
+            let fd = (b.velocity - a.velocity) / h;
+            assert!((fd - (a.acceleration + b.acceleration) * 0.5).norm() < 1e-3);
+            let fd = (b.jerk - a.jerk) / h;
+            assert!((fd - (a.snap + b.snap) * 0.5).norm() < 2e-2);
+        }
+        f.advance(20.0);
+        assert!((f.output().0 - Vector3::new(0.0, 0.0, 1.0)).norm() < 1e-6);
+        assert!(f.constants().snap < 1e-4);
+    }
+
+    /// The helix mode samples controller-core's helix from its start time.
+    #[test]
+    fn helix_mode() {
+        let mut r = FlightReference::new(2.0, Vector3::zeros(), 0.0, table());
+        r.start_helix(1_000_000);
+        let s = r.sample(1_000_000);
+        assert!((s.position - Vector3::new(-2.0, 1.0, 5.5)).norm() < 1e-5);
+        assert_eq!(
+            r.constants(),
+            ReferenceTrajectory::<f32>::paper_helix().constants()
+        );
+        // A setpoint while on the helix starts from the helix's current point.
+        let p = r.proposed(1_000_000, Vector3::new(0.0, 0.0, 1.0), 0.0);
+        assert!((p.output().0 - Vector3::new(-2.0, 1.0, 5.5)).norm() < 1e-5);
+    }
+}

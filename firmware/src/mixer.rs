@@ -1,0 +1,426 @@
+//! X-quad allocation: collective thrust `T` \[N\] and body torque `τ` [N m] (FLU) to four rotor
+//! thrusts \[N\], with saturation handled by priority, and the a-priori box-fit report.
+//!
+//! Motor order is the order of [`crate::config::RotorConfig::rotors`]; the paper vehicle uses
+//! Betaflight's quad X: 1 rear-right, 2 front-right, 3 rear-left, 4 front-left.
+//!
+//! Effectiveness: rotor `k` at `(x_k, y_k)` with spin `s_k` (+1 CCW from above) and thrust `f_k`
+//! along body z gives `T = Σ f_k`, `τ_x = Σ y_k f_k`, `τ_y = −Σ x_k f_k`,
+//! `τ_z = −Σ s_k c f_k` (`c = k_Q/k_T`), i.e. `(T, τ) = B f`. The mixer is `M = B⁻¹`.
+//!
+//! Desaturation (the idea of PX4's multirotor mixer, written here from its description):
+//! 1. roll/pitch first: if the roll/pitch part alone spreads the rotors wider than their range,
+//!    it is scaled down (direction kept);
+//! 2. collective next: the thrust is shifted as little as possible, to fit roll/pitch and yaw if
+//!    a shift can, else roll/pitch alone;
+//! 3. yaw last: when no collective shift fits the full yaw demand too, yaw gets the headroom
+//!    left (scaled down, never more than asked).
+//!
+//! Nothing is clipped silently: what was given up is returned in [`MixOutput`].
+
+use nalgebra::{Matrix4, Vector3, Vector4};
+
+use crate::config::RotorConfig;
+
+/// Why a mixer could not be built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MixerError {
+    /// The effectiveness matrix is singular (rotor geometry degenerate).
+    SingularGeometry,
+    /// A rotor's thrust range is empty or not finite.
+    BadThrustRange,
+}
+
+/// The allocation of one sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MixOutput {
+    /// Rotor thrusts \[N\], motor order, each in `[thrust_min, thrust_max]`.
+    pub thrust: [f32; 4],
+    /// Collective thrust \[N\] and torque [N m] the rotor thrusts actually produce.
+    pub achieved_thrust: f32,
+    /// Achieved torque [N m], body FLU.
+    pub achieved_torque: Vector3<f32>,
+    /// Roll/pitch scale applied (1 = as asked).
+    pub roll_pitch_scale: f32,
+    /// Collective shift \[N\] (0 = as asked).
+    pub thrust_shift: f32,
+    /// Yaw scale applied (1 = as asked).
+    pub yaw_scale: f32,
+}
+
+impl MixOutput {
+    /// True when any axis was given up.
+    pub fn saturated(&self) -> bool {
+        self.roll_pitch_scale < 1.0 || self.thrust_shift != 0.0 || self.yaw_scale < 1.0
+    }
+}
+
+/// The X-quad mixer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mixer {
+    effectiveness: Matrix4<f32>,
+    mix: Matrix4<f32>,
+    f_min: f32,
+    f_max: f32,
+}
+
+/// Largest `s ∈ [0, 1]` with `lo ≤ base_k + s d_k ≤ hi` for every k (base assumed inside).
+fn max_scale(base: &Vector4<f32>, d: &Vector4<f32>, lo: f32, hi: f32) -> f32 {
+    let mut s = 1.0f32;
+    for k in 0..4 {
+        if d[k] > 0.0 {
+            s = s.min(((hi - base[k]) / d[k]).max(0.0));
+        } else if d[k] < 0.0 {
+            s = s.min(((lo - base[k]) / d[k]).max(0.0));
+        }
+    }
+    s
+}
+
+/// The interval `[s_lo, s_hi]` of collective shifts `s` with `lo ≤ base_k + s u_k ≤ hi` for every
+/// rotor that carries collective (`u_k > 0`); empty when `s_lo > s_hi`.
+fn shift_bounds(base: &Vector4<f32>, u_t: &Vector4<f32>, lo: f32, hi: f32) -> (f32, f32) {
+    let (mut s_lo, mut s_hi) = (f32::NEG_INFINITY, f32::INFINITY);
+    for k in 0..4 {
+        if u_t[k] > 0.0 {
+            s_lo = s_lo.max((lo - base[k]) / u_t[k]);
+            s_hi = s_hi.min((hi - base[k]) / u_t[k]);
+        }
+    }
+    (s_lo, s_hi)
+}
+
+/// [`shift_bounds`] when the interval is not empty.
+fn shift_interval(base: &Vector4<f32>, u_t: &Vector4<f32>, lo: f32, hi: f32) -> Option<(f32, f32)> {
+    let (s_lo, s_hi) = shift_bounds(base, u_t, lo, hi);
+    (s_lo <= s_hi).then_some((s_lo, s_hi))
+}
+
+impl Mixer {
+    /// Builds `B` and `M = B⁻¹` from the rotor geometry.
+    /// Errors: [`MixerError`].
+    pub fn new(r: &RotorConfig) -> Result<Self, MixerError> {
+        if !(r.thrust_min.is_finite()
+            && r.thrust_max.is_finite()
+            && r.thrust_min >= 0.0
+            && r.thrust_max > r.thrust_min)
+        {
+            return Err(MixerError::BadThrustRange);
+        }
+        let c = r.torque_per_thrust();
+        let mut b = Matrix4::zeros();
+        for (k, rotor) in r.rotors.iter().enumerate() {
+            b[(0, k)] = 1.0;
+            b[(1, k)] = rotor.position[1];
+            b[(2, k)] = -rotor.position[0];
+            b[(3, k)] = -rotor.spin * c;
+        }
+        let mix = b.try_inverse().ok_or(MixerError::SingularGeometry)?;
+        if !mix.iter().all(|x| x.is_finite()) {
+            return Err(MixerError::SingularGeometry);
+        }
+        Ok(Self {
+            effectiveness: b,
+            mix,
+            f_min: r.thrust_min,
+            f_max: r.thrust_max,
+        })
+    }
+
+    /// The effectiveness matrix `B` (rows T, τ_x, τ_y, τ_z; columns motors).
+    pub fn effectiveness(&self) -> &Matrix4<f32> {
+        &self.effectiveness
+    }
+
+    /// The mixing matrix `M = B⁻¹` (rows motors; columns T, τ_x, τ_y, τ_z).
+    pub fn mixing(&self) -> &Matrix4<f32> {
+        &self.mix
+    }
+
+    /// Rotor thrust range \[N\].
+    pub fn thrust_range(&self) -> (f32, f32) {
+        (self.f_min, self.f_max)
+    }
+
+    /// Allocates `thrust` \[N\] and `torque` [N m] (FLU) with roll/pitch > collective > yaw
+    /// priority. Non-finite inputs are treated as zero torque and minimum thrust (the pipeline
+    /// never passes them; this keeps NaN away from the motors regardless).
+    pub fn mix(&self, thrust: f32, torque: &Vector3<f32>) -> MixOutput {
+        let thrust = if thrust.is_finite() { thrust } else { 0.0 };
+        let torque = if torque.iter().all(|x| x.is_finite()) {
+            *torque
+        } else {
+            Vector3::zeros()
+        };
+        let col = |j: usize| self.mix.column(j).into_owned();
+        let u_t = col(0);
+        let rp = col(1) * torque.x + col(2) * torque.y;
+        let yaw = col(3) * torque.z;
+        let (lo, hi) = (self.f_min, self.f_max);
+
+        // 1. Roll/pitch: the spread must fit the range.
+        let spread = rp.max() - rp.min();
+        let rp_scale = if spread > hi - lo {
+            (hi - lo) / spread
+        } else {
+            1.0
+        };
+        let rp = rp * rp_scale;
+
+        // 2. Collective: shift along the thrust column as little as possible, first keeping the
+        // full yaw demand (a realisable request then comes out exactly); if no shift fits with
+        // it, fit roll/pitch alone and let yaw take the headroom left (3).
+        let base = u_t * thrust + rp;
+        let (shift, yaw_scale, f) = match shift_interval(&(base + yaw), &u_t, lo, hi) {
+            Some((s_lo, s_hi)) => {
+                let shift = 0.0f32.max(s_lo).min(s_hi);
+                (shift, 1.0, base + yaw + u_t * shift)
+            }
+            None => {
+                // After step 1 a shift for roll/pitch alone exists up to rounding; if rounding
+                // says otherwise, take the middle of the (empty) interval.
+                let (s_lo, s_hi) = shift_bounds(&base, &u_t, lo, hi);
+                let shift = if s_lo <= s_hi {
+                    0.0f32.max(s_lo).min(s_hi)
+                } else {
+                    0.5 * (s_lo + s_hi)
+                };
+                let base = (base + u_t * shift).map(|f| f.max(lo).min(hi));
+                // 3. Yaw with the headroom left.
+                let yaw_scale = max_scale(&base, &yaw, lo, hi);
+                (shift, yaw_scale, base + yaw * yaw_scale)
+            }
+        };
+        // Rounding can leave a rotor an ulp outside the range.
+        let f = f.map(|f| f.max(lo).min(hi));
+        let achieved = self.effectiveness * f;
+        MixOutput {
+            thrust: [f[0], f[1], f[2], f[3]],
+            achieved_thrust: achieved[0],
+            achieved_torque: Vector3::new(achieved[1], achieved[2], achieved[3]),
+            roll_pitch_scale: rp_scale,
+            thrust_shift: shift,
+            yaw_scale,
+        }
+    }
+
+    /// Whether the box `T ∈ [t_lo, t_hi]`, `|τ_i| ≤ tau_i` maps inside the rotor range, and by
+    /// how much each axis falls short. Every corner of the box is checked through `M`
+    /// (the map is linear, so the corners decide).
+    pub fn box_fit(&self, t_lo: f32, t_hi: f32, tau: &Vector3<f32>) -> BoxFit {
+        let (lo, hi) = (self.f_min, self.f_max);
+        let m = &self.mix;
+        // Per rotor, the torque demand of axes other than `skip` at their box extremes.
+        let others = |k: usize, skip: usize| -> f32 {
+            (0..3)
+                .filter(|&i| i != skip)
+                .map(|i| m[(k, i + 1)].abs() * tau[i])
+                .sum()
+        };
+        let all = |k: usize| others(k, 3);
+        let mut fits = true;
+        let (mut cap_hi, mut cap_lo) = (f32::INFINITY, f32::NEG_INFINITY);
+        for k in 0..4 {
+            let (w, a) = (m[(k, 0)], all(k));
+            // Thrust column entries are positive for any sensible quad; a non-positive entry
+            // cannot carry collective and makes the box unrealisable.
+            if w <= 0.0 {
+                fits = false;
+                continue;
+            }
+            if w * t_hi + a > hi || w * t_lo - a < lo {
+                fits = false;
+            }
+            cap_hi = cap_hi.min((hi - a) / w);
+            cap_lo = cap_lo.max((lo + a) / w);
+        }
+        let mut torque_capacity = [0.0f32; 3];
+        for (i, cap) in torque_capacity.iter_mut().enumerate() {
+            let mut c = f32::INFINITY;
+            for k in 0..4 {
+                let (w, a, e) = (m[(k, 0)], others(k, i), m[(k, i + 1)].abs());
+                if e > 0.0 {
+                    c = c.min((hi - w * t_hi - a) / e).min((w * t_lo - lo - a) / e);
+                }
+            }
+            *cap = c.max(0.0);
+        }
+        let mut single_axis = [0.0f32; 3];
+        for (i, s) in single_axis.iter_mut().enumerate() {
+            // Alone (others zero, collective free): the largest column entry limits it.
+            let e = (0..4).map(|k| m[(k, i + 1)].abs()).fold(0.0f32, f32::max);
+            *s = if e > 0.0 { (hi - lo) / (2.0 * e) } else { 0.0 };
+        }
+        BoxFit {
+            fits,
+            thrust_needed: [t_lo, t_hi],
+            thrust_capacity: [cap_lo, cap_hi],
+            thrust_shortfall: [(cap_lo - t_lo).max(0.0), (t_hi - cap_hi).max(0.0)],
+            torque_needed: [tau.x, tau.y, tau.z],
+            torque_capacity,
+            torque_shortfall: [0, 1, 2].map(|i| (tau[i] - torque_capacity[i]).max(0.0)),
+            torque_single_axis: single_axis,
+        }
+    }
+}
+
+/// Whether a `(T, τ)` box fits inside what the four rotors can produce, per axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoxFit {
+    /// Every corner of the box is realisable.
+    pub fits: bool,
+    /// The box's thrust interval `[T_lo, T_hi]` \[N\].
+    pub thrust_needed: [f32; 2],
+    /// The thrust interval the rotors realise while every torque is at its box bound \[N\].
+    pub thrust_capacity: [f32; 2],
+    /// How far the needed interval sticks out below and above the capacity \[N\] (0 = fits).
+    pub thrust_shortfall: [f32; 2],
+    /// The box's torque half-widths [N m].
+    pub torque_needed: [f32; 3],
+    /// Per axis, the largest `|τ_i|` realisable at both thrust ends with the other torques at
+    /// their box bounds [N m].
+    pub torque_capacity: [f32; 3],
+    /// `max(0, needed − capacity)` per axis [N m].
+    pub torque_shortfall: [f32; 3],
+    /// Per axis, the largest `|τ_i|` with the other torques zero and the collective free [N m].
+    pub torque_single_axis: [f32; 3],
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::FlightConfig;
+
+    fn mixer() -> Mixer {
+        Mixer::new(&FlightConfig::paper().rotors).unwrap()
+    }
+
+    /// Unsaturated: the rotor thrusts reproduce (T, τ), checked against a hand allocation for
+    /// the symmetric X: f_k = T/4 + y_k τx/(4d²) − x_k τy/(4d²) − s_k τz/(4c).
+    #[test]
+    fn unsaturated_allocation_matches_hand_formula() {
+        let cfg = FlightConfig::paper();
+        let m = mixer();
+        let (t, tau) = (4.5f32, Vector3::new(0.05f32, -0.03, 0.02));
+        let out = m.mix(t, &tau);
+        assert!(!out.saturated());
+        let d = 0.25f32 * core::f32::consts::FRAC_1_SQRT_2;
+        let c = cfg.rotors.torque_per_thrust();
+        for (k, r) in cfg.rotors.rotors.iter().enumerate() {
+            let f = t / 4.0 + r.position[1] * tau.x / (4.0 * d * d)
+                - r.position[0] * tau.y / (4.0 * d * d)
+                - r.spin * tau.z / (4.0 * c);
+            assert!((out.thrust[k] - f).abs() < 1e-5, "motor {k}");
+        }
+        assert!((out.achieved_thrust - t).abs() < 1e-5);
+        assert!((out.achieved_torque - tau).norm() < 1e-6);
+    }
+
+    /// Positive roll (τx > 0, right side down in FLU? no: +x torque lifts the left side... )
+    /// is made by the left rotors (y > 0) pushing harder; positive yaw by the CW rotors.
+    #[test]
+    fn signs_of_the_geometry() {
+        let out = mixer().mix(4.0, &Vector3::new(0.1, 0.0, 0.0));
+        // Motors 3 and 4 are on the left (y > 0).
+        assert!(out.thrust[2] > out.thrust[0] && out.thrust[3] > out.thrust[1]);
+        let out = mixer().mix(4.0, &Vector3::new(0.0, 0.1, 0.0));
+        // +τy (nose down in FLU) comes from the rear rotors (1 and 3, x < 0).
+        assert!(out.thrust[0] > out.thrust[1] && out.thrust[2] > out.thrust[3]);
+        let out = mixer().mix(4.0, &Vector3::new(0.0, 0.0, 0.1));
+        // +τz (counter-clockwise) from the CW rotors 1 and 4 (reaction of CW is CCW).
+        assert!(out.thrust[0] > out.thrust[1] && out.thrust[3] > out.thrust[2]);
+    }
+
+    /// Yaw is given up first: full yaw demand with roll/pitch intact.
+    #[test]
+    fn yaw_is_given_up_before_roll_pitch() {
+        let m = mixer();
+        let tau = Vector3::new(0.6, 0.0, 0.6);
+        let out = m.mix(6.0, &tau);
+        assert!(out.yaw_scale < 1.0);
+        assert_eq!(out.roll_pitch_scale, 1.0);
+        assert!((out.achieved_torque.x - 0.6).abs() < 1e-5);
+        assert!(out.thrust.iter().all(|&f| (0.0..=3.0).contains(&f)));
+    }
+
+    /// Collective is shifted before roll/pitch is reduced; roll/pitch are scaled together
+    /// (direction kept) only when their spread alone exceeds the range.
+    #[test]
+    fn collective_then_roll_pitch() {
+        let m = mixer();
+        // High thrust + roll: collective drops, roll intact.
+        let out = m.mix(11.5, &Vector3::new(0.5, 0.0, 0.0));
+        assert_eq!(out.roll_pitch_scale, 1.0);
+        assert!(out.thrust_shift < 0.0);
+        assert!((out.achieved_torque.x - 0.5).abs() < 1e-5);
+        // Roll/pitch beyond what the rotors can do at all: scaled with direction kept.
+        let tau = Vector3::new(1.5, 1.0, 0.0);
+        let out = m.mix(6.0, &tau);
+        assert!(out.roll_pitch_scale < 1.0);
+        let a = out.achieved_torque;
+        assert!((a.x / a.y - 1.5).abs() < 1e-4, "{a}");
+        assert!(out.thrust.iter().all(|&f| (0.0..=3.0 + 1e-6).contains(&f)));
+    }
+
+    proptest::proptest! {
+        /// Any request: rotor thrusts in range; a realisable request is met exactly; roll and
+        /// pitch keep their direction (and are met whenever they were not scaled); yaw never
+        /// exceeds what was asked nor changes sign.
+        #[test]
+        fn priorities_hold(t in -5.0f32..20.0, x in -2.0f32..2.0, y in -2.0f32..2.0, z in -1.0f32..1.0) {
+            let m = mixer();
+            let tau = Vector3::new(x, y, z);
+            let out = m.mix(t, &tau);
+            for f in out.thrust {
+                proptest::prop_assert!((0.0..=3.0).contains(&f));
+            }
+            let ideal = m.mixing() * nalgebra::Vector4::new(t, x, y, z);
+            let a = out.achieved_torque;
+            if ideal.iter().all(|f| (0.0..=3.0).contains(f)) {
+                proptest::prop_assert!(!out.saturated());
+                proptest::prop_assert!((out.achieved_thrust - t).abs() < 1e-4);
+                proptest::prop_assert!((a - tau).norm() < 1e-4);
+            }
+            if out.roll_pitch_scale == 1.0 {
+                proptest::prop_assert!((a.x - x).abs() < 1e-4 && (a.y - y).abs() < 1e-4);
+            } else {
+                // Parallel and shorter: cross product ~ 0, dot ≥ 0.
+                proptest::prop_assert!((a.x * y - a.y * x).abs() < 1e-4);
+                proptest::prop_assert!(a.x * x + a.y * y >= 0.0);
+            }
+            proptest::prop_assert!(a.z.abs() <= z.abs() + 1e-4 && a.z * z >= -1e-6);
+        }
+    }
+
+    /// NaN in → finite rotor thrusts out.
+    #[test]
+    fn nan_never_reaches_rotors() {
+        let out = mixer().mix(f32::NAN, &Vector3::new(f32::INFINITY, 0.0, f32::NAN));
+        assert!(out.thrust.iter().all(|f| f.is_finite()));
+    }
+
+    /// Box fit: a small box fits; the paper's a-priori box does not, with the shortfall
+    /// recomputed by hand for rotor 1 (rear-right): max f = T_hi/4 + τx/(4d) + τy/(4d) + τz/(4c).
+    #[test]
+    fn box_fit_by_hand() {
+        let m = mixer();
+        let small = m.box_fit(3.0, 6.0, &Vector3::new(0.05, 0.05, 0.05));
+        assert!(small.fits);
+        assert_eq!(small.torque_shortfall, [0.0; 3]);
+        let tau = Vector3::new(0.379f32, 0.446, 0.664);
+        let fit = m.box_fit(3.512, 6.188, &tau);
+        assert!(!fit.fits);
+        let d = 0.25f32 * core::f32::consts::FRAC_1_SQRT_2;
+        let c = 0.1f32;
+        let demand = tau.x / (4.0 * d) + tau.y / (4.0 * d) + tau.z / (4.0 * c);
+        assert!((fit.thrust_capacity[1] - 4.0 * (3.0 - demand)).abs() < 1e-4);
+        assert!((fit.thrust_capacity[0] - 4.0 * demand).abs() < 1e-4);
+        // Roll capacity at T_lo with pitch and yaw at their bounds: (T_lo/4 − others)·4d.
+        let roll_cap = ((3.512 / 4.0 - tau.y / (4.0 * d) - tau.z / (4.0 * c)) * 4.0 * d).max(0.0);
+        assert!((fit.torque_capacity[0] - roll_cap).abs() < 1e-4);
+        assert!(fit.torque_shortfall[2] > 0.0);
+        // Single axis: roll alone up to 2 d (f_max − f_min), yaw alone 2 c (f_max − f_min).
+        assert!((fit.torque_single_axis[0] - 2.0 * d * 3.0).abs() < 1e-4);
+        assert!((fit.torque_single_axis[2] - 2.0 * c * 3.0).abs() < 1e-4);
+    }
+}

@@ -1,0 +1,160 @@
+//! Runs a campaign: N closed-loop runs in parallel (rayon), each from its own seed, with a
+//! progress bar (indicatif, on stderr; hidden when stderr is not a terminal).
+
+use anyhow::Result;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::metrics::{BoundSet, Convergence, MetricsAccumulator, RunMetrics};
+use super::sampler::{run_seed, InitialCondition, Sampler, SamplerRadii};
+use crate::closed_loop::fly;
+use crate::controllers::ControllerKind;
+use crate::scenario::Scenario;
+
+/// What a campaign runs.
+#[derive(Clone, Debug)]
+pub struct CampaignConfig {
+    /// The base scenario (vehicle, gains, trajectory, simulation, perturbations); its
+    /// `[initial]` table is replaced by the sampled initial conditions.
+    pub scenario: Scenario,
+    /// Controller flown in every run.
+    pub controller: ControllerKind,
+    /// Number of runs.
+    pub runs: u64,
+    /// Campaign seed.
+    pub seed: u64,
+    /// Offset ball radii.
+    pub radii: SamplerRadii,
+    /// Include the fixed 180° starts as the first runs.
+    pub half_turns: bool,
+    /// Convergence thresholds.
+    pub convergence: Convergence,
+    /// Show a progress bar on stderr (only drawn when stderr is a terminal).
+    pub progress: bool,
+    /// Worker threads; `None`: rayon's default (one per core). Results do not depend on it.
+    pub threads: Option<usize>,
+}
+
+/// One run's result.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunResult {
+    /// Run index.
+    pub index: u64,
+    /// The run's seed (`run_seed(campaign seed, index)`).
+    pub seed: u64,
+    /// `"haar"` or `"half_turn_<axis>"`.
+    pub start: String,
+    /// Initial angle from `R_d(0)` \[deg\].
+    pub initial_attitude_error_deg: f64,
+    /// Initial `|p − p_d|` \[m\].
+    pub initial_position_error_m: f64,
+    /// The metrics; `None` when the controller refused a sample.
+    pub metrics: Option<RunMetrics>,
+    /// Why the run stopped early, if it did.
+    pub error: Option<String>,
+}
+
+/// The bounds of a scenario: the certificate's a-priori bounds and the physical limits.
+///
+/// Errors: the certificate cannot be computed (invalid parameters).
+pub fn bound_set(scenario: &Scenario) -> Result<BoundSet> {
+    let cert = crate::sim::certificate(scenario)?;
+    Ok(BoundSet {
+        thrust_min_N: cert.bounds.thrust_min,
+        thrust_max_N: cert.bounds.thrust_max,
+        torque_max_Nm: cert.bounds.torque_max.into(),
+        limit_thrust_N: scenario.limits.thrust_max_N,
+        limit_torque_Nm: scenario.limits.torque_max_Nm,
+    })
+}
+
+/// Flies one run from `initial` and measures it. A refused sample ends the run with an error
+/// in the result (the campaign continues).
+pub fn run_one(
+    scenario: &Scenario,
+    controller: ControllerKind,
+    index: u64,
+    seed: u64,
+    initial: &InitialCondition,
+    convergence: Convergence,
+    bounds: BoundSet,
+) -> RunResult {
+    let sim = &scenario.simulation;
+    let mut acc =
+        MetricsAccumulator::new(convergence, bounds, sim.duration_s, sim.controller_period_s);
+    // A different stream from the sampler's: the perturbations must not reuse its draws.
+    let noise_seed = run_seed(seed, u64::MAX);
+    let outcome = controller.build(scenario).and_then(|mut c| {
+        fly(scenario, c.as_mut(), &initial.state, noise_seed, |s| {
+            acc.push(s)
+        })
+    });
+    let reference = scenario.trajectory::<f64>();
+    let p0 = controller_core::Trajectory::sample(&reference, 0.0).position;
+    let (metrics, error) = match outcome {
+        Ok(_) => (Some(acc.finish()), None),
+        Err(e) => (None, Some(format!("{e:#}"))),
+    };
+    RunResult {
+        index,
+        seed,
+        start: initial.kind.label(),
+        initial_attitude_error_deg: initial.attitude_error_deg,
+        initial_position_error_m: (initial.state.position - p0).norm(),
+        metrics,
+        error,
+    }
+}
+
+/// Runs the campaign; results in run order.
+///
+/// Errors: the scenario is invalid (bounds or `R_d(0)` undefined).
+pub fn run_campaign(config: &CampaignConfig) -> Result<Vec<RunResult>> {
+    let sampler = Sampler::new(&config.scenario, config.radii)?;
+    let bounds = bound_set(&config.scenario)?;
+    let bar = if config.progress {
+        let bar = ProgressBar::with_draw_target(Some(config.runs), ProgressDrawTarget::stderr());
+        if let Ok(style) = ProgressStyle::with_template(
+            "{prefix} [{elapsed_precise}] {wide_bar} {pos}/{len} runs ({per_sec}, eta {eta})",
+        ) {
+            bar.set_style(style);
+        }
+        bar.set_prefix(config.controller.label());
+        bar
+    } else {
+        ProgressBar::hidden()
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(config.threads.unwrap_or(0))
+        .build()?;
+    let results = pool.install(|| runs_in_parallel(config, &sampler, bounds, &bar));
+    bar.finish_and_clear();
+    Ok(results)
+}
+
+fn runs_in_parallel(
+    config: &CampaignConfig,
+    sampler: &Sampler,
+    bounds: BoundSet,
+    bar: &ProgressBar,
+) -> Vec<RunResult> {
+    (0..config.runs)
+        .into_par_iter()
+        .map(|index| {
+            let seed = run_seed(config.seed, index);
+            let initial = sampler.sample(index, seed, config.half_turns);
+            let r = run_one(
+                &config.scenario,
+                config.controller,
+                index,
+                seed,
+                &initial,
+                config.convergence,
+                bounds,
+            );
+            bar.inc(1);
+            r
+        })
+        .collect()
+}

@@ -1,0 +1,529 @@
+//! `host-sim compare`: the paper's law against the baselines on the same runs, as a markdown
+//! report with tables and embedded plots (`compare.md`), plus `compare.json`.
+//!
+//! Contestants: the paper's law (controller-core, the scenario's precision), Lee et al. (2010)
+//! unclipped and with the commands clipped to the physical limits, and the PX4-style cascade
+//! (which clips its own outputs). Every contestant flies the same initial conditions and the same
+//! noise draws (seeds derive from the campaign seed and the run index only).
+//!
+//! Sections: the baselines' own sanity checks (hover, 1 m step); the seven 180° starts; a
+//! campaign (Haar attitudes, offsets in balls); chattering under attitude noise at 180°.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use nalgebra::Vector3;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::campaign::figures::{
+    cdf_points, time_series_png, xy_figure, Axis, Style, XySeries, PALETTE,
+};
+use crate::campaign::metrics::{BoundSet, RunMetrics};
+use crate::campaign::runner::{bound_set, run_one, RunResult};
+use crate::campaign::sampler::{run_seed, Sampler, SamplerRadii, HALF_TURN_AXES};
+use crate::campaign::stats::{summarise, CampaignStats};
+use crate::campaign::trace::trace;
+use crate::campaign::{run_campaign, CampaignConfig, Convergence};
+use crate::controllers::ControllerKind;
+use crate::experiments::{fmt_opt, CompareArgs};
+use crate::output::chart::{LegendAt, Panel, Scale, Series};
+use crate::plant::RigidBodyState;
+use crate::scenario::{HeadingConfig, Scenario, TrajectoryConfig};
+
+/// One contestant: a controller and whether the plant clips its commands.
+#[derive(Clone, Debug, Serialize)]
+pub struct Contestant {
+    /// Report label.
+    pub label: String,
+    /// Controller.
+    pub controller: ControllerKind,
+    /// Commands clipped to the physical limits before the plant.
+    pub clip: bool,
+}
+
+/// The contestants for a base scenario.
+pub fn contestants(scenario: &Scenario) -> Vec<Contestant> {
+    let clip = scenario.simulation.clip_to_limits;
+    let c = |label: &str, controller, clip| Contestant {
+        label: label.into(),
+        controller,
+        clip,
+    };
+    vec![
+        c("paper", ControllerKind::Paper, clip),
+        c("lee", ControllerKind::Lee, clip),
+        c("lee (clipped)", ControllerKind::Lee, true),
+        c("px4", ControllerKind::Px4, clip),
+    ]
+}
+
+/// Hover and step checks of one contestant.
+#[derive(Clone, Debug, Serialize)]
+pub struct SanityRow {
+    /// Contestant.
+    pub label: String,
+    /// Hover: position error after 10 s \[m\].
+    pub hover_final_position_error_m: f64,
+    /// 1 m horizontal step: settling time \[s\].
+    pub step_settling_time_s: Option<f64>,
+    /// 1 m horizontal step: position error after 10 s \[m\].
+    pub step_final_position_error_m: f64,
+    /// 30° roll step: settling time \[s\].
+    pub tilt_settling_time_s: Option<f64>,
+}
+
+/// One contestant's results.
+#[derive(Clone, Debug, Serialize)]
+pub struct ContestantResult {
+    /// Contestant.
+    pub contestant: Contestant,
+    /// Sanity checks.
+    pub sanity: SanityRow,
+    /// The seven 180° starts (10 m ball).
+    pub half_turns: CampaignStats,
+    /// The campaign.
+    pub campaign: CampaignStats,
+    /// Chattering runs: 180° starts at the reference with attitude noise.
+    pub chattering: CampaignStats,
+}
+
+/// `compare.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct CompareReport {
+    /// Campaign runs per contestant.
+    pub runs: u64,
+    /// Seed.
+    pub seed: u64,
+    /// Attitude noise of the chattering runs \[deg\].
+    pub chattering_noise_deg: f64,
+    /// Definitions.
+    pub definitions: String,
+    /// Bounds and limits.
+    pub bounds: BoundSet,
+    /// Results per contestant.
+    pub results: Vec<ContestantResult>,
+}
+
+/// Attitude noise of the chattering comparison [deg per axis].
+pub const CHATTER_NOISE_DEG: f64 = 2.0;
+
+fn with_clip(scenario: &Scenario, clip: bool) -> Scenario {
+    let mut s = scenario.clone();
+    s.simulation.clip_to_limits = clip;
+    s
+}
+
+/// Hover, 1 m step and 30° tilt from hover at (0, 0, 5) m, 10 s each.
+fn sanity(base: &Scenario, c: &Contestant, bounds: BoundSet) -> Result<SanityRow> {
+    let mut s = with_clip(base, c.clip);
+    s.trajectory = TrajectoryConfig::Hover {
+        point_m: [0.0, 0.0, 5.0],
+        heading: HeadingConfig::Constant { yaw_rad: 0.0 },
+    };
+    s.simulation.duration_s = 10.0;
+    let conv = Convergence {
+        after_s: 10.0,
+        ..Convergence::default()
+    };
+    let at = |p: Vector3<f64>, attitude| RigidBodyState {
+        position: p,
+        velocity: Vector3::zeros(),
+        attitude,
+        angular_velocity: Vector3::zeros(),
+    };
+    let hover_point = Vector3::new(0.0, 0.0, 5.0);
+    let level = nalgebra::UnitQuaternion::identity();
+    let run = |initial: RigidBodyState| -> Result<RunMetrics> {
+        Ok(trace(&s, c.controller, &initial, 0, conv, bounds)?.0)
+    };
+    let hover = run(at(hover_point, level))?;
+    let step = run(at(hover_point + Vector3::x(), level))?;
+    let tilt = run(at(
+        hover_point,
+        nalgebra::UnitQuaternion::from_euler_angles(30f64.to_radians(), 0.0, 0.0),
+    ))?;
+    Ok(SanityRow {
+        label: c.label.clone(),
+        hover_final_position_error_m: hover.final_position_error_m,
+        step_settling_time_s: step.settling_time_s,
+        step_final_position_error_m: step.final_position_error_m,
+        tilt_settling_time_s: tilt.settling_time_s,
+    })
+}
+
+fn chattering(
+    base: &Scenario,
+    c: &Contestant,
+    seed: u64,
+    bounds: BoundSet,
+) -> Result<CampaignStats> {
+    let mut s = with_clip(base, c.clip);
+    s.perturbations.attitude_noise_std_rad = CHATTER_NOISE_DEG.to_radians();
+    let radii = SamplerRadii {
+        position_m: 0.0,
+        velocity_m_s: 0.0,
+        angular_velocity_rad_s: 0.0,
+    };
+    let sampler = Sampler::new(&s, radii)?;
+    let axes = HALF_TURN_AXES.len() as u64;
+    let results: Vec<RunResult> = (0..2 * axes)
+        .into_par_iter()
+        .map(|i| {
+            let seed = run_seed(seed, i);
+            let initial = sampler.sample(i % axes, seed, true);
+            run_one(
+                &s,
+                c.controller,
+                i,
+                seed,
+                &initial,
+                Convergence::default(),
+                bounds,
+            )
+        })
+        .collect();
+    Ok(summarise(&results, true))
+}
+
+/// Runs the whole comparison; also returns each contestant's campaign settling times.
+///
+/// Errors: invalid scenario, or a sanity run the controller refused.
+pub fn run_compare(
+    base: &Scenario,
+    runs: u64,
+    seed: u64,
+) -> Result<(CompareReport, Vec<Vec<RunResult>>)> {
+    let bounds = bound_set(base)?;
+    let mut results = Vec::new();
+    let mut campaigns = Vec::new();
+    for c in contestants(base) {
+        let s = with_clip(base, c.clip);
+        let config = |runs, radii| CampaignConfig {
+            scenario: s.clone(),
+            controller: c.controller,
+            runs,
+            seed,
+            radii,
+            half_turns: true,
+            convergence: Convergence::default(),
+            progress: true,
+            threads: None,
+        };
+        let nominal = !s.perturbations.violates_model();
+        let half = run_campaign(&config(
+            HALF_TURN_AXES.len() as u64,
+            SamplerRadii::default(),
+        ))?;
+        let campaign = run_campaign(&config(runs, SamplerRadii::default()))?;
+        results.push(ContestantResult {
+            sanity: sanity(base, &c, bounds)
+                .with_context(|| format!("sanity runs of {}", c.label))?,
+            half_turns: summarise(&half, nominal),
+            campaign: summarise(&campaign, nominal),
+            chattering: chattering(base, &c, seed, bounds)?,
+            contestant: c,
+        });
+        campaigns.push(campaign);
+    }
+    Ok((
+        CompareReport {
+            runs,
+            seed,
+            chattering_noise_deg: CHATTER_NOISE_DEG,
+            definitions: Convergence::default().describe(),
+            bounds,
+            results,
+        },
+        campaigns,
+    ))
+}
+
+fn pct(part: u64, whole: u64) -> String {
+    if whole == 0 {
+        "-".into()
+    } else {
+        format!("{:.2} %", 100.0 * part as f64 / whole as f64)
+    }
+}
+
+/// The markdown report.
+pub fn markdown(r: &CompareReport, plots: &[(String, String)]) -> String {
+    let b = &r.bounds;
+    let tau_limit = b
+        .limit_torque_Nm
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+    let mut md = String::new();
+    let mut failures: Vec<String> = Vec::new();
+    let _ = writeln!(md, "# The paper's law against the baselines\n");
+    let _ = writeln!(
+        md,
+        "Same initial conditions and noise draws for every controller (seed {}). {} \
+         Physical limits: T <= {} N, |tau_i| <= {} N m; the paper's a-priori bounds: T in [{:.2}, {:.2}] N, \
+         |tau| <= ({:.3}, {:.3}, {:.3}) N m. Peaks are of the commands before clipping.\n",
+        r.seed,
+        r.definitions,
+        b.limit_thrust_N,
+        tau_limit,
+        b.thrust_min_N,
+        b.thrust_max_N,
+        b.torque_max_Nm[0],
+        b.torque_max_Nm[1],
+        b.torque_max_Nm[2]
+    );
+    let _ = writeln!(
+        md,
+        "## Sanity checks of each controller on its own (hover at (0, 0, 5) m, 10 s)\n"
+    );
+    let _ = writeln!(md, "| controller | hover: error at 10 s [m] | 1 m step: settling [s] | 1 m step: error at 10 s [m] | 30 deg roll: settling [s] |");
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- |");
+    for c in &r.results {
+        let s = &c.sanity;
+        let _ = writeln!(
+            md,
+            "| {} | {:.2e} | {} | {:.2e} | {} |",
+            s.label,
+            s.hover_final_position_error_m,
+            fmt_opt(s.step_settling_time_s),
+            s.step_final_position_error_m,
+            fmt_opt(s.tilt_settling_time_s)
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\n## Convergence from 180 deg (seven axes, position offset in a 10 m ball)\n"
+    );
+    let _ = writeln!(md, "| controller | converged | settling median / max [s] | time to < 90 deg median / max [s] | max switches in 1 s |");
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- |");
+    for c in &r.results {
+        let h = &c.half_turns;
+        let _ = writeln!(
+            md,
+            "| {} | {}/{} | {} / {} | {} / {} | {} |",
+            c.contestant.label,
+            h.converged,
+            h.runs,
+            fmt_opt(h.settling_time_s.p50),
+            fmt_opt(h.settling_time_s.max),
+            fmt_opt(h.attitude_below_90deg_s.p50),
+            fmt_opt(h.attitude_below_90deg_s.max),
+            h.switching.max_switches_in_1s
+        );
+    }
+    let _ = writeln!(md, "\n## Campaign: {} runs (the seven 180 deg starts, then Haar attitudes; offsets in balls of 10 m, 2 m/s, 2 rad/s)\n", r.runs);
+    let _ = writeln!(md, "| controller | converged | settling p50 / p90 [s] | steady-state error p50 [m] | final attitude error p50 [deg] | peak T / T_max, median run / worst run | peak \\|tau_i\\| / tau_max, median run / worst run | samples beyond limits | samples outside a-priori bounds |");
+    let _ = writeln!(
+        md,
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    );
+    for c in &r.results {
+        let s = &c.campaign;
+        let n = &s.nominal;
+        let counts = if n.runs > 0 { n } else { &s.perturbed };
+        let ratio = |x: Option<f64>, limit: f64| {
+            x.map_or_else(|| "-".into(), |v| format!("{:.3}", v / limit))
+        };
+        if s.failed_runs > 0 {
+            failures.push(format!(
+                "{}: {} of {} runs stopped (controller undefined: F = 0 or b3d parallel to b1d).",
+                c.contestant.label, s.failed_runs, s.runs
+            ));
+        }
+        let a_priori = if c.contestant.controller == ControllerKind::Paper {
+            format!("{} of {}", counts.samples_outside_a_priori, counts.samples)
+        } else {
+            "n/a".into()
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {:.1} % ({}/{}) | {} / {} | {} | {} | {} / {} | {} / {} | {} ({}) | {} |",
+            c.contestant.label,
+            100.0 * s.fraction_converged,
+            s.converged,
+            s.runs,
+            fmt_opt(s.settling_time_s.p50),
+            fmt_opt(s.settling_time_s.p90),
+            fmt_sci(s.steady_position_error_m.p50),
+            fmt_sci(s.final_attitude_error_deg.p50),
+            ratio(s.peak_thrust_N.p50, b.limit_thrust_N),
+            ratio(s.peak_thrust_N.max, b.limit_thrust_N),
+            ratio(s.peak_torque_Nm.p50, tau_limit),
+            ratio(s.peak_torque_Nm.max, tau_limit),
+            counts.samples_beyond_limits,
+            pct(counts.samples_beyond_limits, counts.samples),
+            a_priori
+        );
+    }
+    if !failures.is_empty() {
+        let _ = writeln!(
+            md,
+            "\nRuns that stopped count as not converged. {}",
+            failures.join(" ")
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\n## Chattering under attitude noise ({} deg per axis) at 180 deg (seven axes x 2 seeds, at the reference)\n",
+        r.chattering_noise_deg
+    );
+    let _ = writeln!(md, "| controller | switches per run median / max | max switches in 1 s | time to < 90 deg median / max [s] | converged |");
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- |");
+    for c in &r.results {
+        let s = &c.chattering;
+        let _ = writeln!(
+            md,
+            "| {} | {} / {} | {} | {} / {} | {}/{} |",
+            c.contestant.label,
+            fmt_opt(s.switching.switches_per_run.p50),
+            fmt_opt(s.switching.switches_per_run.max),
+            s.switching.max_switches_in_1s,
+            fmt_opt(s.attitude_below_90deg_s.p50),
+            fmt_opt(s.attitude_below_90deg_s.max),
+            s.converged,
+            s.runs
+        );
+    }
+    let _ = writeln!(md, "\nLee et al.'s law has no switching (a continuous attitude error); at exactly 180 deg its e_R vanishes, so it leaves only through noise or the translational coupling.\n");
+    for (title, file) in plots {
+        let _ = writeln!(md, "![{title}]({file})\n");
+    }
+    md
+}
+
+fn fmt_sci(x: Option<f64>) -> String {
+    x.map_or_else(|| "-".into(), |v| format!("{v:.2e}"))
+}
+
+fn write_plots(
+    dir: &Path,
+    base: &Scenario,
+    report: &CompareReport,
+    campaigns: &[Vec<RunResult>],
+) -> Result<Vec<(String, String)>> {
+    let mut files = Vec::new();
+    let mut traces = Vec::new();
+    for c in &report.results {
+        let s = with_clip(base, c.contestant.clip);
+        let (_, points) = trace(
+            &s,
+            c.contestant.controller,
+            &s.initial_state(),
+            0,
+            Convergence::default(),
+            report.bounds,
+        )?;
+        traces.push((c.contestant.label.clone(), points));
+    }
+    let fields: [crate::campaign::trace::PanelSpec; 3] = [
+        (
+            "compare_position_error.png",
+            "Position error from the paper's start",
+            "|p - p_d| [m]",
+            Scale::Log,
+            |p| p.position_error_m,
+        ),
+        (
+            "compare_attitude_error.png",
+            "Attitude error from the paper's start",
+            "angle(R_d^T R) [deg]",
+            Scale::Log,
+            |p| p.attitude_error_deg,
+        ),
+        (
+            "compare_torque.png",
+            "Largest torque component from the paper's start",
+            "max_i |tau_i| [N m]",
+            Scale::Log,
+            |p| p.torque_abs_max_Nm,
+        ),
+    ];
+    for (file, title, y_label, scale, f) in fields {
+        let mut series: Vec<Series> = traces
+            .iter()
+            .enumerate()
+            .map(|(i, (label, pts))| {
+                Series::line(
+                    label,
+                    PALETTE[i],
+                    pts.iter().map(|p| (p.t_s, f(p))).collect(),
+                )
+            })
+            .collect();
+        if file == "compare_torque.png" {
+            let span = 0.0..base.simulation.duration_s;
+            series.push(Series::level(
+                Some("limit"),
+                PALETTE[5],
+                report.bounds.limit_torque_Nm[0],
+                &span,
+            ));
+        }
+        time_series_png(
+            &dir.join(file),
+            &Panel {
+                file,
+                title: title.into(),
+                y_label: y_label.into(),
+                scale,
+                series,
+                legend_at: LegendAt::LowerLeft,
+            },
+        )?;
+        files.push((title.to_string(), file.to_string()));
+    }
+    let file = "compare_settling_cdf.png";
+    let series: Vec<XySeries> = report
+        .results
+        .iter()
+        .zip(campaigns)
+        .enumerate()
+        .map(|(i, (c, runs))| {
+            let settling: Vec<f64> = runs
+                .iter()
+                .filter_map(|r| r.metrics.as_ref().and_then(|m| m.settling_time_s))
+                .collect();
+            XySeries {
+                label: c.contestant.label.clone(),
+                color: PALETTE[i],
+                style: Style::Line,
+                points: cdf_points(&settling, runs.len(), base.simulation.duration_s),
+            }
+        })
+        .collect();
+    xy_figure(
+        &dir.join(file),
+        &format!("Fraction of the {} campaign runs settled by t", report.runs),
+        &Axis::linear("t [s]"),
+        &Axis::linear("fraction of runs"),
+        &series,
+    )?;
+    files.push(("Settling-time CDF".into(), file.into()));
+    Ok(files)
+}
+
+/// `host-sim compare`: runs the comparison and writes `compare.md`, `compare.json`, plots.
+///
+/// Errors: invalid scenario, a failed sanity run, or a file that cannot be written.
+pub fn run_cli(args: &CompareArgs) -> Result<()> {
+    let base = args.base.scenario()?;
+    let (report, campaigns) = run_compare(&base, args.runs, args.base.seed)?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    let plots = write_plots(&args.out, &base, &report, &campaigns)?;
+    let md = markdown(&report, &plots);
+    let md_path = args.out.join("compare.md");
+    std::fs::write(&md_path, &md).with_context(|| format!("writing {}", md_path.display()))?;
+    let json_path = args.out.join("compare.json");
+    std::fs::write(&json_path, serde_json::to_string_pretty(&report)? + "\n")
+        .with_context(|| format!("writing {}", json_path.display()))?;
+    print!("{md}");
+    println!(
+        "Wrote compare.md, compare.json and {} plots to {}",
+        plots.len(),
+        args.out.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,633 @@
+//! Software in the loop: the firmware's flight pipeline (`firmware::pipeline`, the code that
+//! flies on the STM32) against the rigid-body plant, with simulated sensors and actuators.
+//!
+//! - IMU at 1 kHz with noise and bias ([`sensors::ImuModel`]);
+//! - motion capture at 100 Hz with noise, latency and dropouts, each pose a real MAVLink 2
+//!   frame from the firmware's encoder, delivered in random chunks to the firmware's decoder
+//!   ([`sensors::MocapModel`]);
+//! - ground-station commands as MAVLink frames too;
+//! - motors: throttle → thrust through the vehicle's curve, first-order lag, per-rotor limits;
+//!   the plant ([`crate::plant`]) is driven by the four rotor thrusts through the mixer's
+//!   effectiveness matrix (the same geometry the firmware allocates with);
+//! - optionally a flat ground (contact stops the body) for takeoff and landing.
+//!
+//! [`scenarios`] defines the runs; [`run`] executes one and returns its records and summary.
+
+pub mod scenarios;
+pub mod sensors;
+
+use std::collections::VecDeque;
+
+use anyhow::{anyhow, Result};
+use firmware::config::FlightConfig;
+use firmware::link::mavlink::dialects::common::MavMessage;
+use firmware::link::{self, Decoder};
+use firmware::pipeline::{Event, FlightPipeline, MotorOutput};
+use firmware::safety::FlightState;
+use nalgebra::{UnitQuaternion, Vector3, Vector4};
+use serde::Serialize;
+
+use crate::plant::{PlantInput, RigidBody, RigidBodyState};
+use sensors::{ImuModel, MocapModel, Rng};
+
+/// One software-in-the-loop run.
+#[derive(Clone, Debug)]
+pub struct SilSetup {
+    /// Name (output directory, summary).
+    pub name: String,
+    /// The firmware's configuration.
+    pub flight: FlightConfig,
+    /// IMU model.
+    pub imu: ImuModel,
+    /// Motion-capture model.
+    pub mocap: MocapModel,
+    /// Motor time constant \[s\] (first-order lag of each rotor's thrust).
+    pub motor_time_constant_s: f64,
+    /// The body's state while held and at release.
+    pub initial: RigidBodyState,
+    /// Time held still (on a stand, in a hand, on the ground) before release \[s\]; the gyro
+    /// calibrates and the estimator converges meanwhile.
+    pub hold_s: f64,
+    /// Time simulated after release \[s\].
+    pub duration_s: f64,
+    /// Ground-station messages: (time after release \[s\], message). Negative times fall in the
+    /// hold.
+    pub commands: Vec<(f64, MavMessage)>,
+    /// Scripted pose outage `[start, end)` after release \[s\]: no pose is sent.
+    pub pose_outage: Option<(f64, f64)>,
+    /// Random seed (noise, dropouts, chunking).
+    pub seed: u64,
+    /// Height of a flat ground \[m\] (z up), `None` for none (the paper's scenario falls about
+    /// 23 m during its recovery, as in the paper).
+    pub ground_z: Option<f64>,
+}
+
+/// One control tick of the run (100 Hz). Units in the names; times after release.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+#[allow(non_snake_case)]
+pub struct SilRecord {
+    /// Time after release \[s\].
+    pub t_s: f64,
+    /// True position \[m\], NWU.
+    pub x_m: f64,
+    /// True y \[m\].
+    pub y_m: f64,
+    /// True z \[m\].
+    pub z_m: f64,
+    /// Reference x \[m\] (the pipeline's).
+    pub x_ref_m: f64,
+    /// Reference y \[m\].
+    pub y_ref_m: f64,
+    /// Reference z \[m\].
+    pub z_ref_m: f64,
+    /// Estimated position minus true position, norm \[m\].
+    pub estimate_error_m: f64,
+    /// True position minus reference, norm \[m\] (0 when not flying the controller).
+    pub position_error_m: f64,
+    /// Roll \[rad\] (`R = Rz Ry Rx`).
+    pub roll_rad: f64,
+    /// Pitch \[rad\].
+    pub pitch_rad: f64,
+    /// Yaw \[rad\].
+    pub yaw_rad: f64,
+    /// Tilt: angle between body z and inertial z \[rad\].
+    pub tilt_rad: f64,
+    /// Flight state (`disarmed`, `armed`, `failsafe`).
+    pub state: &'static str,
+    /// Reference mode.
+    pub mode: &'static str,
+    /// Collective thrust of the allocation \[N\].
+    pub thrust_N: f64,
+    /// Torque of the allocation x [N m], body.
+    pub torque_x_Nm: f64,
+    /// Torque y [N m].
+    pub torque_y_Nm: f64,
+    /// Torque z [N m].
+    pub torque_z_Nm: f64,
+    /// Actual rotor thrusts \[N\] (after the lag).
+    pub rotor1_N: f64,
+    /// Rotor 2 \[N\].
+    pub rotor2_N: f64,
+    /// Rotor 3 \[N\].
+    pub rotor3_N: f64,
+    /// Rotor 4 \[N\].
+    pub rotor4_N: f64,
+    /// Throttle commands.
+    pub throttle1: f32,
+    /// Throttle 2.
+    pub throttle2: f32,
+    /// Throttle 3.
+    pub throttle3: f32,
+    /// Throttle 4.
+    pub throttle4: f32,
+    /// Vertical velocity [m/s], z up.
+    pub vz_m_s: f64,
+}
+
+/// What a run showed.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+#[allow(non_snake_case)]
+pub struct SilSummary {
+    /// Scenario name.
+    pub scenario: String,
+    /// Seed.
+    pub seed: u64,
+    /// Whether the certificate's a-priori `(T, τ)` box fits inside the rotors.
+    pub a_priori_box_fits: bool,
+    /// Shortfall of that box per axis: thrust below/above \[N\], then torque x, y, z [N m].
+    pub a_priori_box_shortfall: [f64; 5],
+    /// Certificate conditions that fail (names).
+    pub violated_conditions: Vec<String>,
+    /// Every event with its time after release \[s\].
+    pub events: Vec<(f64, String)>,
+    /// Position error at the end \[m\] (true position vs the pipeline's reference).
+    pub final_position_error_m: f64,
+    /// RMS position error over the last 10 s of flight under the controller \[m\].
+    pub rms_position_error_last_10s_m: f64,
+    /// Time after release from which the error stays below 5 cm \[s\].
+    pub below_5cm_from_s: Option<f64>,
+    /// Largest actual rotor thrust \[N\] and the rotor maximum.
+    pub rotor_thrust_max_N: f64,
+    /// Smallest actual rotor thrust while armed \[N\].
+    pub rotor_thrust_min_armed_N: f64,
+    /// Per-rotor thrust range of the vehicle \[N\].
+    pub rotor_range_N: [f64; 2],
+    /// Throttle commands outside [0, 1] or non-finite (must be 0).
+    pub throttle_violations: u64,
+    /// Ticks with a spinning motor while disarmed (must be 0).
+    pub spun_while_disarmed: u64,
+    /// Ticks the mixer gave something up.
+    pub mixer_saturated_ticks: u32,
+    /// Frames the firmware's decoder accepted / dropped / found malformed.
+    pub link_frames: [u32; 3],
+    /// Telemetry frames sent (decoded back, CRC-valid) and malformed ones (must be 0).
+    pub telemetry_frames: [u32; 2],
+    /// Time of the last pose delivered before the failsafe (or the end) \[s\].
+    pub last_pose_s: Option<f64>,
+    /// Failsafe entry time \[s\].
+    pub failsafe_at_s: Option<f64>,
+    /// Disarm time \[s\] (last).
+    pub disarmed_at_s: Option<f64>,
+    /// Largest tilt during the failsafe after its first 0.5 s \[rad\].
+    pub failsafe_max_tilt_rad: Option<f64>,
+    /// Mean vertical velocity during the failsafe [m/s] (negative: descending).
+    pub failsafe_mean_vz_m_s: Option<f64>,
+    /// Final flight state.
+    pub final_state: String,
+    /// Non-finite values counted by the pipeline.
+    pub non_finite: u32,
+    /// Commands refused.
+    pub refused_commands: u32,
+}
+
+/// Motors: throttle → thrust through the vehicle's curve (0 when stopped), first-order lag,
+/// per-rotor limits.
+#[derive(Clone, Copy, Debug)]
+struct Motors {
+    thrust: [f64; 4],
+}
+
+impl Motors {
+    fn step(&mut self, cfg: &FlightConfig, out: &MotorOutput, h: f64, tau: f64) {
+        let r = &cfg.rotors;
+        let alpha = 1.0 - (-h / tau).exp();
+        for k in 0..4 {
+            let u = out.throttle[k];
+            let target = if out.armed && u.is_finite() && u > 0.0 {
+                f64::from(r.thrust_from_throttle(u))
+            } else {
+                0.0
+            };
+            self.thrust[k] += (target - self.thrust[k]) * alpha;
+            self.thrust[k] = self.thrust[k].clamp(0.0, f64::from(r.thrust_max));
+        }
+    }
+}
+
+/// A byte chunk due at a time.
+struct Delivery {
+    at_us: u64,
+    bytes: Vec<u8>,
+    /// The last chunk of a pose frame.
+    pose_end: bool,
+}
+
+fn schedule(queue: &mut VecDeque<Delivery>, at_us: u64, frame: &[u8], rng: &mut Rng, pose: bool) {
+    // Random chunking: the UART DMA hands over arbitrary pieces.
+    let mut i = 0;
+    while i < frame.len() {
+        let n = 1 + (rng.next_u64() % 40) as usize;
+        let j = (i + n).min(frame.len());
+        queue.push_back(Delivery {
+            at_us,
+            bytes: frame[i..j].to_vec(),
+            pose_end: pose && j == frame.len(),
+        });
+        i = j;
+    }
+}
+
+fn encode(m: &MavMessage, seq: &mut u8) -> Vec<u8> {
+    let mut buf = [0u8; link::MAX_FRAME];
+    let n = link::encode(m, 255, 190, *seq, &mut buf);
+    *seq = seq.wrapping_add(1);
+    buf[..n].to_vec()
+}
+
+fn describe(e: &Event) -> String {
+    match e {
+        Event::StateChanged { from, to, reason } => {
+            format!("state {} -> {} ({reason})", from.name(), to.name())
+        }
+        Event::ModeChanged { mode } => format!("mode {}", mode.name()),
+        other => format!("{other:?}"),
+    }
+}
+
+/// Runs `setup`, calling `observe` for every control tick.
+pub fn run(setup: &SilSetup, mut observe: impl FnMut(&SilRecord)) -> Result<SilSummary> {
+    let cfg = setup.flight;
+    let mut pipeline = FlightPipeline::new(&cfg)
+        .map_err(|e| anyhow!("flight pipeline refused the set-up: {e:?}"))?;
+    let boot = pipeline.boot_report();
+    let b = pipeline.mixer().effectiveness().cast::<f64>();
+    let body = RigidBody {
+        mass: f64::from(cfg.vehicle.mass),
+        inertia: cfg.vehicle.inertia.cast::<f64>(),
+        gravity: f64::from(cfg.vehicle.gravity),
+    };
+    let mut rng = Rng::new(setup.seed);
+    let h = 1e-3;
+    let hold_us = (setup.hold_s * 1e6).round() as u64;
+    let end_us = hold_us + (setup.duration_s * 1e6).round() as u64;
+    let rel = |t_us: u64| (t_us as f64 - hold_us as f64) * 1e-6;
+    let imu_every = (1e6 / setup.imu.rate_hz).round().max(1.0) as u64;
+    // Pose times on their own clock (e.g. 300 Hz is not a whole number of 1 ms steps): a pose
+    // is measured at the first step at or after each nominal time.
+    let mocap_period_us = 1e6 / setup.mocap.rate_hz;
+    let mut next_mocap_us = 0.0f64;
+    let tick_every = (f64::from(cfg.control_period) * 1e6).round() as u64;
+    let latency_us = (setup.mocap.latency_s * 1e6).round() as u64;
+
+    let mut state = setup.initial;
+    let mut motors = Motors { thrust: [0.0; 4] };
+    let mut queue: VecDeque<Delivery> = VecDeque::new();
+    let mut commands: Vec<(u64, MavMessage)> = setup
+        .commands
+        .iter()
+        .map(|(t, m)| {
+            (
+                ((hold_us as f64) + t * 1e6).max(0.0).round() as u64,
+                m.clone(),
+            )
+        })
+        .collect();
+    commands.sort_by_key(|c| c.0);
+    let mut next_command = 0;
+    let mut seq = 0u8;
+    let mut out = MotorOutput {
+        throttle: [0.0; 4],
+        armed: false,
+    };
+    let mut gcs = Decoder::new(255);
+    let mut telemetry = vec![0u8; 1024];
+
+    let mut summary = SilSummary {
+        scenario: setup.name.clone(),
+        seed: setup.seed,
+        a_priori_box_fits: boot.a_priori_fit.fits,
+        a_priori_box_shortfall: {
+            let f = &boot.a_priori_fit;
+            [
+                f64::from(f.thrust_shortfall[0]),
+                f64::from(f.thrust_shortfall[1]),
+                f64::from(f.torque_shortfall[0]),
+                f64::from(f.torque_shortfall[1]),
+                f64::from(f.torque_shortfall[2]),
+            ]
+        },
+        violated_conditions: boot
+            .certificate
+            .violations()
+            .map(|c| c.name.to_string())
+            .collect(),
+        events: Vec::new(),
+        final_position_error_m: f64::NAN,
+        rms_position_error_last_10s_m: f64::NAN,
+        below_5cm_from_s: None,
+        rotor_thrust_max_N: 0.0,
+        rotor_thrust_min_armed_N: f64::INFINITY,
+        rotor_range_N: [
+            f64::from(cfg.rotors.thrust_min),
+            f64::from(cfg.rotors.thrust_max),
+        ],
+        throttle_violations: 0,
+        spun_while_disarmed: 0,
+        mixer_saturated_ticks: 0,
+        link_frames: [0; 3],
+        telemetry_frames: [0; 2],
+        last_pose_s: None,
+        failsafe_at_s: None,
+        disarmed_at_s: None,
+        failsafe_max_tilt_rad: None,
+        failsafe_mean_vz_m_s: None,
+        final_state: String::new(),
+        non_finite: 0,
+        refused_commands: 0,
+    };
+    let mut errors: Vec<(f64, f64)> = Vec::new();
+    let mut below_since: Option<f64> = None;
+    let (mut fs_vz_sum, mut fs_vz_n) = (0.0, 0u32);
+    // The body's actual acceleration over the last plant step [m/s²], inertial (including
+    // ground contacts): the accelerometer reads it plus gravity's reaction, `a + g e₃`.
+    let mut acceleration = Vector3::zeros();
+
+    let mut t_us = 0u64;
+    while t_us <= end_us {
+        let released = t_us >= hold_us;
+        // Ground-station commands due now.
+        while next_command < commands.len() && commands[next_command].0 <= t_us {
+            let frame = encode(&commands[next_command].1, &mut seq);
+            schedule(&mut queue, t_us, &frame, &mut rng, false);
+            next_command += 1;
+        }
+        // Motion capture: measure now, deliver after the latency.
+        if t_us as f64 >= next_mocap_us {
+            next_mocap_us += mocap_period_us;
+            let t = rel(t_us);
+            let out_of_service = setup.pose_outage.is_some_and(|(a, b)| t >= a && t < b);
+            if !out_of_service && rng.uniform() >= setup.mocap.dropout {
+                let m = setup.mocap.measure(&mut rng, &state, t_us);
+                let frame = encode(&m, &mut seq);
+                schedule(&mut queue, t_us + latency_us, &frame, &mut rng, true);
+            }
+        }
+        // Deliver due bytes (the queue is in time order except for latency-shifted poses).
+        let mut i = 0;
+        while i < queue.len() {
+            if queue[i].at_us <= t_us {
+                if let Some(d) = queue.remove(i) {
+                    pipeline.on_link_bytes(&d.bytes, t_us);
+                    if d.pose_end && summary.failsafe_at_s.is_none() {
+                        summary.last_pose_s = Some(rel(t_us));
+                    }
+                }
+            } else {
+                i += 1;
+            }
+        }
+        // Specific force the IMU feels (body): the last step's acceleration plus gravity's
+        // reaction (held still: just the reaction).
+        let specific_force = state
+            .attitude
+            .inverse_transform_vector(&(acceleration + Vector3::z() * body.gravity));
+        if t_us % imu_every == 0 {
+            let s = setup.imu.sample(&mut rng, &state, &specific_force, t_us);
+            pipeline.on_imu(&s);
+        }
+        if t_us % tick_every == 0 {
+            out = pipeline.control_tick(t_us);
+            let n = pipeline.telemetry(t_us, &mut telemetry);
+            gcs.push(&telemetry[..n], |_| {});
+            while let Some(e) = pipeline.take_events() {
+                let t = rel(t_us);
+                if let Event::StateChanged { to, .. } = e {
+                    match to {
+                        FlightState::Failsafe => summary.failsafe_at_s = Some(t),
+                        FlightState::Disarmed => summary.disarmed_at_s = Some(t),
+                        FlightState::Armed => {}
+                    }
+                }
+                summary.events.push((t, describe(&e)));
+            }
+            let st = pipeline.status();
+            for u in out.throttle {
+                if !(u.is_finite() && (0.0..=1.0).contains(&u)) {
+                    summary.throttle_violations += 1;
+                }
+            }
+            if !out.armed && out.throttle.iter().any(|&u| u != 0.0) {
+                summary.spun_while_disarmed += 1;
+            }
+            let flying = st.position_error > 0.0 || st.mode != firmware::pipeline::Mode::Idle;
+            let reference = Vector3::from(st.reference_position).cast::<f64>();
+            let err = if flying && st.state == FlightState::Armed {
+                (state.position - reference).norm()
+            } else {
+                0.0
+            };
+            let t = rel(t_us);
+            if released && st.state == FlightState::Armed && flying {
+                errors.push((t, err));
+                if err < 0.05 {
+                    below_since.get_or_insert(t);
+                } else {
+                    below_since = None;
+                }
+            }
+            let tilt = (state.attitude * Vector3::z()).z.clamp(-1.0, 1.0).acos();
+            if st.state == FlightState::Failsafe {
+                if let Some(fs) = summary.failsafe_at_s {
+                    if t - fs >= 0.5 {
+                        let m = summary.failsafe_max_tilt_rad.get_or_insert(0.0);
+                        *m = m.max(tilt);
+                        fs_vz_sum += state.velocity.z;
+                        fs_vz_n += 1;
+                    }
+                }
+            }
+            let (roll, pitch, yaw) = state.attitude.euler_angles();
+            let est = Vector3::from(st.position).cast::<f64>();
+            let record = SilRecord {
+                t_s: t,
+                x_m: state.position.x,
+                y_m: state.position.y,
+                z_m: state.position.z,
+                x_ref_m: reference.x,
+                y_ref_m: reference.y,
+                z_ref_m: reference.z,
+                estimate_error_m: (est - state.position).norm(),
+                position_error_m: err,
+                roll_rad: roll,
+                pitch_rad: pitch,
+                yaw_rad: yaw,
+                tilt_rad: tilt,
+                state: st.state.name(),
+                mode: st.mode.name(),
+                thrust_N: f64::from(st.thrust),
+                torque_x_Nm: f64::from(st.torque[0]),
+                torque_y_Nm: f64::from(st.torque[1]),
+                torque_z_Nm: f64::from(st.torque[2]),
+                rotor1_N: motors.thrust[0],
+                rotor2_N: motors.thrust[1],
+                rotor3_N: motors.thrust[2],
+                rotor4_N: motors.thrust[3],
+                throttle1: out.throttle[0],
+                throttle2: out.throttle[1],
+                throttle3: out.throttle[2],
+                throttle4: out.throttle[3],
+                vz_m_s: state.velocity.z,
+            };
+            observe(&record);
+        }
+        // Actuators and plant over [t, t + h].
+        motors.step(&cfg, &out, h, setup.motor_time_constant_s);
+        for &f in &motors.thrust {
+            summary.rotor_thrust_max_N = summary.rotor_thrust_max_N.max(f);
+            if out.armed {
+                summary.rotor_thrust_min_armed_N = summary.rotor_thrust_min_armed_N.min(f);
+            }
+        }
+        if released {
+            let wrench = b * Vector4::from(motors.thrust);
+            let input = PlantInput {
+                thrust: wrench[0],
+                torque: Vector3::new(wrench[1], wrench[2], wrench[3]),
+                ..Default::default()
+            };
+            let before = state.velocity;
+            state = body.rk4_step(&state, &input, h);
+            // Flat ground: contact stops the body (no bounce, no sliding).
+            if let Some(ground) = setup.ground_z.filter(|g| state.position.z < *g) {
+                state.position.z = ground;
+                state.velocity = Vector3::zeros();
+                state.angular_velocity = Vector3::zeros();
+            }
+            acceleration = (state.velocity - before) / h;
+            state.attitude = UnitQuaternion::new_normalize(*state.attitude.quaternion());
+        }
+        t_us += 1000;
+    }
+
+    let st = pipeline.status();
+    summary.final_position_error_m = errors.last().map_or(f64::NAN, |e| e.1);
+    if let Some(&(t_end, _)) = errors.last() {
+        let last: Vec<f64> = errors
+            .iter()
+            .filter(|(t, _)| *t > t_end - 10.0)
+            .map(|e| e.1 * e.1)
+            .collect();
+        summary.rms_position_error_last_10s_m =
+            (last.iter().sum::<f64>() / last.len() as f64).sqrt();
+    }
+    summary.below_5cm_from_s = below_since;
+    summary.mixer_saturated_ticks = st.counters.mixer_saturations;
+    let l = st.counters.link;
+    summary.link_frames = [l.frames_ok, l.frames_dropped, l.frames_malformed];
+    let g = gcs.counters();
+    // The vehicle's telemetry is not vehicle-bound input: the GCS-side decoder counts its
+    // CRC-valid frames as "dropped" (not used) and bad ones as malformed.
+    summary.telemetry_frames = [g.frames_ok + g.frames_dropped, g.frames_malformed];
+    summary.failsafe_mean_vz_m_s = (fs_vz_n > 0).then(|| fs_vz_sum / f64::from(fs_vz_n));
+    summary.final_state = st.state.name().to_string();
+    summary.non_finite = st.counters.non_finite;
+    summary.refused_commands = st.counters.refused_commands;
+    if !summary.rotor_thrust_min_armed_N.is_finite() {
+        summary.rotor_thrust_min_armed_N = 0.0;
+    }
+    Ok(summary)
+}
+
+/// A short human summary.
+pub fn human_summary(s: &SilSummary) -> String {
+    use std::fmt::Write;
+    let mut o = String::new();
+    let _ = writeln!(o, "SIL scenario {} (seed {})", s.scenario, s.seed);
+    let _ = writeln!(
+        o,
+        "  a-priori (T, tau) box inside the rotors: {}{}",
+        s.a_priori_box_fits,
+        if s.a_priori_box_fits {
+            String::new()
+        } else {
+            format!(
+                " (short by T_low {:.3} N, T_high {:.3} N, tau {:.3} / {:.3} / {:.3} N m)",
+                s.a_priori_box_shortfall[0],
+                s.a_priori_box_shortfall[1],
+                s.a_priori_box_shortfall[2],
+                s.a_priori_box_shortfall[3],
+                s.a_priori_box_shortfall[4]
+            )
+        }
+    );
+    let _ = writeln!(
+        o,
+        "  certificate conditions violated: {:?}",
+        s.violated_conditions
+    );
+    for (t, e) in &s.events {
+        let _ = writeln!(o, "  t = {t:8.3} s  {e}");
+    }
+    let _ = writeln!(
+        o,
+        "  position error: final {:.4} m, RMS last 10 s {:.4} m, below 5 cm from {}",
+        s.final_position_error_m,
+        s.rms_position_error_last_10s_m,
+        s.below_5cm_from_s
+            .map_or_else(|| "never".to_string(), |t| format!("{t:.2} s"))
+    );
+    let _ = writeln!(
+        o,
+        "  rotor thrust: max {:.3} N, min while armed {:.3} N (range [{}, {}] N); throttle violations {}; spun while disarmed {}; mixer saturated {} ticks",
+        s.rotor_thrust_max_N,
+        s.rotor_thrust_min_armed_N,
+        s.rotor_range_N[0],
+        s.rotor_range_N[1],
+        s.throttle_violations,
+        s.spun_while_disarmed,
+        s.mixer_saturated_ticks
+    );
+    let _ = writeln!(
+        o,
+        "  link frames ok/dropped/malformed {:?}; telemetry frames valid/malformed {:?}; non-finite {}; refused {}",
+        s.link_frames, s.telemetry_frames, s.non_finite, s.refused_commands
+    );
+    if let Some(f) = s.failsafe_at_s {
+        let _ = writeln!(
+            o,
+            "  failsafe at {f:.3} s (last pose {}), disarmed at {}, max tilt after 0.5 s {:.2} deg, mean vz {:.2} m/s",
+            s.last_pose_s.map_or("-".into(), |t| format!("{t:.3} s")),
+            s.disarmed_at_s.map_or("-".into(), |t| format!("{t:.3} s")),
+            s.failsafe_max_tilt_rad.unwrap_or(f64::NAN).to_degrees(),
+            s.failsafe_mean_vz_m_s.unwrap_or(f64::NAN)
+        );
+    }
+    let _ = writeln!(o, "  final state: {}", s.final_state);
+    o
+}
+
+/// The `sil` subcommand: runs the scenario, prints the summary, writes `timeseries.csv` and
+/// `summary.json`.
+pub fn run_cli(args: &crate::cli::SilArgs) -> Result<()> {
+    let setup = scenarios::by_name(&args.scenario, args.seed).ok_or_else(|| {
+        anyhow!(
+            "unknown SIL scenario {:?}; known: {}",
+            args.scenario,
+            scenarios::NAMES.join(", ")
+        )
+    })?;
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| std::path::PathBuf::from("out").join(format!("sil-{}", setup.name)));
+    std::fs::create_dir_all(&out)?;
+    let csv_path = out.join("timeseries.csv");
+    let mut writer = csv::Writer::from_path(&csv_path)?;
+    let mut write_error = None;
+    let summary = run(&setup, |r| {
+        if write_error.is_none() {
+            if let Err(e) = writer.serialize(r) {
+                write_error = Some(e);
+            }
+        }
+    })?;
+    if let Some(e) = write_error {
+        return Err(e.into());
+    }
+    writer.flush()?;
+    let json_path = out.join("summary.json");
+    std::fs::write(&json_path, serde_json::to_string_pretty(&summary)?)?;
+    print!("{}", human_summary(&summary));
+    println!("Wrote {} and {}", csv_path.display(), json_path.display());
+    Ok(())
+}
