@@ -40,3 +40,57 @@ pub fn tanh_saturation_slope<T: Scalar>(s: T, level: T) -> T {
 pub fn radial_saturation<T: Scalar>(x: &Vector3<T>, level: T) -> Vector3<T> {
     x * (level / (level * level + x.norm_squared()).sqrt())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+    use proptest::prelude::*;
+
+    fn v3() -> impl Strategy<Value = Vector3<f64>> {
+        (-50.0..50.0f64, -50.0..50.0f64, -50.0..50.0f64).prop_map(|(a, b, c)| Vector3::new(a, b, c))
+    }
+
+    proptest! {
+        /// Definition 1 for `M tanh(s/M)`: odd, |σ| < M, strictly increasing with slope in (0, 1],
+        /// σ(s) s > 0 for s ≠ 0, and σ ≈ s near 0 (unit slope at the origin).
+        #[test]
+        fn tanh_saturation_is_odd_bounded_monotone(s in v3(), ds in 1e-6..10.0f64, m in 0.1..10.0f64) {
+            let up = s.add_scalar(ds);
+            let (a, b) = (tanh_saturation(&s, m), tanh_saturation(&up, m));
+            assert_relative_eq!(tanh_saturation(&-s, m), -a, epsilon = 1e-15);
+            prop_assert!(a.amax() <= m && b.amax() <= m);
+            for i in 0..3 {
+                // Strict increase up to rounding: in the flat tails tanh rounds to ±1.
+                prop_assert!(b[i] >= a[i]);
+                prop_assert!(b[i] - a[i] <= ds + 1e-12, "slope above 1");
+                if s[i] != 0.0 {
+                    prop_assert!(a[i] * s[i] > 0.0 || a[i] == 0.0);
+                }
+                let slope = tanh_saturation_slope(s[i], m);
+                prop_assert!(slope > 0.0 || s[i].abs() > 10.0 * m);
+                prop_assert!(slope <= 1.0);
+            }
+            let tiny = s * (1e-9 * m / (1.0 + s.norm()));
+            assert_relative_eq!(tanh_saturation(&tiny, m), tiny, max_relative = 1e-12);
+        }
+
+        /// The radial saturation: odd, |s(x)| < M, parallel to x, and |s(x)| strictly increasing
+        /// in |x| with slope ≤ 1; s(x) ≈ x near 0.
+        #[test]
+        fn radial_saturation_is_odd_bounded_monotone(x in v3(), grow in 1.0001..10.0f64, m in 0.01..10.0f64) {
+            let a = radial_saturation(&x, m);
+            assert_relative_eq!(radial_saturation(&-x, m), -a, epsilon = 1e-15);
+            prop_assert!(a.norm() < m);
+            prop_assert!(a.cross(&x).norm() <= 1e-12 * (1.0 + x.norm() * a.norm()));
+            prop_assert!(a.dot(&x) >= 0.0);
+            let b = radial_saturation(&(x * grow), m);
+            if x.norm() > 0.0 {
+                prop_assert!(b.norm() > a.norm());
+                prop_assert!(b.norm() - a.norm() <= (grow - 1.0) * x.norm() + 1e-12);
+            }
+            let tiny = x * (1e-9 * m / (1.0 + x.norm()));
+            assert_relative_eq!(radial_saturation(&tiny, m), tiny, max_relative = 1e-12);
+        }
+    }
+}
