@@ -18,7 +18,7 @@ use crate::desired_attitude::{desired_attitude, DesiredAttitudeError};
 use crate::mrp::rotation_from_quaternion;
 use crate::params::{Gains, ParameterError, Vehicle};
 use crate::path_lifting::{JumpCounters, PathLifting};
-use crate::position::FilterState;
+use crate::position::{FilterPropagator, FilterState};
 use crate::reference::{ReferenceSample, TrajectoryConstants};
 use crate::scalar::{to_f64, Scalar};
 
@@ -122,6 +122,8 @@ pub struct Controller<T: Scalar> {
     gains: Gains<T>,
     filter: FilterState<T>,
     lifting: PathLifting<T>,
+    /// The filter propagation of the last `dt`, reused while the rate does not change.
+    propagator: Option<FilterPropagator<T>>,
 }
 
 fn finite3<T: Scalar>(v: &Vector3<T>, field: &'static str) -> Result<(), StepError> {
@@ -152,6 +154,7 @@ impl<T: Scalar> Controller<T> {
             gains,
             filter: FilterState::zero(),
             lifting: PathLifting::new(gains.hysteresis, gains.reset_threshold),
+            propagator: None,
         };
         c.accept_reference(constants)?;
         Ok(c)
@@ -278,7 +281,11 @@ impl<T: Scalar> Controller<T> {
             &self.vehicle.inertia,
         );
         let thrust = self.vehicle.mass * position.u.norm();
-        let next_filter = g.position.propagate(&self.filter, &position.ubar_p, dt);
+        let propagator = match self.propagator {
+            Some(p) if p.dt == dt => p,
+            _ => g.position.propagator(dt),
+        };
+        let next_filter = propagator.apply(&self.filter, &position.ubar_p);
 
         let finite = thrust.is_finite()
             && torque.torque.iter().all(|x| x.is_finite())
@@ -311,6 +318,7 @@ impl<T: Scalar> Controller<T> {
         };
         self.lifting = lifting;
         self.filter = next_filter;
+        self.propagator = Some(propagator);
         Ok(ControlOutput {
             thrust,
             torque: torque.torque,

@@ -120,12 +120,15 @@ impl<T: Scalar> PositionGains<T> {
 
     /// Propagates the filter states over `dt` \[s\] with `ubar_p` held constant, by the exact
     /// solution of the linear ODE eq:FilterDynamics (the sampled reading of this crate).
-    ///
-    /// With `e_s = u_s − ubar_p`, `e_f = u_f − ubar_p`:
-    /// `e_s(t) = e_s(0) e^{−k_s t}`,
-    /// `e_f(t) = e_f(0) e^{−k_f t} + k_f e_s(0) t e^{−k_f t} · φ₁((k_f − k_s) t)`, with
-    /// `φ₁(x) = (eˣ − 1)/x`, which is well conditioned for `k_s ≈ k_f` (and `= 1` when equal).
+    /// Equivalent to `self.propagator(dt).apply(filter, ubar_p)`.
     pub fn propagate(&self, filter: &FilterState<T>, ubar_p: &Vector3<T>, dt: T) -> FilterState<T> {
+        self.propagator(dt).apply(filter, ubar_p)
+    }
+
+    /// The coefficients of the exact filter propagation over `dt` \[s\] (see
+    /// [`FilterPropagator`]); they depend only on the gains and `dt`, so a fixed-rate caller
+    /// computes them once.
+    pub fn propagator(&self, dt: T) -> FilterPropagator<T> {
         let decay_f = (-self.kf * dt).exp();
         let decay_s = (-self.ks * dt).exp();
         let x = (self.kf - self.ks) * dt;
@@ -134,12 +137,41 @@ impl<T: Scalar> PositionGains<T> {
         } else {
             x.exp_m1() / x
         };
-        let coupling = self.kf * dt * decay_f * phi1;
+        FilterPropagator {
+            dt,
+            decay_f,
+            decay_s,
+            coupling: self.kf * dt * decay_f * phi1,
+        }
+    }
+}
+
+/// The exact solution of eq:FilterDynamics over one sample of length `dt` with `ubar_p` held.
+///
+/// With `e_s = u_s − ubar_p`, `e_f = u_f − ubar_p`:
+/// `e_s(t) = e_s(0) e^{−k_s t}`,
+/// `e_f(t) = e_f(0) e^{−k_f t} + k_f e_s(0) t e^{−k_f t} · φ₁((k_f − k_s) t)`, with
+/// `φ₁(x) = (eˣ − 1)/x`, which is well conditioned for `k_s ≈ k_f` (and `= 1` when equal).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FilterPropagator<T: Scalar> {
+    /// The sample length `dt` \[s\] the coefficients are for.
+    pub dt: T,
+    /// `e^{−k_f dt}`.
+    decay_f: T,
+    /// `e^{−k_s dt}`.
+    decay_s: T,
+    /// `k_f dt e^{−k_f dt} φ₁((k_f − k_s) dt)`.
+    coupling: T,
+}
+
+impl<T: Scalar> FilterPropagator<T> {
+    /// Advances the filter states `(u_f, u_s)` \[m/s²\] by `dt` with `ubar_p` \[m/s²\] held.
+    pub fn apply(&self, filter: &FilterState<T>, ubar_p: &Vector3<T>) -> FilterState<T> {
         let e_s = filter.u_s - ubar_p;
         let e_f = filter.u_f - ubar_p;
         FilterState {
-            u_f: ubar_p + e_f * decay_f + e_s * coupling,
-            u_s: ubar_p + e_s * decay_s,
+            u_f: ubar_p + e_f * self.decay_f + e_s * self.coupling,
+            u_s: ubar_p + e_s * self.decay_s,
         }
     }
 }

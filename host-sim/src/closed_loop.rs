@@ -8,12 +8,13 @@
 
 use anyhow::{anyhow, Result};
 use controller_core::Trajectory;
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 
 use crate::controllers::{Command, FlightController};
 use crate::perturbation::Perturber;
 use crate::plant::{PlantInput, RigidBodyState};
 use crate::scenario::Scenario;
+use crate::so3::rotation_angle;
 
 /// What the loop shows its observer at every controller sample.
 #[derive(Clone, Copy, Debug)]
@@ -32,18 +33,6 @@ pub struct LoopSample<'a> {
     pub position_error_m: f64,
     /// Angle of `R_dᵀR` \[rad\] (true attitude against the controller's own `R_d`), in `[0, π]`.
     pub attitude_error_rad: f64,
-}
-
-/// The rotation angle of a 3×3 rotation matrix \[rad\], in `[0, π]`:
-/// `atan2(|vee(R − Rᵀ)|, tr R − 1)` (`2 sin θ` and `2 cos θ`), accurate near 0 and π, closed
-/// form (no iteration).
-pub fn rotation_angle(r: &Matrix3<f64>) -> f64 {
-    let skew = Vector3::new(
-        r[(2, 1)] - r[(1, 2)],
-        r[(0, 2)] - r[(2, 0)],
-        r[(1, 0)] - r[(0, 1)],
-    );
-    skew.norm().atan2(r.trace() - 1.0)
 }
 
 /// Flies `scenario` from `initial` with `controller` for `simulation.duration_s`, drawing the
@@ -128,13 +117,5 @@ mod tests {
         })
         .unwrap();
         assert_eq!(k, records.len());
-    }
-
-    #[test]
-    fn rotation_angle_is_exact_at_half_turn() {
-        let r = nalgebra::Rotation3::from_axis_angle(&Vector3::y_axis(), std::f64::consts::PI);
-        assert!((rotation_angle(r.matrix()) - std::f64::consts::PI).abs() < 1e-12);
-        let r = nalgebra::Rotation3::from_axis_angle(&Vector3::x_axis(), 0.3);
-        assert!((rotation_angle(r.matrix()) - 0.3).abs() < 1e-12);
     }
 }

@@ -18,3 +18,4 @@ pub mod report;
 pub mod scenario;
 pub mod sil;
 pub mod sim;
+pub mod so3;

@@ -3,7 +3,10 @@
 
 use anyhow::{anyhow, Result};
 use controller_core::scalar::{lit, to_f64, Scalar};
-use controller_core::{certify, Certificate, Controller, FilterStart, Trajectory, VehicleState};
+use controller_core::{
+    certify, Certificate, ControlOutput, Controller, FilterStart, ReferenceSample, Trajectory,
+    VehicleState,
+};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::Serialize;
 
@@ -270,11 +273,32 @@ fn back3<T: Scalar>(v: &Vector3<T>) -> Vector3<f64> {
     Vector3::new(to_f64(v.x), to_f64(v.y), to_f64(v.z))
 }
 
-fn run_generic<T: Scalar>(
+/// One controller sample of [`fly`].
+pub struct Sample<'a, T: Scalar> {
+    /// Sample index `k` (time `k · controller_period_s`).
+    pub k: u64,
+    /// Time \[s\].
+    pub t: f64,
+    /// The true plant state at the sample (the controller measured it exactly).
+    pub state: &'a RigidBodyState,
+    /// The reference sample the controller used.
+    pub reference: &'a ReferenceSample<T>,
+    /// The controller's output (before any clipping).
+    pub output: &'a ControlOutput<T>,
+}
+
+/// Flies `scenario` from `initial` with the paper's law in scalar `T`: sample the state every
+/// `controller_period_s`, step the controller, hold `(T, τ)` (clipped to the limits if
+/// `simulation.clip_to_limits`), advance the RK4 plant; calls `observe` at every sample and
+/// returns the plant state at the last one.
+///
+/// Errors: the parameters are refused (named by scenario key), or the controller refused a
+/// sample (with its time and reason).
+pub fn fly<T: Scalar>(
     scenario: &Scenario,
-    mut observe: impl FnMut(&Record),
-) -> Result<Summary> {
-    let cert = certificate(scenario)?;
+    initial: RigidBodyState,
+    mut observe: impl FnMut(&Sample<'_, T>),
+) -> Result<RigidBodyState> {
     let trajectory = scenario.trajectory::<T>();
     let mut controller = Controller::new(
         scenario.vehicle::<T>(),
@@ -285,10 +309,47 @@ fn run_generic<T: Scalar>(
     let limits = scenario.limits::<f64>();
     let plant = scenario.plant();
     let sim = &scenario.simulation;
-    let mut state = scenario.initial_state();
     let dt = sim.controller_period_s;
     let dt_t: T = lit(dt);
     let steps = (sim.duration_s / dt).round() as u64;
+    let mut state = initial;
+    for k in 0..=steps {
+        let t = k as f64 * dt;
+        let reference = trajectory.sample(lit(t));
+        let output = controller
+            .step(&measure::<T>(&state), &reference, dt_t)
+            .map_err(|e| anyhow!("controller refused the sample at t = {t:.3} s: {e}"))?;
+        observe(&Sample {
+            k,
+            t,
+            state: &state,
+            reference: &reference,
+            output: &output,
+        });
+        if k == steps {
+            break;
+        }
+        let thrust = to_f64(output.thrust);
+        let torque = back3(&output.torque);
+        let mut input = PlantInput {
+            thrust,
+            torque,
+            ..Default::default()
+        };
+        if sim.clip_to_limits {
+            input.thrust = thrust.clamp(0.0, limits.thrust_max);
+            input.torque = torque.zip_map(&limits.torque_max, |t, m| t.clamp(-m, m));
+        }
+        state = plant.advance(&state, &input, dt, sim.plant_step_s);
+    }
+    Ok(state)
+}
+
+fn run_generic<T: Scalar>(
+    scenario: &Scenario,
+    mut observe: impl FnMut(&Record),
+) -> Result<Summary> {
+    let cert = certificate(scenario)?;
     let bounds = &cert.bounds;
     // Rounding slack for the bound checks: f32 carries ~1e-7 relative error.
     let slack = 1e-5;
@@ -306,16 +367,10 @@ fn run_generic<T: Scalar>(
     let mut settle_m = SettleTracker::new(1e-4);
     let mut last = None;
 
-    for k in 0..=steps {
-        let t = k as f64 * dt;
-        let reference = trajectory.sample(lit(t));
-        let measured = measure::<T>(&state);
-        let out = controller
-            .step(&measured, &reference, dt_t)
-            .map_err(|e| anyhow!("controller refused the sample at t = {t:.3} s: {e}"))?;
-        let d = &out.diagnostics;
-        let thrust = to_f64(out.thrust);
-        let torque = back3(&out.torque);
+    fly::<T>(scenario, scenario.initial_state(), |sample| {
+        let (t, state, d) = (sample.t, sample.state, &sample.output.diagnostics);
+        let thrust = to_f64(sample.output.thrust);
+        let torque = back3(&sample.output.torque);
 
         observed.samples += 1;
         observed.thrust_min_N = observed.thrust_min_N.min(thrust);
@@ -333,7 +388,7 @@ fn run_generic<T: Scalar>(
             || (0..3).any(|i| torque[i].abs() > bounds.torque_max[i] * (1.0 + slack));
         observed.samples_outside_a_priori_bounds += u64::from(outside);
 
-        let reference_f64 = trajectory_sample_f64(&reference);
+        let reference_f64 = trajectory_sample_f64(sample.reference);
         let position_error = (state.position - reference_f64.0).norm();
         let mrp_error = back3(&d.mrp_error).norm();
         let omega_error = back3(&d.omega_error).norm();
@@ -371,25 +426,11 @@ fn run_generic<T: Scalar>(
         };
         observe(&record);
         last = Some(record);
-
-        if k == steps {
-            break;
-        }
-        let mut input = PlantInput {
-            thrust,
-            torque,
-            ..Default::default()
-        };
-        if sim.clip_to_limits {
-            input.thrust = thrust.clamp(0.0, limits.thrust_max);
-            input.torque = torque.zip_map(&limits.torque_max, |t, m| t.clamp(-m, m));
-        }
-        state = plant.advance(&state, &input, dt, sim.plant_step_s);
-    }
+    })?;
 
     let last = last.ok_or_else(|| anyhow!("the run produced no sample"))?;
     Ok(Summary {
-        precision: sim.precision,
+        precision: scenario.simulation.precision,
         a_priori: a_priori(&cert),
         observed,
         final_: Final {

@@ -18,8 +18,9 @@ use controller_core::desired_attitude::desired_attitude;
 use controller_core::{Diagnostics, Trajectory};
 use host_sim::plant::RigidBodyState;
 use host_sim::scenario::Scenario;
+use host_sim::sim::fly;
+use host_sim::so3::vee_skew as vee;
 use nalgebra::{Matrix3, Vector3};
-use tests::{fly, initial_state, vee};
 
 /// What one run logs per sample.
 struct Run {
@@ -54,7 +55,7 @@ fn record(h: f64) -> Run {
         plant: vec![],
     };
     let mut previous_ubar_p = None;
-    fly::<f64>(&s, initial_state(&s), |x| {
+    fly::<f64>(&s, s.initial_state(), |x| {
         let d: &Diagnostics<f64> = &x.output.diagnostics;
         let r = trajectory.sample(x.t);
         // Section IV: u̇ = u̇_f + p_d⁽³⁾ with u̇_f = −k_f(u_f − u_s), and

@@ -18,11 +18,13 @@ use controller_core::{
     ReferenceTrajectory, StepError, Trajectory, Vehicle, VehicleState,
 };
 use core::f64::consts::PI;
+use host_sim::campaign::sampler::{haar_quaternion, seeded_rng};
 use host_sim::scenario::{Precision, Scenario};
 use host_sim::sim::run_with;
+use host_sim::so3::rotation_angle;
 use nalgebra::{Rotation3, Unit, UnitQuaternion, Vector2, Vector3};
 use proptest::prelude::*;
-use tests::{hover_scenario, rotation_angle, set_initial_attitude, to_f64_3, uniform_rotation};
+use tests::{hover_scenario, set_initial_attitude, to_f64_3};
 
 const HOVER_POINT: [f64; 3] = [1.0, -2.0, 3.0];
 
@@ -69,18 +71,9 @@ fn fly_hover(s: &Scenario, settle_by: f64) -> Outcome {
     }
 }
 
-fn unit_interval() -> impl Strategy<Value = f64> {
-    0.0..1.0f64
-}
-
+/// Haar-uniform attitudes from host-sim's sampler (its uniformity is tested in `sampler.rs`).
 fn uniform_quaternion() -> impl Strategy<Value = UnitQuaternion<f64>> {
-    [
-        unit_interval(),
-        unit_interval(),
-        unit_interval(),
-        unit_interval(),
-    ]
-    .prop_map(uniform_rotation)
+    any::<u64>().prop_map(|seed| haar_quaternion(&mut seeded_rng(seed)))
 }
 
 fn vec3(limit: f64) -> impl Strategy<Value = Vector3<f64>> {
@@ -171,7 +164,10 @@ fn half_turn_starts_converge() {
     ] {
         let half_turn = UnitQuaternion::from_axis_angle(&Unit::new_normalize(axis), PI);
         let start = r_d0 * half_turn;
-        assert!((rotation_angle(&(r_d0.inverse() * start)) - PI).abs() < 1e-15);
+        assert!(
+            (rotation_angle((r_d0.inverse() * start).to_rotation_matrix().matrix()) - PI).abs()
+                < 1e-15
+        );
         for precision in [Precision::F32, Precision::F64] {
             let mut s = hover_scenario(HOVER_POINT, yaw);
             set_initial_attitude(&mut s, &start);

@@ -1,6 +1,7 @@
 //! The campaign samplers: Haar-uniform attitudes (checked statistically), balls, seeds.
 
 use host_sim::campaign::sampler::{haar_quaternion, run_seed, seeded_rng, uniform_in_ball};
+use host_sim::so3::rotation_angle;
 use nalgebra::{Matrix3, UnitQuaternion};
 
 /// Kolmogorov–Smirnov statistic of `samples` against the CDF `cdf`.
@@ -23,9 +24,9 @@ fn ks_critical(alpha: f64, n: usize) -> f64 {
     (-(alpha / 2.0).ln() / 2.0).sqrt() / (n as f64).sqrt()
 }
 
-/// Rotation angle of a unit quaternion, in [0, π].
+/// Rotation angle of a unit quaternion, in [0, π] (host-sim's, on its matrix).
 fn angle(q: &UnitQuaternion<f64>) -> f64 {
-    2.0 * q.imag().norm().atan2(q.w.abs())
+    rotation_angle(q.to_rotation_matrix().matrix())
 }
 
 /// Haar measure on SO(3): the rotation angle has CDF (θ − sin θ)/π.

@@ -202,7 +202,7 @@ impl Sampler {
                 attitude,
                 angular_velocity,
             },
-            attitude_error_deg: crate::closed_loop::rotation_angle(&error).to_degrees(),
+            attitude_error_deg: crate::so3::rotation_angle(&error).to_degrees(),
         }
     }
 }

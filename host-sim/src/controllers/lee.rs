@@ -27,9 +27,10 @@ use controller_core::desired_attitude::normalize_with_derivatives;
 use controller_core::{ReferenceTrajectory, Trajectory};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
-use super::{vee_skew, Command, FlightController, SwitchCounts};
+use super::{Command, FlightController, SwitchCounts};
 use crate::plant::RigidBodyState;
 use crate::scenario::Scenario;
+use crate::so3::vee_skew;
 
 /// Gains of the geometric controller.
 #[derive(Clone, Copy, Debug, PartialEq)]

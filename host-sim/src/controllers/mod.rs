@@ -127,12 +127,3 @@ impl ControllerKind {
         })
     }
 }
-
-/// `vee` of the skew part: `vee(½(M − Mᵀ))` for a 3×3 matrix `M`.
-pub(crate) fn vee_skew(m: &Matrix3<f64>) -> Vector3<f64> {
-    Vector3::new(
-        0.5 * (m[(2, 1)] - m[(1, 2)]),
-        0.5 * (m[(0, 2)] - m[(2, 0)]),
-        0.5 * (m[(1, 0)] - m[(0, 1)]),
-    )
-}
