@@ -13,11 +13,23 @@ step "toolchain: thumbv7em-none-eabihf target, clippy, rustfmt"
 rustup target add thumbv7em-none-eabihf
 rustup component add clippy rustfmt
 
+step "QEMU (qemu-system-arm, Debian package) for the mps2-an386 board"
+if ! command -v qemu-system-arm >/dev/null 2>&1; then
+  sudo_if_needed() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
+  sudo_if_needed apt-get update -qq
+  sudo_if_needed env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq qemu-system-arm
+fi
+qemu-system-arm --version | head -1
+
 step "formatting (cargo fmt --check)"
 cargo fmt --all -- --check
 
 step "host tests (cargo test --workspace)"
 cargo test --workspace
+
+step "firmware with the HIL messages (host tests and clippy, --features hil)"
+cargo test -p firmware --lib --features hil
+cargo clippy -p firmware --all-targets --features hil -- -D warnings
 
 step "clippy, warnings denied (host, all targets)"
 cargo clippy --workspace --all-targets -- -D warnings
@@ -31,5 +43,13 @@ cargo build -p firmware --target thumbv7em-none-eabihf --release
 
 step "firmware size budget (flash <= 128 KiB, static RAM <= 32 KiB)"
 bash firmware/check-size.sh
+
+step "firmware for QEMU mps2-an386 (the same tasks, the processor-in-the-loop board)"
+mps2=(-p firmware --bin firmware-mps2-an386 --target thumbv7em-none-eabihf --release
+  --no-default-features --features board-mps2-an386)
+cargo clippy "${mps2[@]}" -- -D warnings
+cargo build "${mps2[@]}"
+bash firmware/qemu/boot-check.sh \
+  "${CARGO_TARGET_DIR:-target}/thumbv7em-none-eabihf/release/firmware-mps2-an386"
 
 printf '\n==> all checks passed\n'

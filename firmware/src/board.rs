@@ -87,7 +87,7 @@ pub fn to_motor_outputs<T: Copy + Default>(mixer: [T; 4]) -> [T; 4] {
 }
 
 /// The hardware resources, as embassy peripherals (MCU build only).
-#[cfg(target_os = "none")]
+#[cfg(all(target_os = "none", feature = "board-stm32f405"))]
 #[allow(missing_docs)] // field names are self-explanatory; the table above documents them.
 pub mod hw {
     use embassy_stm32::gpio::OutputType;

@@ -4,12 +4,18 @@
 //! NWU/FLU), [`link`] (MAVLink 2), [`estimator`], [`imu_attitude`], [`flight_reference`],
 //! [`mixer`] and [`safety`]; host-sim flies the same pipeline in software in the loop.
 //!
-//! Nothing here touches a register or logs: it computes plain values that the binary
-//! (`src/main.rs`) applies to the hardware and formats with defmt. It is `no_std` and builds for
+//! On the MCU only, [`app`] is the board-independent task layer (control loop, queues, logger,
+//! boot banner) that both boards run: the STM32F405 (`src/main.rs`) and QEMU's mps2-an386
+//! (`src/bin/mps2_an386/`).
+//!
+//! Apart from [`app`], nothing here touches a register or logs: it computes plain values that
+//! the binaries apply to the hardware and formats with defmt. It is `no_std` and builds for
 //! both the MCU and the host, where its unit tests run (`cargo test -p firmware`).
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
 
+#[cfg(target_os = "none")]
+pub mod app;
 pub mod board;
 pub mod clocks;
 pub mod config;

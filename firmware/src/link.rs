@@ -11,12 +11,18 @@
 //! target). Out: `HEARTBEAT`, `ATTITUDE_QUATERNION`, `LOCAL_POSITION_NED`, `COMMAND_ACK`,
 //! `STATUSTEXT`.
 //!
+//! With the `hil` feature only (the processor-in-the-loop build, never the flight build), also
+//! in: `HIL_SENSOR` (the IMU over the link, body FRD); the pipeline then sends
+//! `HIL_ACTUATOR_CONTROLS` and `POSITION_TARGET_LOCAL_NED` every tick.
+//!
 //! The frame parser is written here (not mavlink's reader) so that it works on a push of
 //! bytes with no I/O trait, counts every failure, and resynchronises on the byte after a bad
 //! start marker. The payloads are decoded by the `mavlink` crate.
 
 pub use mavlink;
 
+#[cfg(feature = "hil")]
+use mavlink::dialects::common::HIL_SENSOR_DATA;
 use mavlink::dialects::common::{
     MavCmd, MavFrame, MavMessage, ATT_POS_MOCAP_DATA, COMMAND_LONG_DATA, ODOMETRY_DATA,
     SET_POSITION_TARGET_LOCAL_NED_DATA,
@@ -110,7 +116,22 @@ pub enum Inbound {
         /// Yaw \[rad\], NWU, if given.
         yaw: Option<f32>,
     },
+    /// Simulated IMU sample (`HIL_SENSOR`, `hil` feature only), converted to body FLU.
+    #[cfg(feature = "hil")]
+    HilSensor {
+        /// Angular rate \[rad/s\], body FLU (may be non-finite: the estimator refuses it).
+        gyro_rad_s: [f32; 3],
+        /// Specific force \[m/s²\], body FLU.
+        accel_m_s2: [f32; 3],
+        /// Sample time \[µs\] on the simulation's clock (`time_usec`).
+        time_us: u64,
+    },
 }
+
+/// `HIL_SENSOR.fields_updated` bits 0–5: accelerometer x, y, z and gyro x, y, z (MAVLink
+/// `HIL_SENSOR_UPDATED_FLAGS`). A sample without all six is not an IMU sample.
+#[cfg(feature = "hil")]
+pub const HIL_SENSOR_IMU_FIELDS: u32 = 0b11_1111;
 
 /// Link counters (monotone, wrapping never in practice: u32 at 300 frames/s lasts 165 days).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -268,9 +289,29 @@ impl Decoder {
                     Err(_) => Interpretation::Malformed,
                 }
             }
+            #[cfg(feature = "hil")]
+            HIL_SENSOR_DATA::ID => match HIL_SENSOR_DATA::deser(v, payload) {
+                Ok(m) => hil_sensor(&m),
+                Err(_) => Interpretation::Malformed,
+            },
             _ => Interpretation::Ignored,
         }
     }
+}
+
+#[cfg(feature = "hil")]
+fn hil_sensor(m: &HIL_SENSOR_DATA) -> Interpretation {
+    if m.fields_updated.bits() & HIL_SENSOR_IMU_FIELDS != HIL_SENSOR_IMU_FIELDS {
+        return Interpretation::Ignored;
+    }
+    // FRD → FLU is the same axis flip as NED → NWU.
+    let gyro = frames::flip_vector([m.xgyro, m.ygyro, m.zgyro]);
+    let accel = frames::flip_vector([m.xacc, m.yacc, m.zacc]);
+    Interpretation::Accepted(Inbound::HilSensor {
+        gyro_rad_s: [gyro.x, gyro.y, gyro.z],
+        accel_m_s2: [accel.x, accel.y, accel.z],
+        time_us: m.time_usec,
+    })
 }
 
 enum Interpretation {

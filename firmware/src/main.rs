@@ -18,10 +18,16 @@
 //! with it through fixed-size `embassy-sync` queues guarded by short critical sections, so no
 //! lock is ever held across the control step and no I/O task can delay it.
 //!
-//! The board-independent parts are in the `firmware` library (`src/lib.rs`), unit-tested on the
-//! host; every pin is in `src/board.rs`. On the host this binary is a stub that says what it is,
-//! so that `cargo test --workspace` and host clippy can build every workspace member.
+//! This file is the STM32F405 board layer only: clocks, pins, the IMU, UART and motor drivers,
+//! the watchdog and the interrupt executor. The tasks' logic is the board-independent task layer
+//! `firmware::app` (control loop, queues, logger, boot banner), which the QEMU board
+//! (`src/bin/mps2_an386/`) runs too; the flight logic below it is the host-tested library
+//! (`src/lib.rs`); every pin is in `src/board.rs`. On the host this binary is a stub that says
+//! what it is, so that `cargo test --workspace` and host clippy can build every member.
 #![cfg_attr(target_os = "none", no_std, no_main)]
+
+#[cfg(all(feature = "board-stm32f405", feature = "board-mps2-an386"))]
+compile_error!("pick one board feature: board-stm32f405 (default) or board-mps2-an386");
 
 #[cfg(not(target_os = "none"))]
 fn main() {
@@ -36,14 +42,9 @@ mod motors;
 
 #[cfg(target_os = "none")]
 mod mcu {
-    use core::sync::atomic::{AtomicU32, Ordering};
-
-    use controller_core::{Certificate, ParameterError, ReferenceTrajectory, Trajectory};
-    use cortex_m::peripheral::DWT;
     use defmt::{error, info, unwrap, warn};
     use embassy_embedded_hal::shared_bus::asynch::spi::SpiDevice;
     use embassy_executor::{InterruptExecutor, Spawner};
-    use embassy_futures::select::{select3, Either3};
     use embassy_stm32::exti::ExtiInput;
     use embassy_stm32::gpio::{Level, Output, Pull, Speed};
     use embassy_stm32::interrupt;
@@ -59,22 +60,17 @@ mod mcu {
     use embassy_stm32::usart::{self, RingBufferedUartRx, Uart, UartTx};
     use embassy_stm32::wdg::IndependentWatchdog;
     use embassy_stm32::Peri;
-    use embassy_sync::blocking_mutex::raw::{CriticalSectionRawMutex, NoopRawMutex};
-    use embassy_sync::channel::Channel;
+    use embassy_sync::blocking_mutex::raw::NoopRawMutex;
     use embassy_sync::mutex::Mutex;
-    use embassy_sync::pipe::Pipe;
-    use embassy_sync::signal::Signal;
     use embassy_time::{Delay, Duration, Instant, Timer};
+    use firmware::app::control::{self, DeadlineClock, MotorSink, Watchdog};
+    use firmware::app::queues::{count, link_received, IMU_SAMPLES, IO, LINK_TX};
+    use firmware::app::{boot_log, logger};
     use firmware::board::{self, hw};
     use firmware::clocks::{self, Reported, PLAN};
     use firmware::config::FlightConfig;
     use firmware::drivers::icm42688::{self, Icm42688};
-    use firmware::mixer::MixerError;
-    use firmware::pipeline::{
-        BootError, BootReport, Event, FlightPipeline, ImuSample, MotorOutput, PipelineStatus,
-    };
-    use firmware::report::{self, Setup, Severity, Value};
-    use firmware::timing::{self, StepStats, WindowReport};
+    use firmware::pipeline::{FlightPipeline, ImuSample, MotorOutput};
     use {defmt_rtt as _, panic_probe as _};
 
     use crate::motors::Motors;
@@ -150,104 +146,6 @@ mod mcu {
     }
 
     // ---------------------------------------------------------------------------------------
-    // Boot report.
-
-    fn log_values(section: &'static str, values: &[Value]) {
-        for v in values {
-            info!(
-                "{=str}: {=str} = {=f32} {=str}",
-                section, v.name, v.value, v.unit
-            );
-        }
-    }
-
-    fn log_setup(s: &Setup) {
-        log_values("vehicle", &report::vehicle_values(&s.vehicle));
-        log_values("limits", &report::limits_values(&s.limits));
-        log_values("gains", &report::gains_values(&s.gains));
-        log_values("reference", &report::constants_values(&s.constants));
-    }
-
-    fn log_refusal(what: &'static str, e: &ParameterError) {
-        let r = report::refusal(e);
-        error!(
-            "{=str} refused: {=str} = {=f64} ({=str}; admissible ({=f64}, {=f64}))",
-            what, r.name, r.value, r.requirement, r.low, r.high
-        );
-    }
-
-    fn log_certificate(certificate: &Result<Certificate<f32>, ParameterError>) {
-        let c = match certificate {
-            Ok(c) => c,
-            Err(e) => return log_refusal("certificate", e),
-        };
-        log_values("bounds", &report::bound_values(c));
-        for cond in &c.conditions {
-            match report::condition_severity(cond) {
-                Severity::Info => info!(
-                    "condition {=str}: holds = {=bool}, lhs = {=f32}, rhs = {=f32}",
-                    cond.name, cond.holds, cond.lhs, cond.rhs
-                ),
-                Severity::Warn => warn!(
-                    "condition {=str}: holds = {=bool}, lhs = {=f32}, rhs = {=f32} ({=str}); \
-                     the bounds are not guaranteed",
-                    cond.name, cond.holds, cond.lhs, cond.rhs, cond.statement
-                ),
-            }
-        }
-        let violated = c.violations().count();
-        if violated == 0 {
-            info!(
-                "certificate: all {=usize} conditions hold",
-                c.conditions.len()
-            );
-        } else {
-            warn!(
-                "certificate: {=usize} of {=usize} conditions violated",
-                violated,
-                c.conditions.len()
-            );
-        }
-    }
-
-    // ---------------------------------------------------------------------------------------
-    // What the tasks exchange. Every queue is an `embassy-sync` structure over a
-    // `CriticalSectionRawMutex`: safe between the control interrupt executor and thread mode,
-    // each access a few instructions long with interrupts masked.
-
-    /// IMU samples (body frame) from the IMU task to the control task: ~10 per tick at 1 kHz,
-    /// room for 3 ticks.
-    static IMU_SAMPLES: Channel<CriticalSectionRawMutex, ImuSample, 32> = Channel::new();
-    /// MAVLink bytes received, for the control task.
-    static LINK_RX: Pipe<CriticalSectionRawMutex, 1024> = Pipe::new();
-    /// MAVLink bytes (telemetry) to send.
-    static LINK_TX: Pipe<CriticalSectionRawMutex, 1024> = Pipe::new();
-    /// Pipeline events (state changes, refused commands) for the logger.
-    static EVENTS: Channel<CriticalSectionRawMutex, Event, 16> = Channel::new();
-    /// 1 Hz step-time window.
-    static TIMING: Signal<CriticalSectionRawMutex, WindowReport> = Signal::new();
-    /// 10 Hz flight summary.
-    static SUMMARY: Signal<CriticalSectionRawMutex, Summary> = Signal::new();
-
-    /// Counters of the I/O tasks (relaxed atomics: statistics only).
-    static IMU_READS: AtomicU32 = AtomicU32::new(0);
-    static IMU_ERRORS: AtomicU32 = AtomicU32::new(0);
-    static IMU_QUEUE_FULL: AtomicU32 = AtomicU32::new(0);
-    static LINK_RX_BYTES: AtomicU32 = AtomicU32::new(0);
-    static LINK_RX_DROPPED: AtomicU32 = AtomicU32::new(0);
-    static LINK_RX_ERRORS: AtomicU32 = AtomicU32::new(0);
-    static LINK_TX_DROPPED: AtomicU32 = AtomicU32::new(0);
-    static EVENTS_DROPPED: AtomicU32 = AtomicU32::new(0);
-
-    /// What the logger prints at 10 Hz.
-    #[derive(Clone, Copy)]
-    struct Summary {
-        now_us: u64,
-        status: PipelineStatus,
-        output: MotorOutput,
-    }
-
-    // ---------------------------------------------------------------------------------------
     // Control: highest priority.
 
     static CONTROL_EXECUTOR: InterruptExecutor = InterruptExecutor::new();
@@ -265,89 +163,45 @@ mod mcu {
     /// 1000 µs (PWM after reset) — both stop the motors.
     const WATCHDOG_TIMEOUT_US: u32 = 50_000;
 
+    /// The independent watchdog (LSI-clocked: it survives a clock failure).
+    struct Iwdg(IndependentWatchdog<'static, IWDG>);
+
+    impl Watchdog for Iwdg {
+        fn start(&mut self) {
+            self.0.unleash();
+            info!("watchdog: {=u32} us", WATCHDOG_TIMEOUT_US);
+        }
+        fn feed(&mut self) {
+            self.0.pet();
+        }
+    }
+
+    impl MotorSink for Motors {
+        type Frames = crate::motors::Frames;
+        fn prepare(&mut self, output: &MotorOutput) -> Self::Frames {
+            Motors::prepare(self, output)
+        }
+        async fn write(&mut self, frames: Self::Frames) {
+            Motors::write(self, frames).await
+        }
+    }
+
     #[embassy_executor::task]
     async fn control(
         mut pipeline: FlightPipeline,
         mut motors: Motors,
-        mut watchdog: IndependentWatchdog<'static, IWDG>,
+        mut watchdog: Iwdg,
         period: Duration,
     ) {
-        let period_us = period.as_micros();
-        let ticks_per_second = (1_000_000 / period_us.max(1)).max(1) as u32;
-        let summary_every = (ticks_per_second / 10).max(1);
-        let mut stats = StepStats::new();
-        let mut tick: u32 = 0;
-        let mut link_buf = [0u8; 256];
-        let mut telemetry_buf = [0u8; 512];
-
-        watchdog.unleash();
-        info!(
-            "control: every {=u64} us at NVIC priority 1, watchdog {=u32} us",
-            period_us, WATCHDOG_TIMEOUT_US
-        );
-
-        // Explicit deadlines rather than a `Ticker`, so the lateness of each start is known.
-        let mut deadline = Instant::now() + period;
-        loop {
-            Timer::at(deadline).await;
-            let started = Instant::now();
-            let c0 = DWT::cycle_count();
-            let now_us = started.as_micros();
-
-            while let Ok(sample) = IMU_SAMPLES.try_receive() {
-                pipeline.on_imu(&sample);
-            }
-            while let Ok(n) = LINK_RX.try_read(&mut link_buf) {
-                pipeline.on_link_bytes(&link_buf[..n], now_us);
-            }
-            let output = pipeline.control_tick(now_us);
-            let frames = motors.prepare(&output);
-            while let Some(event) = pipeline.take_events() {
-                if EVENTS.try_send(event).is_err() {
-                    EVENTS_DROPPED.fetch_add(1, Ordering::Relaxed);
-                }
-            }
-            // Only ask for as many bytes as the transmit pipe can take, so that a frame is
-            // never cut; what does not fit waits in the pipeline for the next tick.
-            let room = LINK_TX.free_capacity().min(telemetry_buf.len());
-            let n = pipeline.telemetry(now_us, &mut telemetry_buf[..room]);
-            if n > 0 && LINK_TX.try_write(&telemetry_buf[..n]) != Ok(n) {
-                LINK_TX_DROPPED.fetch_add(1, Ordering::Relaxed);
-            }
-
-            let cycles = timing::cycles_between(c0, DWT::cycle_count());
-            let lateness_us = started.saturating_duration_since(deadline).as_micros();
-            let step_us = Instant::now()
-                .saturating_duration_since(started)
-                .as_micros();
-            stats.record(cycles, timing::is_overrun(lateness_us, step_us, period_us));
-            watchdog.pet();
-
-            // The DMA plays the frames out (~30 us for DShot600) while this task waits.
-            motors.write(frames).await;
-
-            tick = tick.wrapping_add(1);
-            if tick % summary_every == 0 {
-                SUMMARY.signal(Summary {
-                    now_us,
-                    status: pipeline.status(),
-                    output,
-                });
-            }
-            if stats.window_steps() >= ticks_per_second {
-                TIMING.signal(stats.take_window());
-            }
-
-            deadline += period;
-            // Fell more than a period behind (e.g. a debugger halt): skip the missed ticks
-            // instead of running them back to back, and count each as an overrun.
-            let now = Instant::now();
-            if now > deadline + period {
-                let behind = (now - deadline).as_ticks() / period.as_ticks().max(1);
-                deadline += Duration::from_ticks(period.as_ticks() * behind);
-                stats.record_missed(behind.min(u32::MAX as u64) as u32);
-            }
-        }
+        let mut clock = DeadlineClock::new(period);
+        control::run(
+            &mut pipeline,
+            &mut clock,
+            &mut motors,
+            &mut watchdog,
+            period,
+        )
+        .await
     }
 
     // ---------------------------------------------------------------------------------------
@@ -390,18 +244,18 @@ mod mcu {
             let time_us = Instant::now().as_micros();
             match sensor.read().await {
                 Ok(s) => {
-                    IMU_READS.fetch_add(1, Ordering::Relaxed);
+                    count(&IO.imu_reads, 1);
                     let sample = ImuSample {
                         gyro_rad_s: board::to_body(s.gyro_rad_s),
                         accel_m_s2: board::to_body(s.accel_m_s2),
                         time_us,
                     };
                     if IMU_SAMPLES.try_send(sample).is_err() {
-                        IMU_QUEUE_FULL.fetch_add(1, Ordering::Relaxed);
+                        count(&IO.imu_queue_full, 1);
                     }
                 }
                 Err(_) => {
-                    IMU_ERRORS.fetch_add(1, Ordering::Relaxed);
+                    count(&IO.imu_errors, 1);
                     // A read that failed may not have cleared the latch; don't spin on it.
                     Timer::after_micros(200).await;
                 }
@@ -431,17 +285,12 @@ mod mcu {
         let mut buf = [0u8; 128];
         loop {
             match rx.read(&mut buf).await {
-                Ok(n) => {
-                    LINK_RX_BYTES.fetch_add(n as u32, Ordering::Relaxed);
-                    let written = LINK_RX.try_write(&buf[..n]).unwrap_or(0);
-                    if written < n {
-                        LINK_RX_DROPPED.fetch_add((n - written) as u32, Ordering::Relaxed);
-                    }
-                }
+                // A DMA ring cannot be held back: what does not fit is dropped and counted.
+                Ok(n) => link_received(&buf[..n]),
                 Err(e) => {
                     // Overrun, framing, noise or parity: the ring restarts on the next read;
                     // the MAVLink parser resynchronises on the next frame start.
-                    LINK_RX_ERRORS.fetch_add(1, Ordering::Relaxed);
+                    count(&IO.link_rx_errors, 1);
                     warn!("link: UART receive error {}", e);
                 }
             }
@@ -460,205 +309,12 @@ mod mcu {
     }
 
     // ---------------------------------------------------------------------------------------
-    // Logs: thread mode, lowest priority.
-
-    #[embassy_executor::task]
-    async fn logger() {
-        let mut last: Option<Summary> = None;
-        loop {
-            match select3(EVENTS.receive(), TIMING.wait(), SUMMARY.wait()).await {
-                Either3::First(event) => log_event(&event),
-                Either3::Second(w) => {
-                    log_timing(&w);
-                    if let Some(s) = &last {
-                        log_counters(&s.status);
-                    }
-                }
-                Either3::Third(s) => {
-                    log_summary(&s);
-                    last = Some(s);
-                }
-            }
-        }
-    }
-
-    fn log_timing(w: &WindowReport) {
-        let us = |c| timing::cycles_to_us(c, CORE_HZ);
-        info!(
-            "timing: {=u32} steps, mean {=u32} cyc ({=f32} us), max {=u32} cyc ({=f32} us), \
-             overruns {=u32} (total {=u32})",
-            w.steps,
-            w.mean_cycles,
-            us(w.mean_cycles),
-            w.max_cycles,
-            us(w.max_cycles),
-            w.overruns,
-            w.total_overruns
-        );
-        info!(
-            "io: imu reads {=u32} errors {=u32} queue-full {=u32}; link rx {=u32} B dropped \
-             {=u32} B errors {=u32}; tx dropped {=u32}; events dropped {=u32}",
-            IMU_READS.load(Ordering::Relaxed),
-            IMU_ERRORS.load(Ordering::Relaxed),
-            IMU_QUEUE_FULL.load(Ordering::Relaxed),
-            LINK_RX_BYTES.load(Ordering::Relaxed),
-            LINK_RX_DROPPED.load(Ordering::Relaxed),
-            LINK_RX_ERRORS.load(Ordering::Relaxed),
-            LINK_TX_DROPPED.load(Ordering::Relaxed),
-            EVENTS_DROPPED.load(Ordering::Relaxed)
-        );
-    }
-
-    fn log_event(event: &Event) {
-        match *event {
-            Event::Calibrated { bias } => info!(
-                "event: gyro calibrated, bias [{=f32}, {=f32}, {=f32}] rad/s",
-                bias[0], bias[1], bias[2]
-            ),
-            Event::StateChanged { from, to, reason } => info!(
-                "event: state {=str} -> {=str} ({=str})",
-                from.name(),
-                to.name(),
-                reason
-            ),
-            Event::ModeChanged { mode } => info!("event: mode {=str}", mode.name()),
-            Event::CommandAccepted { command } => info!("event: command {=str} accepted", command),
-            Event::CommandRefused { command, reason } => {
-                warn!("event: command {=str} refused: {=str}", command, reason)
-            }
-            Event::ReferenceRefused {
-                condition,
-                lhs,
-                rhs,
-            } => warn!(
-                "event: reference refused: {=str} (lhs = {=f32}, rhs = {=f32})",
-                condition, lhs, rhs
-            ),
-            Event::ReferenceWarning {
-                condition,
-                lhs,
-                rhs,
-            } => warn!(
-                "event: reference accepted, bounds not guaranteed: {=str} (lhs = {=f32}, \
-                 rhs = {=f32})",
-                condition, lhs, rhs
-            ),
-            Event::NonFinite { source } => warn!("event: non-finite value in {=str}", source),
-        }
-    }
-
-    fn log_summary(s: &Summary) {
-        let st = &s.status;
-        let pose_age_ms = if st.pose_age_us == u64::MAX {
-            -1.0
-        } else {
-            st.pose_age_us as f32 * 1e-3
-        };
-        info!(
-            "flight t={=u64} ms {=str}/{=str} cal={=bool} conv={=bool} pose_age={=f32} ms \
-             p=[{=f32}, {=f32}, {=f32}] p_d=[{=f32}, {=f32}, {=f32}] |e|={=f32} m \
-             T={=f32} N tau=[{=f32}, {=f32}, {=f32}] throttle=[{=f32}, {=f32}, {=f32}, {=f32}] \
-             armed={=bool}",
-            s.now_us / 1000,
-            st.state.name(),
-            st.mode.name(),
-            st.calibrating,
-            st.converged,
-            pose_age_ms,
-            st.position[0],
-            st.position[1],
-            st.position[2],
-            st.reference_position[0],
-            st.reference_position[1],
-            st.reference_position[2],
-            st.position_error,
-            st.thrust,
-            st.torque[0],
-            st.torque[1],
-            st.torque[2],
-            s.output.throttle[0],
-            s.output.throttle[1],
-            s.output.throttle[2],
-            s.output.throttle[3],
-            s.output.armed
-        );
-    }
-
-    fn log_counters(st: &PipelineStatus) {
-        let c = &st.counters;
-        info!(
-            "link: frames ok {=u32} dropped {=u32} malformed {=u32}, bytes discarded {=u32}; \
-             telemetry dropped {=u32}",
-            c.link.frames_ok,
-            c.link.frames_dropped,
-            c.link.frames_malformed,
-            c.link.bytes_discarded,
-            c.telemetry_dropped
-        );
-        info!(
-            "pipeline: ticks {=u32} imu {=u32} poses {=u32} non-finite {=u32} refused {=u32} \
-             mixer-saturated {=u32} events dropped {=u32}",
-            c.control_ticks,
-            c.imu_samples,
-            c.poses_used,
-            c.non_finite,
-            c.refused_commands,
-            c.mixer_saturations,
-            c.events_dropped
-        );
-    }
-
-    fn log_boot_report(r: &BootReport) {
-        log_certificate(&Ok(r.certificate));
-        let f = &r.a_priori_fit;
-        info!(
-            "mixer fit: thrust needed [{=f32}, {=f32}] N, rotors give [{=f32}, {=f32}] N \
-             (shortfall {=f32}, {=f32} N); 4 f_max = {=f32} N",
-            f.thrust_needed[0],
-            f.thrust_needed[1],
-            f.thrust_capacity[0],
-            f.thrust_capacity[1],
-            f.thrust_shortfall[0],
-            f.thrust_shortfall[1],
-            r.thrust_capacity
-        );
-        for (i, axis) in ["x", "y", "z"].iter().enumerate() {
-            info!(
-                "mixer fit: torque {=str}: needed {=f32} N m, rotors give {=f32} N m at the \
-                 box corners ({=f32} N m alone), shortfall {=f32} N m",
-                axis,
-                f.torque_needed[i],
-                f.torque_capacity[i],
-                f.torque_single_axis[i],
-                f.torque_shortfall[i]
-            );
-        }
-        if f.fits {
-            info!("mixer fit: the a-priori (T, tau) box fits the rotors");
-        } else {
-            warn!("mixer fit: the a-priori (T, tau) box does NOT fit the rotors (see shortfalls)");
-        }
-    }
-
-    fn log_boot_error(e: &BootError) {
-        match e {
-            BootError::Parameter(p) => log_refusal("pipeline", p),
-            BootError::Mixer(MixerError::SingularGeometry) => {
-                error!("pipeline refused: rotor geometry is singular")
-            }
-            BootError::Mixer(MixerError::BadThrustRange) => {
-                error!("pipeline refused: rotor thrust range empty or not finite")
-            }
-        }
-    }
-
-    // ---------------------------------------------------------------------------------------
     // Boot.
 
-    /// Builds the pipeline, logs its boot report and starts the control task on the interrupt
-    /// executor, or gives the motors back if the configuration is refused. Not `async` on
-    /// purpose: the pipeline (several KiB) then never lives in `main`'s future, only in the
-    /// control task's.
+    /// Builds the pipeline (logging the set-up, certificate and mixer fit) and starts the control
+    /// task on the interrupt executor, or gives the motors back if the configuration is
+    /// refused. Not `async` on purpose: the pipeline (several KiB) then never lives in `main`'s
+    /// future, only in the control task's.
     // Called once at boot; moving the motors back out on refusal is the point.
     #[allow(clippy::result_large_err)]
     fn start_control(
@@ -666,19 +322,14 @@ mod mcu {
         motors: Motors,
         iwdg: Peri<'static, IWDG>,
     ) -> Result<(), Motors> {
-        let pipeline = match FlightPipeline::new(config) {
-            Ok(p) => p,
-            Err(e) => {
-                log_boot_error(&e);
-                return Err(motors);
-            }
+        let Some(pipeline) = boot_log::build_pipeline(config) else {
+            return Err(motors);
         };
-        log_boot_report(&pipeline.boot_report());
         let period = Duration::from_micros((config.control_period * 1e6 + 0.5) as u64);
         // Control on the interrupt executor, above everything in thread mode.
         hw::CONTROL_IRQ.set_priority(Priority::P1);
         let spawner = CONTROL_EXECUTOR.start(hw::CONTROL_IRQ);
-        let watchdog = IndependentWatchdog::new(iwdg, WATCHDOG_TIMEOUT_US);
+        let watchdog = Iwdg(IndependentWatchdog::new(iwdg, WATCHDOG_TIMEOUT_US));
         spawner.spawn(unwrap!(control(pipeline, motors, watchdog, period)));
         Ok(())
     }
@@ -711,13 +362,6 @@ mod mcu {
         motors.stop().await;
 
         let config = FlightConfig::paper();
-        info!("set-up: the paper's Section VI vehicle and gains; demo reference: its helix");
-        log_setup(&Setup {
-            vehicle: config.vehicle,
-            limits: config.limits,
-            gains: config.gains,
-            constants: ReferenceTrajectory::<f32>::paper_helix().constants(),
-        });
         if let Err(_motors) = start_control(&config, motors, b.iwdg) {
             // `_motors` stays alive and keeps the outputs at stop (DShot: no frame, line low;
             // PWM: 1000 us).
@@ -763,7 +407,7 @@ mod mcu {
         let rx = rx.into_ring_buffered(unwrap!(rx_ring));
         spawner.spawn(unwrap!(link_rx(rx)));
         spawner.spawn(unwrap!(link_tx(tx)));
-        spawner.spawn(unwrap!(logger()));
+        spawner.spawn(unwrap!(logger::logger(CORE_HZ)));
 
         // Heartbeat LED: 1 Hz blink while the firmware runs.
         loop {

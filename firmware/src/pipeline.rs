@@ -263,6 +263,12 @@ pub struct FlightPipeline {
     status_error: f32,
     status_pose_age: u64,
     was_calibrating: bool,
+    /// Time of the latest `HIL_SENSOR` \[µs\]: the simulation's clock.
+    #[cfg(feature = "hil")]
+    hil_time_us: Option<u64>,
+    /// Tick time \[µs\] whose HIL outputs are not sent yet.
+    #[cfg(feature = "hil")]
+    hil_pending: Option<u64>,
 }
 
 /// Refusal detail for events and STATUSTEXT.
@@ -346,6 +352,10 @@ impl FlightPipeline {
             status_error: 0.0,
             status_pose_age: u64::MAX,
             was_calibrating: true,
+            #[cfg(feature = "hil")]
+            hil_time_us: None,
+            #[cfg(feature = "hil")]
+            hil_pending: None,
         })
     }
 
@@ -482,7 +492,27 @@ impl FlightPipeline {
                     self.refused("setpoint", &r);
                 }
             }
+            #[cfg(feature = "hil")]
+            Inbound::HilSensor {
+                gyro_rad_s,
+                accel_m_s2,
+                time_us,
+            } => {
+                self.on_imu(&ImuSample {
+                    gyro_rad_s,
+                    accel_m_s2,
+                    time_us,
+                });
+                self.hil_time_us = Some(self.hil_time_us.map_or(time_us, |t| t.max(time_us)));
+            }
         }
+    }
+
+    /// Time of the latest `HIL_SENSOR` sample \[µs\] (`hil` feature only): the simulation's
+    /// clock, which paces the processor-in-the-loop control ticks. `None` before the first.
+    #[cfg(feature = "hil")]
+    pub fn hil_time_us(&self) -> Option<u64> {
+        self.hil_time_us
     }
 
     fn refused(&mut self, command: &'static str, r: &Refusal) {
@@ -794,6 +824,10 @@ impl FlightPipeline {
             ];
         }
         self.last_output = out;
+        #[cfg(feature = "hil")]
+        {
+            self.hil_pending = Some(now_us);
+        }
         out
     }
 
@@ -913,6 +947,14 @@ impl FlightPipeline {
     /// number of bytes written; frames that do not fit wait for the next call.
     pub fn telemetry(&mut self, now_us: u64, out: &mut [u8]) -> usize {
         let mut n = 0;
+        #[cfg(feature = "hil")]
+        if let Some(tick_us) = self.hil_pending {
+            match self.hil_outputs(tick_us, out) {
+                0 => return 0,
+                k => n += k,
+            }
+            self.hil_pending = None;
+        }
         while let Some(&(command, result)) = self.acks.front() {
             let m = COMMAND_ACK_DATA { command, result };
             match self.put(&m, &mut out[n..]) {
@@ -1013,6 +1055,49 @@ impl FlightPipeline {
         n
     }
 
+    /// The tick's motor commands (`HIL_ACTUATOR_CONTROLS`: throttles in `controls[0..4]`, mixer
+    /// order; `mode` has `SAFETY_ARMED` when armed) and reference (`POSITION_TARGET_LOCAL_NED`,
+    /// NED \[m\]), both or nothing; returns the bytes written.
+    #[cfg(feature = "hil")]
+    fn hil_outputs(&mut self, tick_us: u64, out: &mut [u8]) -> usize {
+        use mavlink::dialects::common::{
+            HilActuatorControlsFlags, MavFrame, PositionTargetTypemask, HIL_ACTUATOR_CONTROLS_DATA,
+            POSITION_TARGET_LOCAL_NED_DATA,
+        };
+        let mut controls = [0.0f32; 16];
+        controls[..4].copy_from_slice(&self.last_output.throttle);
+        let actuators = HIL_ACTUATOR_CONTROLS_DATA {
+            time_usec: tick_us,
+            flags: HilActuatorControlsFlags::empty(),
+            controls,
+            mode: if self.last_output.armed {
+                MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED
+            } else {
+                MavModeFlag::empty()
+            },
+        };
+        let r = frames::flip_to_array(&Vector3::from(self.status_reference));
+        let target = POSITION_TARGET_LOCAL_NED_DATA {
+            time_boot_ms: (tick_us / 1000) as u32,
+            x: r[0],
+            y: r[1],
+            z: r[2],
+            type_mask: PositionTargetTypemask::empty(),
+            coordinate_frame: MavFrame::MAV_FRAME_LOCAL_NED,
+            ..Default::default()
+        };
+        // Encode into a scratch copy first, so that a lack of room leaves nothing half-sent.
+        let mut scratch = [0u8; 2 * link::MAX_FRAME];
+        let a = self.put(&actuators, &mut scratch);
+        let b = self.put(&target, &mut scratch[a..]);
+        if a + b > out.len() {
+            self.sequence = self.sequence.wrapping_sub(2);
+            return 0;
+        }
+        out[..a + b].copy_from_slice(&scratch[..a + b]);
+        a + b
+    }
+
     fn put<D: mavlink::MessageData>(&mut self, m: &D, out: &mut [u8]) -> usize {
         let k = link::encode_data(
             m,
@@ -1070,7 +1155,7 @@ mod tests {
     use mavlink::{MavlinkVersion, MessageData};
 
     /// Splits telemetry bytes into (msgid, payload) frames (unsigned MAVLink 2 only).
-    fn frames(bytes: &[u8]) -> Vec<(u32, Vec<u8>)> {
+    fn all_frames(bytes: &[u8]) -> Vec<(u32, Vec<u8>)> {
         let mut out = Vec::new();
         let mut i = 0;
         while i + 12 <= bytes.len() {
@@ -1082,6 +1167,22 @@ mod tests {
         }
         assert_eq!(i, bytes.len());
         out
+    }
+
+    /// [`all_frames`] without the HIL outputs (`hil` feature), which lead every tick's
+    /// telemetry and have their own test.
+    fn frames(bytes: &[u8]) -> Vec<(u32, Vec<u8>)> {
+        #[cfg(feature = "hil")]
+        let hil = [
+            mavlink::dialects::common::HIL_ACTUATOR_CONTROLS_DATA::ID,
+            mavlink::dialects::common::POSITION_TARGET_LOCAL_NED_DATA::ID,
+        ];
+        #[cfg(not(feature = "hil"))]
+        let hil: [u32; 0] = [];
+        all_frames(bytes)
+            .into_iter()
+            .filter(|(id, _)| !hil.contains(id))
+            .collect()
     }
 
     fn command(c: MavCmd, p1: f32, p2: f32) -> Vec<u8> {
@@ -1198,5 +1299,77 @@ mod tests {
             p.take_events(),
             Some(Event::NonFinite { source: "imu" })
         ));
+    }
+
+    /// HIL (`hil` feature): a `HIL_SENSOR` in body FRD reaches the estimator as a FLU sample on
+    /// the simulation's clock, one missing IMU flag makes it no sample, and each tick sends
+    /// its throttles and reference once, in NED, before any other telemetry.
+    #[cfg(feature = "hil")]
+    #[test]
+    fn hil_sensor_in_actuators_and_reference_out() {
+        use mavlink::dialects::common::{
+            HilSensorUpdatedFlags, HIL_ACTUATOR_CONTROLS_DATA, HIL_SENSOR_DATA,
+            POSITION_TARGET_LOCAL_NED_DATA,
+        };
+        let sensor = |t: u64, fields: u32| {
+            let m = MavMessage::HIL_SENSOR(HIL_SENSOR_DATA {
+                time_usec: t,
+                // Level and still: the accelerometer reads +g along down's opposite (FRD z up is -z).
+                zacc: -9.81,
+                xgyro: 0.01,
+                ygyro: 0.02,
+                zgyro: 0.03,
+                fields_updated: HilSensorUpdatedFlags::from_bits_retain(fields),
+                ..Default::default()
+            });
+            let mut b = [0u8; link::MAX_FRAME];
+            let n = link::encode(&m, 255, 190, 0, &mut b);
+            b[..n].to_vec()
+        };
+        let mut p = FlightPipeline::new(&FlightConfig::paper()).unwrap();
+        assert_eq!(p.hil_time_us(), None);
+        p.on_link_bytes(&sensor(1_000, link::HIL_SENSOR_IMU_FIELDS), 0);
+        assert_eq!(p.hil_time_us(), Some(1_000));
+        assert_eq!(p.status().counters.imu_samples, 1);
+        // Without the gyro z flag it is not an IMU sample: dropped, the clock does not move.
+        p.on_link_bytes(
+            &sensor(2_000, link::HIL_SENSOR_IMU_FIELDS & !0b10_0000),
+            1_000,
+        );
+        assert_eq!(p.hil_time_us(), Some(1_000));
+        assert_eq!(p.status().counters.imu_samples, 1);
+        assert_eq!(p.status().counters.link.frames_dropped, 1);
+
+        let out = p.control_tick(10_000);
+        let mut buf = [0u8; 1024];
+        let n = p.telemetry(10_000, &mut buf);
+        let got = all_frames(&buf[..n]);
+        assert_eq!(got[0].0, HIL_ACTUATOR_CONTROLS_DATA::ID);
+        assert_eq!(got[1].0, POSITION_TARGET_LOCAL_NED_DATA::ID);
+        let a = HIL_ACTUATOR_CONTROLS_DATA::deser(MavlinkVersion::V2, &got[0].1).unwrap();
+        assert_eq!(a.time_usec, 10_000);
+        assert_eq!(&a.controls[..4], &out.throttle);
+        assert!(a.controls[4..].iter().all(|&c| c == 0.0));
+        assert_eq!(
+            a.mode.contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED),
+            out.armed
+        );
+        let r = POSITION_TARGET_LOCAL_NED_DATA::deser(MavlinkVersion::V2, &got[1].1).unwrap();
+        let reference = p.status().reference_position;
+        assert_eq!(
+            [r.x, r.y, r.z],
+            [reference[0], -reference[1], -reference[2]]
+        );
+        // Sent once per tick; too little room sends neither and keeps them for the next call.
+        let n2 = p.telemetry(10_500, &mut buf);
+        assert!(all_frames(&buf[..n2])
+            .iter()
+            .all(|(id, _)| *id != HIL_ACTUATOR_CONTROLS_DATA::ID));
+        p.control_tick(20_000);
+        assert_eq!(p.telemetry(20_000, &mut buf[..40]), 0);
+        let n3 = p.telemetry(20_000, &mut buf);
+        let got = all_frames(&buf[..n3]);
+        let a = HIL_ACTUATOR_CONTROLS_DATA::deser(MavlinkVersion::V2, &got[0].1).unwrap();
+        assert_eq!(a.time_usec, 20_000);
     }
 }

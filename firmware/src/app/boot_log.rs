@@ -1,0 +1,143 @@
+//! The boot banner as defmt lines: the set-up, its a-priori bound certificate (conditions that
+//! fail are warnings: the bounds are then not guaranteed), the mixer fit of the a-priori
+//! `(T, τ)` box, and refusals with the violated condition and its numbers.
+
+use controller_core::{Certificate, ParameterError};
+use defmt::{error, info, warn};
+
+use crate::mixer::MixerError;
+use crate::pipeline::{BootError, BootReport};
+use crate::report::{self, Setup, Severity, Value};
+
+fn log_values(section: &'static str, values: &[Value]) {
+    for v in values {
+        info!(
+            "{=str}: {=str} = {=f32} {=str}",
+            section, v.name, v.value, v.unit
+        );
+    }
+}
+
+/// Logs the vehicle, limits, gains and reference constants.
+pub fn log_setup(s: &Setup) {
+    log_values("vehicle", &report::vehicle_values(&s.vehicle));
+    log_values("limits", &report::limits_values(&s.limits));
+    log_values("gains", &report::gains_values(&s.gains));
+    log_values("reference", &report::constants_values(&s.constants));
+}
+
+/// Logs a refused parameter set: what, the violated condition and its numbers.
+pub fn log_refusal(what: &'static str, e: &ParameterError) {
+    let r = report::refusal(e);
+    error!(
+        "{=str} refused: {=str} = {=f64} ({=str}; admissible ({=f64}, {=f64}))",
+        what, r.name, r.value, r.requirement, r.low, r.high
+    );
+}
+
+/// Logs the certificate's bounds and conditions, or its refusal.
+pub fn log_certificate(certificate: &Result<Certificate<f32>, ParameterError>) {
+    let c = match certificate {
+        Ok(c) => c,
+        Err(e) => return log_refusal("certificate", e),
+    };
+    log_values("bounds", &report::bound_values(c));
+    for cond in &c.conditions {
+        match report::condition_severity(cond) {
+            Severity::Info => info!(
+                "condition {=str}: holds = {=bool}, lhs = {=f32}, rhs = {=f32}",
+                cond.name, cond.holds, cond.lhs, cond.rhs
+            ),
+            Severity::Warn => warn!(
+                "condition {=str}: holds = {=bool}, lhs = {=f32}, rhs = {=f32} ({=str}); \
+                 the bounds are not guaranteed",
+                cond.name, cond.holds, cond.lhs, cond.rhs, cond.statement
+            ),
+        }
+    }
+    let violated = c.violations().count();
+    if violated == 0 {
+        info!(
+            "certificate: all {=usize} conditions hold",
+            c.conditions.len()
+        );
+    } else {
+        warn!(
+            "certificate: {=usize} of {=usize} conditions violated",
+            violated,
+            c.conditions.len()
+        );
+    }
+}
+
+/// Logs the pipeline's boot report (certificate and mixer fit).
+pub fn log_boot_report(r: &BootReport) {
+    log_certificate(&Ok(r.certificate));
+    let f = &r.a_priori_fit;
+    info!(
+        "mixer fit: thrust needed [{=f32}, {=f32}] N, rotors give [{=f32}, {=f32}] N \
+         (shortfall {=f32}, {=f32} N); 4 f_max = {=f32} N",
+        f.thrust_needed[0],
+        f.thrust_needed[1],
+        f.thrust_capacity[0],
+        f.thrust_capacity[1],
+        f.thrust_shortfall[0],
+        f.thrust_shortfall[1],
+        r.thrust_capacity
+    );
+    for (i, axis) in ["x", "y", "z"].iter().enumerate() {
+        info!(
+            "mixer fit: torque {=str}: needed {=f32} N m, rotors give {=f32} N m at the \
+             box corners ({=f32} N m alone), shortfall {=f32} N m",
+            axis,
+            f.torque_needed[i],
+            f.torque_capacity[i],
+            f.torque_single_axis[i],
+            f.torque_shortfall[i]
+        );
+    }
+    if f.fits {
+        info!("mixer fit: the a-priori (T, tau) box fits the rotors");
+    } else {
+        warn!("mixer fit: the a-priori (T, tau) box does NOT fit the rotors (see shortfalls)");
+    }
+}
+
+/// Logs why the pipeline refused its configuration.
+pub fn log_boot_error(e: &BootError) {
+    match e {
+        BootError::Parameter(p) => log_refusal("pipeline", p),
+        BootError::Mixer(MixerError::SingularGeometry) => {
+            error!("pipeline refused: rotor geometry is singular")
+        }
+        BootError::Mixer(MixerError::BadThrustRange) => {
+            error!("pipeline refused: rotor thrust range empty or not finite")
+        }
+    }
+}
+
+/// Logs the set-up (`config` with the demo helix's constants), builds the pipeline and logs its
+/// boot report; on a refusal logs why and returns `None` (the board then keeps the motors
+/// stopped).
+pub fn build_pipeline(
+    config: &crate::config::FlightConfig,
+) -> Option<crate::pipeline::FlightPipeline> {
+    use controller_core::{ReferenceTrajectory, Trajectory};
+    info!("set-up: the paper's Section VI vehicle and gains; demo reference: its helix");
+    log_setup(&Setup {
+        vehicle: config.vehicle,
+        limits: config.limits,
+        gains: config.gains,
+        constants: ReferenceTrajectory::<f32>::paper_helix().constants(),
+    });
+    match crate::pipeline::FlightPipeline::new(config) {
+        Ok(p) => {
+            log_boot_report(&p.boot_report());
+            Some(p)
+        }
+        Err(e) => {
+            log_boot_error(&e);
+            None
+        }
+    }
+}

@@ -1,0 +1,221 @@
+//! The control loop: every tick it drains the IMU samples and link bytes received since the
+//! last one into the [`FlightPipeline`], runs `control_tick` (estimate → controller → mixer),
+//! hands the throttles to the motors, queues the telemetry and the log data, measures its step
+//! with the DWT cycle counter and feeds the watchdog.
+//!
+//! The loop is the same on every board; what paces it ([`ControlClock`]), where the throttles go
+//! ([`MotorSink`]) and what resets a hung MCU ([`Watchdog`]) are the board's. Two clocks are
+//! board-independent and live here: [`DeadlineClock`] (embassy-time deadlines, flight) and
+//! [`LockstepClock`] (the simulation's clock carried by `HIL_SENSOR`, processor in the loop).
+
+use cortex_m::peripheral::DWT;
+use embassy_time::{Duration, Instant, Timer};
+
+use super::queues::{
+    count, try_write_all, Summary, EVENTS, IMU_SAMPLES, IO, LINK_RX, LINK_TX, SUMMARY, TIMING,
+};
+use crate::pipeline::{FlightPipeline, MotorOutput};
+use crate::timing::{self, StepStats};
+
+/// One control instant.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tick {
+    /// Tick time \[µs\] on the pipeline's clock.
+    pub now_us: u64,
+    /// How late the tick started after its deadline \[µs\] (0 when the clock is simulated).
+    pub lateness_us: u64,
+    /// Whole periods skipped since the previous tick (each counted as an overrun).
+    pub missed: u32,
+}
+
+/// What paces the control loop.
+// The executors here are single-core and never move a future between threads, so the
+// `Send`-ness of these futures is irrelevant.
+#[allow(async_fn_in_trait)]
+pub trait ControlClock {
+    /// Waits for the next control instant. A clock that lives in the link (the simulation's)
+    /// may feed received bytes to `pipeline` while it waits; a hardware clock ignores it.
+    async fn next_tick(&mut self, pipeline: &mut FlightPipeline) -> Tick;
+}
+
+/// Where the tick's throttles go.
+#[allow(async_fn_in_trait)]
+pub trait MotorSink {
+    /// What [`MotorSink::prepare`] builds for [`MotorSink::write`] (e.g. DShot frames).
+    type Frames;
+    /// Turns the tick's throttles into what the outputs send; cheap and synchronous, so that
+    /// it can run inside the timed step.
+    fn prepare(&mut self, output: &MotorOutput) -> Self::Frames;
+    /// Sends them (may wait for DMA).
+    async fn write(&mut self, frames: Self::Frames);
+}
+
+/// What resets the MCU when the control loop stops.
+pub trait Watchdog {
+    /// Starts it (the first feed must follow within its timeout).
+    fn start(&mut self);
+    /// Feeds it, once per completed step.
+    fn feed(&mut self);
+}
+
+/// Runs the control loop forever. `period`: the nominal tick period (logged; the clock paces).
+/// The pipeline is borrowed so that it lives once, in the calling task's future (several KiB).
+pub async fn run(
+    pipeline: &mut FlightPipeline,
+    clock: &mut impl ControlClock,
+    motors: &mut impl MotorSink,
+    watchdog: &mut impl Watchdog,
+    period: Duration,
+) -> ! {
+    let period_us = period.as_micros();
+    let ticks_per_second = (1_000_000 / period_us.max(1)).max(1) as u32;
+    let summary_every = (ticks_per_second / 10).max(1);
+    let mut stats = StepStats::new();
+    let mut tick: u32 = 0;
+    let mut link_buf = [0u8; 256];
+    let mut telemetry_buf = [0u8; 512];
+
+    watchdog.start();
+    defmt::info!("control: every {=u64} us", period_us);
+    loop {
+        let Tick {
+            now_us,
+            lateness_us,
+            missed,
+        } = clock.next_tick(pipeline).await;
+        if missed > 0 {
+            stats.record_missed(missed);
+        }
+        let started = Instant::now();
+        let c0 = DWT::cycle_count();
+
+        while let Ok(sample) = IMU_SAMPLES.try_receive() {
+            pipeline.on_imu(&sample);
+        }
+        while let Ok(n) = LINK_RX.try_read(&mut link_buf) {
+            pipeline.on_link_bytes(&link_buf[..n], now_us);
+        }
+        let output = pipeline.control_tick(now_us);
+        let frames = motors.prepare(&output);
+        while let Some(event) = pipeline.take_events() {
+            if EVENTS.try_send(event).is_err() {
+                count(&IO.events_dropped, 1);
+            }
+        }
+        // Only ask for as many bytes as the transmit pipe can take, so that a frame is never
+        // cut; what does not fit waits in the pipeline for the next tick.
+        let room = LINK_TX.free_capacity().min(telemetry_buf.len());
+        let n = pipeline.telemetry(now_us, &mut telemetry_buf[..room]);
+        if try_write_all(&LINK_TX, &telemetry_buf[..n]) != n {
+            count(&IO.link_tx_dropped, 1);
+        }
+
+        let cycles = timing::cycles_between(c0, DWT::cycle_count());
+        let step_us = Instant::now()
+            .saturating_duration_since(started)
+            .as_micros();
+        stats.record(cycles, timing::is_overrun(lateness_us, step_us, period_us));
+        watchdog.feed();
+
+        motors.write(frames).await;
+
+        tick = tick.wrapping_add(1);
+        if tick % summary_every == 0 {
+            SUMMARY.signal(Summary {
+                now_us,
+                status: pipeline.status(),
+                output,
+            });
+        }
+        if stats.window_steps() >= ticks_per_second {
+            TIMING.signal(stats.take_window());
+        }
+    }
+}
+
+/// Hardware pacing: a tick every `period` on embassy-time, with explicit deadlines rather than
+/// a `Ticker` so that the lateness of each start is known.
+pub struct DeadlineClock {
+    period: Duration,
+    deadline: Instant,
+}
+
+impl DeadlineClock {
+    /// First tick one `period` from now.
+    pub fn new(period: Duration) -> Self {
+        Self {
+            period,
+            deadline: Instant::now() + period,
+        }
+    }
+}
+
+impl ControlClock for DeadlineClock {
+    async fn next_tick(&mut self, _pipeline: &mut FlightPipeline) -> Tick {
+        // Fell more than a period behind (e.g. a debugger halt): skip the missed ticks instead
+        // of running them back to back, and report them.
+        let mut missed = 0;
+        let now = Instant::now();
+        if now > self.deadline + self.period {
+            let behind = (now - self.deadline).as_ticks() / self.period.as_ticks().max(1);
+            self.deadline += Duration::from_ticks(self.period.as_ticks() * behind);
+            missed = behind.min(u64::from(u32::MAX)) as u32;
+        }
+        Timer::at(self.deadline).await;
+        let started = Instant::now();
+        let tick = Tick {
+            now_us: started.as_micros(),
+            lateness_us: started.saturating_duration_since(self.deadline).as_micros(),
+            missed,
+        };
+        self.deadline += self.period;
+        tick
+    }
+}
+
+/// Processor-in-the-loop pacing (`hil` feature): the simulation's clock is the `time_usec` of
+/// the `HIL_SENSOR` messages on the link, so this clock reads the link itself, feeding the
+/// bytes to the pipeline (stamped with the latest `HIL_SENSOR` time), and ticks as soon as a
+/// sample at or past the deadline has arrived. Deadlines: the first sample's time, then each
+/// tick's time plus the period. The simulator waits for each tick's `HIL_ACTUATOR_CONTROLS`
+/// before it sends more, so the firmware and the plant advance in lockstep, independent of how
+/// fast the emulator runs.
+#[cfg(feature = "hil")]
+pub struct LockstepClock {
+    period_us: u64,
+    deadline_us: Option<u64>,
+    buf: [u8; 128],
+}
+
+#[cfg(feature = "hil")]
+impl LockstepClock {
+    /// A tick every `period` of simulated time.
+    pub fn new(period: Duration) -> Self {
+        Self {
+            period_us: period.as_micros(),
+            deadline_us: None,
+            buf: [0; 128],
+        }
+    }
+}
+
+#[cfg(feature = "hil")]
+impl ControlClock for LockstepClock {
+    async fn next_tick(&mut self, pipeline: &mut FlightPipeline) -> Tick {
+        loop {
+            if let Some(t) = pipeline.hil_time_us() {
+                if t >= *self.deadline_us.get_or_insert(t) {
+                    self.deadline_us = Some(t + self.period_us);
+                    return Tick {
+                        now_us: t,
+                        lateness_us: 0,
+                        missed: 0,
+                    };
+                }
+            }
+            let n = LINK_RX.read(&mut self.buf).await;
+            let stamp = pipeline.hil_time_us().unwrap_or(0);
+            pipeline.on_link_bytes(&self.buf[..n], stamp);
+        }
+    }
+}
