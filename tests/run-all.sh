@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The project's test command (README, "Run all the tests"; .ci/run calls exactly this).
-# Installs what it needs (the thumbv7em target, clippy, rustfmt), then: formatting, every host
-# test (unit, property, cross-crate, end to end), clippy with warnings denied, and the no_std
-# controller-core and the firmware built for the Cortex-M4F (thumbv7em-none-eabihf).
+# Installs what it needs (the thumbv7em target, clippy, rustfmt, QEMU), then: formatting, every
+# host test (unit, property, cross-crate, end to end), clippy with warnings denied, the no_std
+# controller-core and the firmware built for the Cortex-M4F (thumbv7em-none-eabihf) for both
+# boards, the processor-in-the-loop flight on QEMU and the M4F instruction budget.
 # Idempotent: re-running it changes nothing that is already installed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -49,7 +50,13 @@ mps2=(-p firmware --bin firmware-mps2-an386 --target thumbv7em-none-eabihf --rel
   --no-default-features --features board-mps2-an386)
 cargo clippy "${mps2[@]}" -- -D warnings
 cargo build "${mps2[@]}"
-bash firmware/qemu/boot-check.sh \
-  "${CARGO_TARGET_DIR:-target}/thumbv7em-none-eabihf/release/firmware-mps2-an386"
+elf_mps2="${CARGO_TARGET_DIR:-target}/thumbv7em-none-eabihf/release/firmware-mps2-an386"
+bash firmware/qemu/boot-check.sh "$elf_mps2"
+
+step "processor in the loop: the paper's helix from upside down, firmware on QEMU (lockstep)"
+PIL_FIRMWARE_ELF="$elf_mps2" cargo test -p tests --test pil_qemu -- --ignored --nocapture
+
+step "Cortex-M4F instruction counts of the control step, f32 on ARM vs host, budget"
+bash firmware/qemu/bench.sh
 
 printf '\n==> all checks passed\n'

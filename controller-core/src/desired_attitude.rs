@@ -7,7 +7,7 @@
 
 use nalgebra::{Matrix3, Vector2, Vector3};
 
-use crate::scalar::{lit, Scalar};
+use crate::scalar::{lit, norm, Scalar};
 
 /// A unit vector with its first two time derivatives.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -30,7 +30,7 @@ pub fn normalize_with_derivatives<T: Scalar>(
     x_dot: &Vector3<T>,
     x_ddot: &Vector3<T>,
 ) -> Option<UnitWithDerivatives<T>> {
-    let n = x.norm();
+    let n = norm(x);
     if !n.is_finite() || n <= T::zero() {
         return None;
     }

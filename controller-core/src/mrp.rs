@@ -15,7 +15,7 @@
 
 use nalgebra::{Matrix3, Quaternion, Vector3};
 
-use crate::scalar::{lit, Scalar};
+use crate::scalar::{lit, norm, Scalar};
 
 /// The MRP `ϑ = φ(q) = q₁ / (1 + q₀)` of a unit quaternion (stereographic projection).
 ///
@@ -105,7 +105,7 @@ pub fn quaternion_from_rotation<T: Scalar>(r: &Matrix3<T>) -> Quaternion<T> {
     let half = lit::<T>(0.5);
     let trace = r[(0, 0)] + r[(1, 1)] + r[(2, 2)];
     let q = if trace >= r[(0, 0)] && trace >= r[(1, 1)] && trace >= r[(2, 2)] {
-        let w = (T::one() + trace).sqrt() * half;
+        let w = (T::one() + trace).sqrt_ieee() * half;
         let k = quarter / w;
         Quaternion::new(
             w,
@@ -114,7 +114,7 @@ pub fn quaternion_from_rotation<T: Scalar>(r: &Matrix3<T>) -> Quaternion<T> {
             (r[(1, 0)] - r[(0, 1)]) * k,
         )
     } else if r[(0, 0)] >= r[(1, 1)] && r[(0, 0)] >= r[(2, 2)] {
-        let x = (T::one() + r[(0, 0)] - r[(1, 1)] - r[(2, 2)]).sqrt() * half;
+        let x = (T::one() + r[(0, 0)] - r[(1, 1)] - r[(2, 2)]).sqrt_ieee() * half;
         let k = quarter / x;
         Quaternion::new(
             (r[(2, 1)] - r[(1, 2)]) * k,
@@ -123,7 +123,7 @@ pub fn quaternion_from_rotation<T: Scalar>(r: &Matrix3<T>) -> Quaternion<T> {
             (r[(0, 2)] + r[(2, 0)]) * k,
         )
     } else if r[(1, 1)] >= r[(2, 2)] {
-        let y = (T::one() - r[(0, 0)] + r[(1, 1)] - r[(2, 2)]).sqrt() * half;
+        let y = (T::one() - r[(0, 0)] + r[(1, 1)] - r[(2, 2)]).sqrt_ieee() * half;
         let k = quarter / y;
         Quaternion::new(
             (r[(0, 2)] - r[(2, 0)]) * k,
@@ -132,7 +132,7 @@ pub fn quaternion_from_rotation<T: Scalar>(r: &Matrix3<T>) -> Quaternion<T> {
             (r[(1, 2)] + r[(2, 1)]) * k,
         )
     } else {
-        let z = (T::one() - r[(0, 0)] - r[(1, 1)] + r[(2, 2)]).sqrt() * half;
+        let z = (T::one() - r[(0, 0)] - r[(1, 1)] + r[(2, 2)]).sqrt_ieee() * half;
         let k = quarter / z;
         Quaternion::new(
             (r[(1, 0)] - r[(0, 1)]) * k,
@@ -142,7 +142,7 @@ pub fn quaternion_from_rotation<T: Scalar>(r: &Matrix3<T>) -> Quaternion<T> {
         )
     };
     // Rounding in R leaves |q| a few ulp off 1; φ and the inner products assume unit norm.
-    q / q.norm()
+    q / norm(&q.coords)
 }
 
 #[cfg(test)]

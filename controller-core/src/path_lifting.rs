@@ -17,7 +17,7 @@
 use nalgebra::{Matrix3, Quaternion, Vector3};
 
 use crate::mrp::{mrp_from_quaternion, quaternion_from_rotation};
-use crate::scalar::Scalar;
+use crate::scalar::{norm, Scalar};
 
 /// Counters of the jumps of the path-lifting mechanism since construction.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -112,7 +112,7 @@ impl<T: Scalar> PathLifting<T> {
             // φ is finite here: |φ(m*Φ)| → ∞ only when m*Φ → (−1, 0), which D_m catches first.
             let mrp = mrp_from_quaternion(&lifted);
             let in_dm = match mrp {
-                Some(m) => m.norm() > limit,
+                Some(m) => norm(&m) > limit,
                 None => true,
             };
             let in_dq = dist > self.reset_threshold;

@@ -143,7 +143,11 @@ pub enum HeadingProfile<T: Scalar> {
 
 impl<T: Scalar> HeadingProfile<T> {
     /// `(ψ, ψ̇, ψ̈)` at `t`, in rad, rad/s, rad/s².
-    fn yaw(&self, t: T) -> (T, T, T) {
+    ///
+    /// `known`: `sin_cos(w t)` already computed for some angular frequency `w` at this `t`
+    /// (the helix's); reused when `w` equals the heading's frequency (equal non-zero floats
+    /// have equal bits, so the result is the same as computing it again).
+    fn yaw(&self, t: T, known: Option<(T, (T, T))>) -> (T, T, T) {
         match *self {
             Self::Constant { yaw } => (yaw, T::zero(), T::zero()),
             Self::Sinusoidal {
@@ -151,7 +155,10 @@ impl<T: Scalar> HeadingProfile<T> {
                 frequency,
                 offset,
             } => {
-                let (s, c) = (frequency * t).sin_cos();
+                let (s, c) = match known {
+                    Some((w, sc)) if w == frequency && w != T::zero() => sc,
+                    _ => (frequency * t).sin_cos(),
+                };
                 (
                     offset + amplitude * s,
                     amplitude * frequency * c,
@@ -162,8 +169,8 @@ impl<T: Scalar> HeadingProfile<T> {
     }
 
     /// `(ν_d, ν̇_d, ν̈_d)` at `t`: `ν̇ = ψ̇ ν⊥`, `ν̈ = ψ̈ ν⊥ − ψ̇² ν` with `ν⊥ = (−sin ψ, cos ψ)`.
-    fn heading(&self, t: T) -> (Vector2<T>, Vector2<T>, Vector2<T>) {
-        let (psi, rate, acc) = self.yaw(t);
+    fn heading(&self, t: T, known: Option<(T, (T, T))>) -> (Vector2<T>, Vector2<T>, Vector2<T>) {
+        let (psi, rate, acc) = self.yaw(t, known);
         let (s, c) = psi.sin_cos();
         let nu = Vector2::new(c, s);
         let perp = Vector2::new(-s, c);
@@ -231,7 +238,12 @@ pub enum ReferenceTrajectory<T: Scalar> {
 
 /// `d^n/dt^n [A sin(w t)]` and `d^n/dt^n [A cos(w t)]` for `n = 0..=4`.
 fn sin_cos_derivatives<T: Scalar>(amplitude: T, w: T, t: T) -> ([T; 5], [T; 5]) {
-    let (s, c) = (w * t).sin_cos();
+    derivatives_of_sin_cos(amplitude, w, (w * t).sin_cos())
+}
+
+/// [`sin_cos_derivatives`] from `(s, c) = sin_cos(w t)` already computed (one `sin_cos` for the
+/// three axes of the helix: the same bits as three).
+fn derivatives_of_sin_cos<T: Scalar>(amplitude: T, w: T, (s, c): (T, T)) -> ([T; 5], [T; 5]) {
     let mut sin_d = [T::zero(); 5];
     let mut cos_d = [T::zero(); 5];
     // Each derivative multiplies by w and rotates (sin → cos → −sin → −cos).
@@ -276,6 +288,7 @@ impl<T: Scalar> ReferenceTrajectory<T> {
 impl<T: Scalar> Trajectory<T> for ReferenceTrajectory<T> {
     fn sample(&self, t: T) -> ReferenceSample<T> {
         let mut d = [Vector3::<T>::zeros(); 5];
+        let mut known = None;
         match *self {
             Self::Hover { point, .. } => d[0] = point,
             Self::Helix {
@@ -285,9 +298,13 @@ impl<T: Scalar> Trajectory<T> for ReferenceTrajectory<T> {
                 frequency,
                 ..
             } => {
-                let (_, xr) = sin_cos_derivatives(radius, frequency, t);
-                let (yr, _) = sin_cos_derivatives(radius, frequency, t);
-                let (_, zr) = sin_cos_derivatives(vertical_amplitude, frequency, t);
+                // One sin_cos(f t) for the three axes and, when its frequency is the same, the
+                // heading (the paper's helix): 2 sin_cos per sample instead of 5.
+                let sc = (frequency * t).sin_cos();
+                known = Some((frequency, sc));
+                let (_, xr) = derivatives_of_sin_cos(radius, frequency, sc);
+                let (yr, _) = derivatives_of_sin_cos(radius, frequency, sc);
+                let (_, zr) = derivatives_of_sin_cos(vertical_amplitude, frequency, sc);
                 for n in 0..5 {
                     d[n] = Vector3::new(xr[n], yr[n], zr[n]);
                 }
@@ -308,7 +325,8 @@ impl<T: Scalar> Trajectory<T> for ReferenceTrajectory<T> {
                 d[0] += center;
             }
         }
-        let (heading, heading_rate, heading_acceleration) = self.heading_profile().heading(t);
+        let (heading, heading_rate, heading_acceleration) =
+            self.heading_profile().heading(t, known);
         ReferenceSample {
             position: d[0],
             velocity: d[1],

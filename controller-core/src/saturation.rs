@@ -38,7 +38,7 @@ pub fn tanh_saturation_slope<T: Scalar>(s: T, level: T) -> T {
 /// Source: Section V, definitions of `s_ϑ` and `s_ω`.
 #[inline]
 pub fn radial_saturation<T: Scalar>(x: &Vector3<T>, level: T) -> Vector3<T> {
-    x * (level / (level * level + x.norm_squared()).sqrt())
+    x * (level / (level * level + x.norm_squared()).sqrt_ieee())
 }
 
 #[cfg(test)]

@@ -4,6 +4,7 @@
 //! Units are SI (kg, m, N, N m, s, µs where named `_us`). Frames: body FLU (x forward, y left,
 //! z up), inertial NWU (z up); see [`crate::frames`].
 
+use controller_core::scalar::sqrt_f32;
 use controller_core::{Gains, Limits, Vehicle};
 
 /// Position and spin of one rotor.
@@ -63,7 +64,7 @@ impl RotorConfig {
             n
         } else {
             let b = 1.0 - k;
-            (-b + libm::sqrtf(b * b + 4.0 * k * n)) / (2.0 * k)
+            (-b + sqrt_f32(b * b + 4.0 * k * n)) / (2.0 * k)
         };
         let t = self.throttle_idle + (1.0 - self.throttle_idle) * u.clamp(0.0, 1.0);
         if t.is_finite() {

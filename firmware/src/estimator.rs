@@ -10,9 +10,9 @@
 //!   process noise covers accelerometer noise, bias and vibration.
 //! - A vertical velocity dead-reckoned from the accelerometer between poses, for the failsafe.
 //!
-//! No allocation: the gyro history is a fixed ring (heapless).
+//! No allocation: the gyro and acceleration histories are fixed rings.
 
-use heapless::Deque;
+use controller_core::scalar::{fmin, norm, normalize_quaternion};
 use nalgebra::{Matrix2, Quaternion, UnitQuaternion, Vector2, Vector3};
 
 /// Gyro increments kept for the latency correction: 128 samples = 128 ms at 1 kHz.
@@ -21,6 +21,127 @@ const HISTORY: usize = 128;
 /// Stillness limits for the gyro calibration: `|ω| < 0.3 rad/s` and `| |a| − g | < 1 m/s²`.
 const STILL_GYRO: f32 = 0.3;
 const STILL_ACCEL: f32 = 1.0;
+
+/// `us as f32` (round to nearest, like the cast) through the FPU's `u32` conversion when
+/// `us < 2³²` (`vcvt.f32.u32`, one instruction, instead of the software `u64` conversion
+/// `__aeabi_ul2f`, about 30 on the Cortex-M4F). The same bits: both are the correctly rounded
+/// conversion of the same integer.
+///
+/// The wide case is a separate, never-inlined function: otherwise LLVM proves both branches
+/// equal and folds them back into the software conversion.
+#[inline(always)]
+pub fn micros_f32(us: u64) -> f32 {
+    match u32::try_from(us) {
+        Ok(v) => v as f32,
+        Err(_) => wide_micros_f32(us),
+    }
+}
+
+#[cold]
+#[inline(never)]
+fn wide_micros_f32(us: u64) -> f32 {
+    us as f32
+}
+
+/// A ring of the last [`HISTORY`] time-stamped values \[µs\], oldest first, that visits the
+/// values of a time window without scanning the whole ring when it can.
+///
+/// The IMU stamps its samples in increasing order, so the ring is normally sorted by time and
+/// the values with `after < t ≤ until` are one contiguous run, found by two binary searches
+/// (7 steps each instead of a 128-entry scan). The ring counts its descents (adjacent pairs
+/// whose time goes backwards); while there is one, it falls back to scanning every entry. Both
+/// paths visit the same values in the same order, so sums over them are bit-identical.
+/// Plain arrays with a power-of-two index mask (not `heapless::Deque`, whose bounds and
+/// wrap-around checks cost several times the push itself on the MCU).
+#[derive(Clone, Debug)]
+struct TimedRing<T: Copy> {
+    time: [u64; HISTORY],
+    value: [T; HISTORY],
+    /// Physical index of the oldest entry.
+    head: usize,
+    len: usize,
+    /// Adjacent pairs `(i, i + 1)` with `t[i + 1] < t[i]` currently in the ring.
+    descents: u32,
+}
+
+/// Index mask of the ring (`HISTORY` is a power of two).
+const MASK: usize = HISTORY - 1;
+const _: () = assert!(HISTORY.is_power_of_two());
+
+impl<T: Copy> TimedRing<T> {
+    fn new(fill: T) -> Self {
+        Self {
+            time: [0; HISTORY],
+            value: [fill; HISTORY],
+            head: 0,
+            len: 0,
+            descents: 0,
+        }
+    }
+
+    /// Time of the `i`-th oldest entry (`i < len`).
+    #[inline(always)]
+    fn time_at(&self, i: usize) -> u64 {
+        self.time[(self.head + i) & MASK]
+    }
+
+    /// Appends `(time_us, value)`, dropping the oldest entry when full.
+    fn push(&mut self, time_us: u64, value: T) {
+        if self.len == HISTORY {
+            if self.time_at(1) < self.time_at(0) {
+                self.descents -= 1;
+            }
+            self.head = (self.head + 1) & MASK;
+            self.len -= 1;
+        }
+        if self.len > 0 && time_us < self.time_at(self.len - 1) {
+            self.descents += 1;
+        }
+        let i = (self.head + self.len) & MASK;
+        self.time[i] = time_us;
+        self.value[i] = value;
+        self.len += 1;
+    }
+
+    /// Number of entries at or before `x` (the ring must be sorted: they are a prefix).
+    #[inline(never)]
+    fn count_until(&self, x: u64) -> usize {
+        let (mut lo, mut hi) = (0, self.len);
+        while lo < hi {
+            let mid = (lo + hi) / 2;
+            if self.time_at(mid) <= x {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
+
+    /// Calls `f` on every value with `after < t ≤ until`, oldest first.
+    fn for_each_in(&self, after: u64, until: u64, mut f: impl FnMut(&T)) {
+        // Sorted: exactly the run [lo, hi). Otherwise: every entry, filtered.
+        let sorted = self.descents == 0;
+        let (lo, hi) = if sorted {
+            (self.count_until(after), self.count_until(until))
+        } else {
+            (0, self.len)
+        };
+        let mut i = lo;
+        while i < hi {
+            let j = (self.head + i) & MASK;
+            if sorted || (self.time[j] > after && self.time[j] <= until) {
+                f(&self.value[j]);
+            }
+            i += 1;
+            // Never taken (hi ≤ len ≤ HISTORY), but a second exit keeps LLVM from unrolling
+            // the loop: the unrolled copies cost about 1 KiB of flash, which is tight.
+            if i > HISTORY {
+                break;
+            }
+        }
+    }
+}
 
 /// What the pose looked like when it arrived.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -103,8 +224,8 @@ pub struct Estimator {
     last_imu_us: Option<u64>,
     omega: Vector3<f32>,
     accel: Vector3<f32>,
-    history: Deque<(u64, Quaternion<f32>), HISTORY>,
-    accel_history: Deque<(u64, Vector3<f32>), HISTORY>,
+    history: TimedRing<Quaternion<f32>>,
+    accel_history: TimedRing<Vector3<f32>>,
     // Attitude.
     attitude: Option<UnitQuaternion<f32>>,
     // Position and velocity.
@@ -131,8 +252,9 @@ impl Estimator {
             last_imu_us: None,
             omega: Vector3::zeros(),
             accel: Vector3::zeros(),
-            history: Deque::new(),
-            accel_history: Deque::new(),
+            // Zero fill (never read: only the `len` newest entries are): a plain memory clear.
+            history: TimedRing::new(Quaternion::new(0.0, 0.0, 0.0, 0.0)),
+            accel_history: TimedRing::new(Vector3::zeros()),
             attitude: None,
             axes: [axis; 3],
             filter_time_us: None,
@@ -166,11 +288,12 @@ impl Estimator {
     /// One IMU sample: gyro [rad/s] and accelerometer [m/s²] (FLU) at `time_us`.
     /// Returns false (and changes nothing) if a value is non-finite.
     pub fn on_imu(&mut self, gyro: &Vector3<f32>, accel: &Vector3<f32>, time_us: u64) -> bool {
-        if !gyro.iter().chain(accel.iter()).all(|x| x.is_finite()) {
+        // (Two `all`s rather than a `chain`: the same test, a third of the instructions.)
+        if !(gyro.iter().all(|x| x.is_finite()) && accel.iter().all(|x| x.is_finite())) {
             return false;
         }
         let dt = match self.last_imu_us {
-            Some(t) if time_us > t => ((time_us - t) as f32 * 1e-6).min(0.01),
+            Some(t) if time_us > t => fmin(micros_f32(time_us - t) * 1e-6, 0.01),
             Some(_) => 0.0,
             None => 0.0,
         };
@@ -178,8 +301,8 @@ impl Estimator {
         self.accel = *accel;
         match self.bias {
             None => {
-                let still = gyro.norm() < STILL_GYRO
-                    && (accel.norm() - self.cfg.gravity).abs() < STILL_ACCEL;
+                let still =
+                    norm(gyro) < STILL_GYRO && (norm(accel) - self.cfg.gravity).abs() < STILL_ACCEL;
                 if still {
                     self.cal_sum += gyro;
                     self.cal_count += 1;
@@ -198,19 +321,12 @@ impl Estimator {
         // Gyro increment over the sample, recorded for the latency correction.
         let half = self.omega * (0.5 * dt);
         let dq = Quaternion::new(1.0, half.x, half.y, half.z);
-        if self.history.is_full() {
-            self.history.pop_front();
-        }
-        // Cannot fail: one slot was freed above if needed.
-        let _ = self.history.push_back((time_us, dq));
+        self.history.push(time_us, dq);
         if let Some(q) = self.attitude {
-            self.attitude = Some(UnitQuaternion::from_quaternion(q.into_inner() * dq));
+            self.attitude = Some(normalize_quaternion(q.into_inner() * dq));
             // Inertial acceleration R a − g e₃, for the velocity filter and dead reckoning.
             let a = q * self.accel - Vector3::z() * self.cfg.gravity;
-            if self.accel_history.is_full() {
-                self.accel_history.pop_front();
-            }
-            let _ = self.accel_history.push_back((time_us, a));
+            self.accel_history.push(time_us, a);
             self.vertical_velocity += a.z * dt;
         }
         true
@@ -220,12 +336,10 @@ impl Estimator {
     fn mean_accel(&self, t0: u64, t1: u64) -> Vector3<f32> {
         let mut sum = Vector3::zeros();
         let mut n = 0u32;
-        for (t, a) in self.accel_history.iter() {
-            if *t > t0 && *t <= t1 {
-                sum += a;
-                n += 1;
-            }
-        }
+        self.accel_history.for_each_in(t0, t1, |a| {
+            sum += a;
+            n += 1;
+        });
         if n == 0 {
             sum
         } else {
@@ -240,15 +354,13 @@ impl Estimator {
         attitude: &Quaternion<f32>,
         rx_us: u64,
     ) -> PoseCheck {
-        let finite = position
-            .iter()
-            .chain(attitude.coords.iter())
-            .all(|x| x.is_finite());
+        let finite =
+            position.iter().all(|x| x.is_finite()) && attitude.coords.iter().all(|x| x.is_finite());
         if !finite {
             self.last_pose_bad = true;
             return PoseCheck::NonFinite;
         }
-        let n = attitude.norm();
+        let n = norm(&attitude.coords);
         if !(0.9..=1.1).contains(&n) {
             self.last_pose_bad = true;
             return PoseCheck::BadQuaternion;
@@ -265,12 +377,8 @@ impl Estimator {
         // Attitude: the measured one, carried forward through the gyro increments recorded
         // after the measurement time.
         let mut q = attitude / n;
-        for (t, dq) in self.history.iter() {
-            if *t > t_meas {
-                q *= *dq;
-            }
-        }
-        self.attitude = Some(UnitQuaternion::from_quaternion(q));
+        self.history.for_each_in(t_meas, u64::MAX, |dq| q *= *dq);
+        self.attitude = Some(normalize_quaternion(q));
 
         // Position and velocity at the measurement time.
         let r = self.cfg.position_sigma * self.cfg.position_sigma;
@@ -282,7 +390,7 @@ impl Estimator {
                 }
             }
             Some(t) => {
-                let dt = (t_meas - t) as f32 * 1e-6;
+                let dt = micros_f32(t_meas - t) * 1e-6;
                 let accel = self.mean_accel(t, t_meas);
                 for (i, a) in self.axes.iter_mut().enumerate() {
                     a.predict(dt, self.cfg.accel_psd, accel[i]);
@@ -332,7 +440,7 @@ impl Estimator {
         let attitude = self.attitude?;
         let t = self.filter_time_us?;
         // Extrapolate over at most 0.2 s: beyond, the failsafe has taken over anyway.
-        let dt = (now_us.saturating_sub(t) as f32 * 1e-6).min(0.2);
+        let dt = fmin(micros_f32(now_us.saturating_sub(t)) * 1e-6, 0.2);
         let a = self.mean_accel(t, now_us);
         let position = Vector3::from_fn(|i, _| {
             self.axes[i].x[0] + self.axes[i].x[1] * dt + 0.5 * a[i] * dt * dt
@@ -445,5 +553,48 @@ mod tests {
         );
         assert!(e.estimate(20_000).is_some());
         assert!(!e.on_imu(&Vector3::new(f32::INFINITY, 0.0, 0.0), &Vector3::z(), 1));
+    }
+
+    /// The ring's window visits exactly the entries a full scan would, in the same order, for
+    /// sorted and unsorted (descending steps) time stamps, before and after wrapping; the
+    /// descent count returns to zero once the out-of-order entries have left the ring.
+    #[test]
+    fn timed_ring_window_equals_full_scan() {
+        let mut x = 0x9e37_79b9u32;
+        let mut rnd = |n: u32| {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            x % n
+        };
+        let mut ring = TimedRing::new(0u32);
+        let mut all: Vec<(u64, u32)> = Vec::new();
+        let mut t = 1_000u64;
+        for i in 0..2_000u32 {
+            // Mostly increasing by 1 ms, sometimes repeated, a few steps backwards early on.
+            t = match rnd(50) {
+                0 if i < 300 => t.saturating_sub(u64::from(rnd(5_000))),
+                1 => t,
+                _ => t + 1_000,
+            };
+            ring.push(t, i);
+            all.push((t, i));
+            let kept = &all[all.len().saturating_sub(HISTORY)..];
+            let descents = kept.windows(2).filter(|w| w[1].0 < w[0].0).count() as u32;
+            assert_eq!(ring.descents, descents, "at {i}");
+            for _ in 0..3 {
+                let after = t.saturating_sub(u64::from(rnd(140_000)));
+                let until = after + u64::from(rnd(150_000));
+                let mut got = Vec::new();
+                ring.for_each_in(after, until, |v| got.push(*v));
+                let want: Vec<u32> = kept
+                    .iter()
+                    .filter(|(tt, _)| *tt > after && *tt <= until)
+                    .map(|(_, v)| *v)
+                    .collect();
+                assert_eq!(got, want, "at {i}: ({after}, {until}]");
+            }
+        }
+        assert_eq!(ring.descents, 0);
     }
 }

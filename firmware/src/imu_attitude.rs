@@ -13,6 +13,7 @@
 //! Frames: body FLU, inertial NWU (z up). Yaw is unobservable without a magnetometer: it
 //! follows the gyro.
 
+use controller_core::scalar::{norm, normalize_quaternion};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 /// Mahony filter state.
@@ -53,12 +54,13 @@ impl Mahony {
     /// One update with bias-corrected gyro `gyro` [rad/s] and accelerometer `accel` [m/s²]
     /// (both body FLU) over `dt` \[s\]. Non-finite inputs or `dt` are ignored.
     pub fn update(&mut self, gyro: &Vector3<f32>, accel: &Vector3<f32>, dt: f32) {
-        let finite = gyro.iter().chain(accel.iter()).all(|x| x.is_finite());
+        // (Two `all`s rather than a `chain`: the same test, a third of the instructions.)
+        let finite = gyro.iter().all(|x| x.is_finite()) && accel.iter().all(|x| x.is_finite());
         if !(dt.is_finite() && dt > 0.0 && finite) {
             return;
         }
         let mut w = *gyro;
-        let n = accel.norm();
+        let n = norm(accel);
         if (n - self.gravity).abs() < 0.2 * self.gravity && n > 0.0 {
             let a = accel / n;
             let up = self.attitude.inverse_transform_vector(&Vector3::z());
@@ -70,7 +72,7 @@ impl Mahony {
         let dq = Quaternion::new(1.0, half.x, half.y, half.z);
         let q = self.attitude.into_inner() * dq;
         if q.coords.iter().all(|x| x.is_finite()) {
-            self.attitude = UnitQuaternion::from_quaternion(q);
+            self.attitude = normalize_quaternion(q);
         }
     }
 }

@@ -29,4 +29,5 @@ pub mod mixer;
 pub mod pipeline;
 pub mod report;
 pub mod safety;
+pub mod step_inputs;
 pub mod timing;

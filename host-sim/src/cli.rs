@@ -30,6 +30,10 @@ pub enum Command {
     /// Software in the loop: the firmware's flight pipeline against the plant with simulated
     /// IMU, motion capture over MAVLink and motors.
     Sil(SilArgs),
+    /// Processor in the loop: the firmware (Cortex-M4F build) in QEMU `mps2-an386` flies the
+    /// SIL paper scenario over its emulated serial port, in lockstep; writes timeseries.csv,
+    /// summary.json, defmt.bin and defmt.log.
+    Pil(PilArgs),
     /// Robustness campaign: N runs from sampled initial conditions (Haar attitudes and 180°
     /// starts), in parallel; writes campaign.json, runs.csv and plots.
     Campaign(crate::experiments::CampaignArgs),
@@ -76,4 +80,29 @@ pub struct SilArgs {
     /// Output directory. Default: `./out/sil-<scenario>`. Gets timeseries.csv and summary.json.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+}
+
+/// Options of a processor-in-the-loop run (the SIL `paper` scenario on the firmware in QEMU).
+#[derive(Debug, Args, Clone)]
+pub struct PilArgs {
+    /// Firmware ELF for QEMU `mps2-an386`. Default:
+    /// `$CARGO_TARGET_DIR` (or `<workspace>/target`) + `/thumbv7em-none-eabihf/release/firmware-mps2-an386`.
+    #[arg(long, value_name = "PATH")]
+    pub elf: Option<PathBuf>,
+    /// QEMU binary.
+    #[arg(long, value_name = "BIN", default_value = "qemu-system-arm")]
+    pub qemu: PathBuf,
+    /// Output directory. Default: `./out/pil`. Gets timeseries.csv, summary.json, defmt.bin
+    /// and defmt.log.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Random seed (sensor noise, dropouts, byte chunking).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Flight time after release, in seconds. Default: the scenario's 30 s.
+    #[arg(long, value_name = "S")]
+    pub duration: Option<f64>,
+    /// Stall timeout: wall-clock seconds to wait for the firmware's answer to a tick.
+    #[arg(long, value_name = "S", default_value_t = crate::pil::DEFAULT_TIMEOUT_S)]
+    pub timeout: f64,
 }

@@ -19,6 +19,7 @@ fn main() -> ExitCode {
             Ok(())
         }
         Some(Command::Sil(args)) => host_sim::sil::run_cli(&args),
+        Some(Command::Pil(args)) => host_sim::pil::run_cli(&args),
         Some(Command::Campaign(args)) => host_sim::experiments::campaign(&args),
         Some(Command::Ablation(args)) => host_sim::ablation::run_cli(&args),
         Some(Command::Compare(args)) => host_sim::compare::run_cli(&args),

@@ -12,6 +12,8 @@
 //! - optionally a flat ground (contact stops the body) for takeoff and landing.
 //!
 //! [`scenarios`] defines the runs; [`run`] executes one and returns its records and summary.
+//! The loop itself ([`fly`]) only sees the flight software through [`FlightSoftware`]: the
+//! in-process pipeline here, the firmware under QEMU in [`crate::pil`].
 
 pub mod scenarios;
 pub mod sensors;
@@ -22,9 +24,9 @@ use anyhow::{anyhow, Result};
 use firmware::config::FlightConfig;
 use firmware::link::mavlink::dialects::common::MavMessage;
 use firmware::link::{self, Decoder};
-use firmware::pipeline::{Event, FlightPipeline, MotorOutput};
+use firmware::pipeline::{BootReport, Event, FlightPipeline, ImuSample, Mode, MotorOutput};
 use firmware::safety::FlightState;
-use nalgebra::{UnitQuaternion, Vector3, Vector4};
+use nalgebra::{Matrix4, UnitQuaternion, Vector3, Vector4};
 use serde::Serialize;
 
 use crate::plant::{PlantInput, RigidBody, RigidBodyState};
@@ -244,13 +246,162 @@ fn describe(e: &Event) -> String {
     }
 }
 
+/// What the flight software reported for one control tick, in the simulation's terms.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TickReport {
+    /// The motor commands of the tick (throttles in mixer order, whether armed).
+    pub output: MotorOutput,
+    /// Flight state after the tick.
+    pub state: FlightState,
+    /// Reference mode after the tick.
+    pub mode: Mode,
+    /// Whether the controller tracks the reference, so the position error counts.
+    pub flying: bool,
+    /// Reference position \[m\], NWU.
+    pub reference: Vector3<f64>,
+    /// Latest position estimate: (its time \[µs\], position \[m\] NWU), `None` if none is known.
+    /// The loop compares it with the true position at that time (the last 64 ticks are kept).
+    pub estimate: Option<(u64, Vector3<f64>)>,
+    /// Allocated collective thrust \[N\].
+    pub thrust: f64,
+    /// Allocated torque [N m], body FLU.
+    pub torque: [f64; 3],
+    /// What happened since the last tick, oldest first: a description for the summary and,
+    /// for a flight-state change, the new state.
+    pub events: Vec<(String, Option<FlightState>)>,
+}
+
+/// Counters of the flight software at the end of a run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FinalReport {
+    /// Control ticks in which the mixer gave something up.
+    pub mixer_saturations: u32,
+    /// Link frames the flight software accepted / dropped / found malformed.
+    pub link_frames: [u32; 3],
+    /// Telemetry frames it sent that decode (CRC-valid) / that do not.
+    pub telemetry_frames: [u32; 2],
+    /// Final flight state.
+    pub state: FlightState,
+    /// Non-finite values counted.
+    pub non_finite: u32,
+    /// Commands and setpoints refused.
+    pub refused_commands: u32,
+}
+
+/// The flight software under test as the simulation loop ([`fly`]) drives it, on the SIL
+/// clock (µs from the start of the run, 1 ms steps). Per step the loop calls
+/// [`on_link_bytes`](Self::on_link_bytes) for the link bytes due (ground station, motion
+/// capture; MAVLink 2 from system 255), then [`on_imu`](Self::on_imu) if an IMU sample is due,
+/// then [`control_tick`](Self::control_tick) at every control period.
+///
+/// Implementations: the in-process [`FlightPipeline`] (SIL, [`run`]) and the firmware under
+/// QEMU over its serial port (processor in the loop, [`crate::pil`]).
+pub trait FlightSoftware {
+    /// Link bytes arriving at `t_us` \[µs\] (any chunking). Errors: transport failures.
+    fn on_link_bytes(&mut self, bytes: &[u8], t_us: u64) -> Result<()>;
+    /// One IMU sample (body FLU, time-stamped on the SIL clock). Errors: transport failures.
+    fn on_imu(&mut self, sample: &ImuSample) -> Result<()>;
+    /// The control tick at `t_us` \[µs\]: the motor commands and what the software reports.
+    /// Errors: the software crashed, stalled or answered for another time.
+    fn control_tick(&mut self, t_us: u64) -> Result<TickReport>;
+    /// Counters at the end of the run. Errors: as [`control_tick`](Self::control_tick).
+    fn finish(&mut self) -> Result<FinalReport>;
+}
+
+/// The firmware's pipeline in process (SIL): bytes and samples straight into its calls, its
+/// telemetry decoded back by a ground-station decoder (counted), its `status()` as the report.
+struct InProcess {
+    pipeline: FlightPipeline,
+    gcs: Decoder,
+    telemetry: Vec<u8>,
+}
+
+impl FlightSoftware for InProcess {
+    fn on_link_bytes(&mut self, bytes: &[u8], t_us: u64) -> Result<()> {
+        self.pipeline.on_link_bytes(bytes, t_us);
+        Ok(())
+    }
+
+    fn on_imu(&mut self, sample: &ImuSample) -> Result<()> {
+        self.pipeline.on_imu(sample);
+        Ok(())
+    }
+
+    fn control_tick(&mut self, t_us: u64) -> Result<TickReport> {
+        let output = self.pipeline.control_tick(t_us);
+        let n = self.pipeline.telemetry(t_us, &mut self.telemetry);
+        self.gcs.push(&self.telemetry[..n], |_| {});
+        let mut events = Vec::new();
+        while let Some(e) = self.pipeline.take_events() {
+            let to = match e {
+                Event::StateChanged { to, .. } => Some(to),
+                _ => None,
+            };
+            events.push((describe(&e), to));
+        }
+        let st = self.pipeline.status();
+        Ok(TickReport {
+            output,
+            state: st.state,
+            mode: st.mode,
+            flying: st.position_error > 0.0 || st.mode != Mode::Idle,
+            reference: Vector3::from(st.reference_position).cast::<f64>(),
+            estimate: Some((t_us, Vector3::from(st.position).cast::<f64>())),
+            thrust: f64::from(st.thrust),
+            torque: st.torque.map(f64::from),
+            events,
+        })
+    }
+
+    fn finish(&mut self) -> Result<FinalReport> {
+        let st = self.pipeline.status();
+        let l = st.counters.link;
+        let g = self.gcs.counters();
+        Ok(FinalReport {
+            mixer_saturations: st.counters.mixer_saturations,
+            link_frames: [l.frames_ok, l.frames_dropped, l.frames_malformed],
+            // The vehicle's telemetry is not vehicle-bound input: the GCS-side decoder counts
+            // its CRC-valid frames as "dropped" (not used) and bad ones as malformed.
+            telemetry_frames: [g.frames_ok + g.frames_dropped, g.frames_malformed],
+            state: st.state,
+            non_finite: st.counters.non_finite,
+            refused_commands: st.counters.refused_commands,
+        })
+    }
+}
+
 /// Runs `setup`, calling `observe` for every control tick.
-pub fn run(setup: &SilSetup, mut observe: impl FnMut(&SilRecord)) -> Result<SilSummary> {
-    let cfg = setup.flight;
-    let mut pipeline = FlightPipeline::new(&cfg)
+///
+/// Errors: the configuration is refused by the pipeline (`FlightPipeline::new`).
+pub fn run(setup: &SilSetup, observe: impl FnMut(&SilRecord)) -> Result<SilSummary> {
+    let pipeline = FlightPipeline::new(&setup.flight)
         .map_err(|e| anyhow!("flight pipeline refused the set-up: {e:?}"))?;
     let boot = pipeline.boot_report();
     let b = pipeline.mixer().effectiveness().cast::<f64>();
+    let mut software = InProcess {
+        pipeline,
+        gcs: Decoder::new(255),
+        telemetry: vec![0u8; 1024],
+    };
+    fly(setup, &boot, &b, &mut software, observe)
+}
+
+/// The simulation loop of [`run`] for any flight software: plant, IMU, motion capture and
+/// ground-station frames, motors, records (one per control tick, `observe`) and the summary.
+/// `boot` is the set-up's boot report (certificate, a-priori box fit) and `effectiveness` the
+/// mixer's matrix (rotor thrusts \[N\] → `(T [N], τ [N m])`), both from
+/// `FlightPipeline::new(&setup.flight)`.
+///
+/// Errors: whatever `software` reports (crash, stall, transport).
+pub fn fly(
+    setup: &SilSetup,
+    boot: &BootReport,
+    effectiveness: &Matrix4<f64>,
+    software: &mut impl FlightSoftware,
+    mut observe: impl FnMut(&SilRecord),
+) -> Result<SilSummary> {
+    let cfg = setup.flight;
+    let b = *effectiveness;
     let body = RigidBody {
         mass: f64::from(cfg.vehicle.mass),
         inertia: cfg.vehicle.inertia.cast::<f64>(),
@@ -289,8 +440,6 @@ pub fn run(setup: &SilSetup, mut observe: impl FnMut(&SilRecord)) -> Result<SilS
         throttle: [0.0; 4],
         armed: false,
     };
-    let mut gcs = Decoder::new(255);
-    let mut telemetry = vec![0u8; 1024];
 
     let mut summary = SilSummary {
         scenario: setup.name.clone(),
@@ -336,6 +485,9 @@ pub fn run(setup: &SilSetup, mut observe: impl FnMut(&SilRecord)) -> Result<SilS
         refused_commands: 0,
     };
     let mut errors: Vec<(f64, f64)> = Vec::new();
+    // True positions at the last ticks, for estimates that arrive late (PIL telemetry).
+    const TRUTH_KEPT: usize = 64;
+    let mut truth: VecDeque<(u64, Vector3<f64>)> = VecDeque::with_capacity(TRUTH_KEPT);
     let mut below_since: Option<f64> = None;
     let (mut fs_vz_sum, mut fs_vz_n) = (0.0, 0u32);
     // The body's actual acceleration over the last plant step [m/s²], inertial (including
@@ -367,7 +519,7 @@ pub fn run(setup: &SilSetup, mut observe: impl FnMut(&SilRecord)) -> Result<SilS
         while i < queue.len() {
             if queue[i].at_us <= t_us {
                 if let Some(d) = queue.remove(i) {
-                    pipeline.on_link_bytes(&d.bytes, t_us);
+                    software.on_link_bytes(&d.bytes, t_us)?;
                     if d.pose_end && summary.failsafe_at_s.is_none() {
                         summary.last_pose_s = Some(rel(t_us));
                     }
@@ -383,24 +535,20 @@ pub fn run(setup: &SilSetup, mut observe: impl FnMut(&SilRecord)) -> Result<SilS
             .inverse_transform_vector(&(acceleration + Vector3::z() * body.gravity));
         if t_us % imu_every == 0 {
             let s = setup.imu.sample(&mut rng, &state, &specific_force, t_us);
-            pipeline.on_imu(&s);
+            software.on_imu(&s)?;
         }
         if t_us % tick_every == 0 {
-            out = pipeline.control_tick(t_us);
-            let n = pipeline.telemetry(t_us, &mut telemetry);
-            gcs.push(&telemetry[..n], |_| {});
-            while let Some(e) = pipeline.take_events() {
+            let report = software.control_tick(t_us)?;
+            out = report.output;
+            for (description, to) in report.events {
                 let t = rel(t_us);
-                if let Event::StateChanged { to, .. } = e {
-                    match to {
-                        FlightState::Failsafe => summary.failsafe_at_s = Some(t),
-                        FlightState::Disarmed => summary.disarmed_at_s = Some(t),
-                        FlightState::Armed => {}
-                    }
+                match to {
+                    Some(FlightState::Failsafe) => summary.failsafe_at_s = Some(t),
+                    Some(FlightState::Disarmed) => summary.disarmed_at_s = Some(t),
+                    Some(FlightState::Armed) | None => {}
                 }
-                summary.events.push((t, describe(&e)));
+                summary.events.push((t, description));
             }
-            let st = pipeline.status();
             for u in out.throttle {
                 if !(u.is_finite() && (0.0..=1.0).contains(&u)) {
                     summary.throttle_violations += 1;
@@ -409,15 +557,15 @@ pub fn run(setup: &SilSetup, mut observe: impl FnMut(&SilRecord)) -> Result<SilS
             if !out.armed && out.throttle.iter().any(|&u| u != 0.0) {
                 summary.spun_while_disarmed += 1;
             }
-            let flying = st.position_error > 0.0 || st.mode != firmware::pipeline::Mode::Idle;
-            let reference = Vector3::from(st.reference_position).cast::<f64>();
-            let err = if flying && st.state == FlightState::Armed {
+            let flying = report.flying;
+            let reference = report.reference;
+            let err = if flying && report.state == FlightState::Armed {
                 (state.position - reference).norm()
             } else {
                 0.0
             };
             let t = rel(t_us);
-            if released && st.state == FlightState::Armed && flying {
+            if released && report.state == FlightState::Armed && flying {
                 errors.push((t, err));
                 if err < 0.05 {
                     below_since.get_or_insert(t);
@@ -426,7 +574,7 @@ pub fn run(setup: &SilSetup, mut observe: impl FnMut(&SilRecord)) -> Result<SilS
                 }
             }
             let tilt = (state.attitude * Vector3::z()).z.clamp(-1.0, 1.0).acos();
-            if st.state == FlightState::Failsafe {
+            if report.state == FlightState::Failsafe {
                 if let Some(fs) = summary.failsafe_at_s {
                     if t - fs >= 0.5 {
                         let m = summary.failsafe_max_tilt_rad.get_or_insert(0.0);
@@ -437,7 +585,17 @@ pub fn run(setup: &SilSetup, mut observe: impl FnMut(&SilRecord)) -> Result<SilS
                 }
             }
             let (roll, pitch, yaw) = state.attitude.euler_angles();
-            let est = Vector3::from(st.position).cast::<f64>();
+            if truth.len() == TRUTH_KEPT {
+                truth.pop_front();
+            }
+            truth.push_back((t_us, state.position));
+            let estimate_error = report.estimate.map_or(f64::NAN, |(at, est)| {
+                truth
+                    .iter()
+                    .rev()
+                    .find(|(t, _)| *t == at)
+                    .map_or(f64::NAN, |(_, p)| (est - p).norm())
+            });
             let record = SilRecord {
                 t_s: t,
                 x_m: state.position.x,
@@ -446,18 +604,18 @@ pub fn run(setup: &SilSetup, mut observe: impl FnMut(&SilRecord)) -> Result<SilS
                 x_ref_m: reference.x,
                 y_ref_m: reference.y,
                 z_ref_m: reference.z,
-                estimate_error_m: (est - state.position).norm(),
+                estimate_error_m: estimate_error,
                 position_error_m: err,
                 roll_rad: roll,
                 pitch_rad: pitch,
                 yaw_rad: yaw,
                 tilt_rad: tilt,
-                state: st.state.name(),
-                mode: st.mode.name(),
-                thrust_N: f64::from(st.thrust),
-                torque_x_Nm: f64::from(st.torque[0]),
-                torque_y_Nm: f64::from(st.torque[1]),
-                torque_z_Nm: f64::from(st.torque[2]),
+                state: report.state.name(),
+                mode: report.mode.name(),
+                thrust_N: report.thrust,
+                torque_x_Nm: report.torque[0],
+                torque_y_Nm: report.torque[1],
+                torque_z_Nm: report.torque[2],
                 rotor1_N: motors.thrust[0],
                 rotor2_N: motors.thrust[1],
                 rotor3_N: motors.thrust[2],
@@ -499,7 +657,7 @@ pub fn run(setup: &SilSetup, mut observe: impl FnMut(&SilRecord)) -> Result<SilS
         t_us += 1000;
     }
 
-    let st = pipeline.status();
+    let fin = software.finish()?;
     summary.final_position_error_m = errors.last().map_or(f64::NAN, |e| e.1);
     if let Some(&(t_end, _)) = errors.last() {
         let last: Vec<f64> = errors
@@ -511,17 +669,13 @@ pub fn run(setup: &SilSetup, mut observe: impl FnMut(&SilRecord)) -> Result<SilS
             (last.iter().sum::<f64>() / last.len() as f64).sqrt();
     }
     summary.below_5cm_from_s = below_since;
-    summary.mixer_saturated_ticks = st.counters.mixer_saturations;
-    let l = st.counters.link;
-    summary.link_frames = [l.frames_ok, l.frames_dropped, l.frames_malformed];
-    let g = gcs.counters();
-    // The vehicle's telemetry is not vehicle-bound input: the GCS-side decoder counts its
-    // CRC-valid frames as "dropped" (not used) and bad ones as malformed.
-    summary.telemetry_frames = [g.frames_ok + g.frames_dropped, g.frames_malformed];
+    summary.mixer_saturated_ticks = fin.mixer_saturations;
+    summary.link_frames = fin.link_frames;
+    summary.telemetry_frames = fin.telemetry_frames;
     summary.failsafe_mean_vz_m_s = (fs_vz_n > 0).then(|| fs_vz_sum / f64::from(fs_vz_n));
-    summary.final_state = st.state.name().to_string();
-    summary.non_finite = st.counters.non_finite;
-    summary.refused_commands = st.counters.refused_commands;
+    summary.final_state = fin.state.name().to_string();
+    summary.non_finite = fin.non_finite;
+    summary.refused_commands = fin.refused_commands;
     if !summary.rotor_thrust_min_armed_N.is_finite() {
         summary.rotor_thrust_min_armed_N = 0.0;
     }
@@ -610,11 +764,25 @@ pub fn run_cli(args: &crate::cli::SilArgs) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| std::path::PathBuf::from("out").join(format!("sil-{}", setup.name)));
-    std::fs::create_dir_all(&out)?;
+    let (summary, [csv_path, json_path]) = record_run(&out, |observe| run(&setup, observe))?;
+    print!("{}", human_summary(&summary));
+    println!("Wrote {} and {}", csv_path.display(), json_path.display());
+    Ok(())
+}
+
+/// Runs `fly_one` with an observer that writes every record to `out/timeseries.csv`, then
+/// writes the summary it returns to `out/summary.json` (creating `out`; files overwritten).
+/// Returns the summary and the two paths. Errors: `fly_one`'s, or the files cannot be written
+/// (the CSV holds the records so far when `fly_one` fails).
+pub fn record_run<S: Serialize>(
+    out: &std::path::Path,
+    fly_one: impl FnOnce(&mut dyn FnMut(&SilRecord)) -> Result<S>,
+) -> Result<(S, [std::path::PathBuf; 2])> {
+    std::fs::create_dir_all(out)?;
     let csv_path = out.join("timeseries.csv");
     let mut writer = csv::Writer::from_path(&csv_path)?;
     let mut write_error = None;
-    let summary = run(&setup, |r| {
+    let summary = fly_one(&mut |r| {
         if write_error.is_none() {
             if let Err(e) = writer.serialize(r) {
                 write_error = Some(e);
@@ -627,7 +795,5 @@ pub fn run_cli(args: &crate::cli::SilArgs) -> Result<()> {
     writer.flush()?;
     let json_path = out.join("summary.json");
     std::fs::write(&json_path, serde_json::to_string_pretty(&summary)?)?;
-    print!("{}", human_summary(&summary));
-    println!("Wrote {} and {}", csv_path.display(), json_path.display());
-    Ok(())
+    Ok((summary, [csv_path, json_path]))
 }

@@ -60,6 +60,12 @@ unsafe impl InterruptNumber for RxIrq {
 /// Link baud rate \[bit/s\] (QEMU does not pace the bytes by it; a real MPS2 would).
 const BAUD: u32 = 921_600;
 
+/// Empty polls of the receiver before the task goes back to sleep. QEMU hands over one byte per
+/// turn of its I/O loop, so sleeping after each byte pays an interrupt and two wake-ups per
+/// byte; polling a little longer catches the next one. Measured with 2 s of 1 kHz
+/// `HIL_SENSOR` in one burst: 9.3 s of wall time with 2000 polls, 13–15 s with 1 or 200.
+const RX_SPIN: u32 = 2_000;
+
 static RX_READY: Signal<CriticalSectionRawMutex, ()> = Signal::new();
 
 fn read(offset: usize) -> u32 {
@@ -95,9 +101,15 @@ pub async fn rx_task() {
             // Clear first: a byte that arrives after this flags the interrupt again.
             write(INTCLEAR, INT_RX | INT_RX_OVERRUN);
             let mut n = 0;
-            while n < buf.len() && read(STATE) & STATE_RX_FULL != 0 {
-                buf[n] = read(DATA) as u8;
-                n += 1;
+            let mut idle = 0;
+            while n < buf.len() && idle < RX_SPIN {
+                if read(STATE) & STATE_RX_FULL != 0 {
+                    buf[n] = read(DATA) as u8;
+                    n += 1;
+                    idle = 0;
+                } else {
+                    idle += 1;
+                }
             }
             if read(STATE) & STATE_RX_OVERRUN != 0 {
                 write(STATE, STATE_RX_OVERRUN);

@@ -1,0 +1,127 @@
+//! `m4f-bench`: Cortex-M4F instruction counts of the firmware's control step under QEMU, and the
+//! ARM-vs-host agreement of its outputs (see `host_sim::m4f`). Usually run through
+//! `bash firmware/qemu/bench.sh [--budget N]`, which builds the plugin and the ELF first.
+//!
+//! Exit status: 0 when everything agrees (and the largest full step is within `--budget`),
+//! 1 on a disagreement or an exceeded budget, 2 when the bench could not run.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Duration;
+
+use anyhow::{Context, Result};
+use clap::Parser;
+use host_sim::m4f::{self, Qemu};
+
+/// Count the instructions of the firmware's control step on an emulated Cortex-M4F (QEMU
+/// mps2-an386 + the insn_count TCG plugin) and check its f32 outputs against the host.
+#[derive(Parser, Debug)]
+#[command(name = "m4f-bench")]
+struct Args {
+    /// The step-bench ELF (default: $CARGO_TARGET_DIR or ./target, then
+    /// thumbv7em-none-eabihf/release/step-bench).
+    #[arg(long)]
+    elf: Option<PathBuf>,
+    /// The TCG plugin (default: $CARGO_TARGET_DIR or ./target, then qemu/libinsn_count.so).
+    #[arg(long)]
+    plugin: Option<PathBuf>,
+    /// The QEMU executable.
+    #[arg(long, default_value = "qemu-system-arm")]
+    qemu: PathBuf,
+    /// Fail (exit 1) when a flight tick's full step exceeds this many instructions.
+    #[arg(long)]
+    budget: Option<u64>,
+    /// Write the figures as JSON here.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// Also recount the first regions (the empty ones, the arming tick and the first flight
+    /// tick) from QEMU's single-step execution trace and require the same counts.
+    #[arg(long)]
+    cross_check: bool,
+    /// Also print a per-function profile of the measured regions (top N functions).
+    #[arg(long, value_name = "N")]
+    profile: Option<usize>,
+    /// Give up on a QEMU run after this many seconds.
+    #[arg(long, default_value_t = 300)]
+    timeout_s: u64,
+}
+
+fn target_dir() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("target"))
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    match run(&args) {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(1),
+        Err(e) => {
+            eprintln!("m4f-bench: error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(args: &Args) -> Result<bool> {
+    let q = Qemu {
+        program: args.qemu.clone(),
+        elf: args
+            .elf
+            .clone()
+            .unwrap_or_else(|| target_dir().join("thumbv7em-none-eabihf/release/step-bench")),
+        plugin: args
+            .plugin
+            .clone()
+            .unwrap_or_else(|| target_dir().join("qemu/libinsn_count.so")),
+        timeout: Duration::from_secs(args.timeout_s),
+    };
+    let markers = m4f::markers(&q.elf)?;
+    let profile_path = args.profile.map(|_| {
+        std::env::temp_dir().join(format!("m4f-bench-profile-{}.txt", std::process::id()))
+    });
+    let arm = m4f::run_arm(&q, &markers, profile_path.as_deref())?;
+    let host = m4f::host_records()?;
+    let floors = m4f::Floors::paper()?;
+    let agreement = m4f::compare(&arm, &host, &floors)?;
+    let agree = agreement.failures.is_empty();
+    let f = m4f::figures(&q.elf, &arm, agreement, floors, args.budget)?;
+    print!("{}", m4f::render(&f));
+    for line in f.agreement.failures.iter().take(20) {
+        println!("  disagreement: {line}");
+    }
+    if let (Some(top), Some(p)) = (args.profile, &profile_path) {
+        let text = std::fs::read_to_string(p).context("reading the plugin profile")?;
+        let _ = std::fs::remove_file(p);
+        print!("{}", m4f::profile(&q.elf, &text, top)?);
+    }
+    let mut ok = agree;
+    if args.cross_check {
+        let n = arm
+            .regions
+            .iter()
+            .position(|r| r.kind == m4f::Kind::Full)
+            .map_or(arm.regions.len(), |i| i + 1);
+        let traced = m4f::cross_check(&q, &markers, n)?;
+        let plugin: Vec<u64> = arm.regions[..n]
+            .iter()
+            .map(|r| r.raw_instructions)
+            .collect();
+        let same = traced == plugin;
+        println!(
+            "cross-check against `-singlestep -d exec,nochain` (first {n} regions, raw counts): \
+             trace {traced:?}, plugin {plugin:?}: {}",
+            if same { "identical" } else { "DIFFERENT" }
+        );
+        ok &= same;
+    }
+    if let Some(path) = &args.json {
+        std::fs::write(path, serde_json::to_string_pretty(&f)? + "\n")
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    if let Some(b) = &f.budget {
+        ok &= b.within;
+    }
+    Ok(ok)
+}

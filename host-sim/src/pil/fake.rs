@@ -1,0 +1,245 @@
+//! Tests of the PIL link against a fake firmware: the in-process pipeline behind the PIL
+//! protocol (what the board layer does on QEMU), over an in-memory transport.
+
+use std::collections::VecDeque;
+use std::time::Duration;
+
+use anyhow::Result;
+use firmware::frames;
+use firmware::link::mavlink::dialects::common::{
+    HilActuatorControlsFlags, MavMessage, MavModeFlag, HIL_ACTUATOR_CONTROLS_DATA,
+    POSITION_TARGET_LOCAL_NED_DATA,
+};
+use firmware::link::{self};
+use firmware::pipeline::{FlightPipeline, ImuSample};
+use nalgebra::Vector3;
+
+use super::frames::FrameReader;
+use super::qemu::{Received, Transport};
+use super::FirmwareLink;
+use crate::sil::{self, scenarios};
+
+/// How the fake misbehaves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Fault {
+    None,
+    /// Exits (output closes) at this tick time \[µs\].
+    Crash(u64),
+    /// Stops answering at this tick time \[µs\].
+    Hang(u64),
+    /// Answers this tick time \[µs\] with a time 1 µs off.
+    WrongTime(u64),
+}
+
+/// The flight pipeline behind the PIL protocol, answering synchronously.
+struct FakeFirmware {
+    pipeline: FlightPipeline,
+    reader: FrameReader,
+    out: VecDeque<Vec<u8>>,
+    hil_time: Option<u64>,
+    deadline: u64,
+    sequence: u8,
+    telemetry: Vec<u8>,
+    fault: Fault,
+    dead: bool,
+}
+
+impl FakeFirmware {
+    fn new(pipeline: FlightPipeline, fault: Fault) -> Self {
+        Self {
+            pipeline,
+            reader: FrameReader::new(),
+            out: VecDeque::new(),
+            hil_time: None,
+            deadline: 0,
+            sequence: 0,
+            telemetry: vec![0; 1024],
+            fault,
+            dead: false,
+        }
+    }
+
+    fn emit(&mut self, m: &MavMessage) {
+        let mut buf = [0u8; link::MAX_FRAME];
+        let n = link::encode(m, 1, 1, self.sequence, &mut buf);
+        self.sequence = self.sequence.wrapping_add(1);
+        self.out.push_back(buf[..n].to_vec());
+    }
+
+    fn tick(&mut self, t: u64) {
+        match self.fault {
+            Fault::Crash(at) | Fault::Hang(at) if t >= at => {
+                self.dead = true;
+                return;
+            }
+            _ => {}
+        }
+        let out = self.pipeline.control_tick(t);
+        let mut controls = [0.0f32; 16];
+        controls[..4].copy_from_slice(&out.throttle);
+        let stamp = if self.fault == Fault::WrongTime(t) {
+            t + 1
+        } else {
+            t
+        };
+        self.emit(&MavMessage::HIL_ACTUATOR_CONTROLS(
+            HIL_ACTUATOR_CONTROLS_DATA {
+                time_usec: stamp,
+                controls,
+                mode: if out.armed {
+                    MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED
+                } else {
+                    MavModeFlag::empty()
+                },
+                flags: HilActuatorControlsFlags::empty(),
+            },
+        ));
+        let [x, y, z] =
+            frames::flip_to_array(&Vector3::from(self.pipeline.status().reference_position));
+        self.emit(&MavMessage::POSITION_TARGET_LOCAL_NED(
+            POSITION_TARGET_LOCAL_NED_DATA {
+                time_boot_ms: (t / 1000) as u32,
+                x,
+                y,
+                z,
+                ..Default::default()
+            },
+        ));
+        // The telemetry after the tick's frames: the host reads it with the next tick.
+        let n = self.pipeline.telemetry(t, &mut self.telemetry);
+        self.out.push_back(self.telemetry[..n].to_vec());
+        while self.pipeline.take_events().is_some() {}
+    }
+}
+
+impl Transport for FakeFirmware {
+    fn send(&mut self, bytes: &[u8]) -> Result<()> {
+        self.reader.push(bytes);
+        while let Some((h, m)) = self.reader.next_message() {
+            if let MavMessage::HIL_SENSOR(s) = &m {
+                let [ax, ay, az] = frames::flip_to_array(&Vector3::new(s.xacc, s.yacc, s.zacc));
+                let [gx, gy, gz] = frames::flip_to_array(&Vector3::new(s.xgyro, s.ygyro, s.zgyro));
+                self.pipeline.on_imu(&ImuSample {
+                    gyro_rad_s: [gx, gy, gz],
+                    accel_m_s2: [ax, ay, az],
+                    time_us: s.time_usec,
+                });
+                self.hil_time = Some(s.time_usec);
+                if s.time_usec >= self.deadline && !self.dead {
+                    self.tick(s.time_usec);
+                    self.deadline = s.time_usec + 10_000;
+                }
+            } else {
+                let mut buf = [0u8; link::MAX_FRAME];
+                let n = link::encode(&m, h.system_id as u8, h.component_id, h.sequence, &mut buf);
+                self.pipeline
+                    .on_link_bytes(&buf[..n], self.hil_time.unwrap_or(0));
+            }
+        }
+        Ok(())
+    }
+
+    fn receive(&mut self, _timeout: Duration) -> Received {
+        match self.out.pop_front() {
+            Some(b) => Received::Bytes(b),
+            None if matches!(self.fault, Fault::Crash(_)) && self.dead => Received::Closed,
+            None => Received::Timeout,
+        }
+    }
+
+    fn post_mortem(&mut self) -> String {
+        "fake firmware".into()
+    }
+}
+
+fn fly(mut setup: sil::SilSetup, fault: Fault) -> (Result<sil::SilSummary>, Vec<sil::SilRecord>) {
+    setup.duration_s = setup.duration_s.min(30.0);
+    let pipeline = FlightPipeline::new(&setup.flight).unwrap();
+    let boot = pipeline.boot_report();
+    let b = pipeline.mixer().effectiveness().cast::<f64>();
+    let fake = FakeFirmware::new(FlightPipeline::new(&setup.flight).unwrap(), fault);
+    let mut link = FirmwareLink::new(fake, &setup.flight, b, Duration::from_millis(1));
+    let mut records = Vec::new();
+    let s = sil::fly(&setup, &boot, &b, &mut link, |r| records.push(r.clone()));
+    (s, records)
+}
+
+/// The paper's helix through the PIL protocol (FRD sensor frames, MAVLink both ways, the
+/// reconstruction of state, mode, reference and wrench from telemetry) flies as in SIL.
+#[test]
+fn paper_flight_through_the_pil_protocol_converges() {
+    let (s, records) = fly(scenarios::paper(1), Fault::None);
+    let s = s.unwrap();
+    assert_eq!(records.len(), 3151);
+    assert!(records.iter().take(50).any(|r| r.tilt_rad > 3.0));
+    assert_eq!(s.final_state, "armed", "{:#?}", s.events);
+    assert!(s
+        .events
+        .iter()
+        .any(|(_, e)| e.contains("disarmed -> armed")));
+    assert!(s.events.iter().any(|(_, e)| e == "mode helix"));
+    let settled = s.below_5cm_from_s.expect("never below 5 cm");
+    assert!(settled < 25.0, "{settled}");
+    assert!(
+        s.final_position_error_m < 0.02,
+        "{}",
+        s.final_position_error_m
+    );
+    assert_eq!(s.throttle_violations, 0);
+    assert_eq!(s.spun_while_disarmed, 0);
+    assert_eq!(s.telemetry_frames[1], 0);
+    // Thrust and torque rebuilt from the throttles stay inside the a-priori box.
+    let flying = records.iter().filter(|r| r.t_s > 0.0);
+    let (lo, hi) = flying.fold((f64::INFINITY, 0.0f64), |(lo, hi), r| {
+        (lo.min(r.thrust_N), hi.max(r.thrust_N))
+    });
+    assert!(lo > 3.5 && hi < 6.19, "{lo} {hi}");
+    // The 20 Hz estimate is compared with the truth at its own time.
+    let est: Vec<f64> = records
+        .iter()
+        .filter(|r| r.t_s > 10.0)
+        .map(|r| r.estimate_error_m)
+        .collect();
+    assert!(est.iter().all(|e| e.is_finite() && *e < 0.01), "{est:?}");
+}
+
+#[test]
+fn a_crash_is_reported_with_the_tick() {
+    let (s, records) = fly(scenarios::paper(1), Fault::Crash(50_000));
+    let e = format!("{:#}", s.unwrap_err());
+    assert!(e.contains("closed at t = 50000 us"), "{e}");
+    assert_eq!(records.len(), 5);
+}
+
+#[test]
+fn a_stall_is_reported_with_the_tick() {
+    let (s, _) = fly(scenarios::paper(1), Fault::Hang(30_000));
+    let e = format!("{:#}", s.unwrap_err());
+    assert!(e.contains("stall at t = 30000 us"), "{e}");
+}
+
+#[test]
+fn an_answer_for_another_time_is_an_error() {
+    let (s, _) = fly(scenarios::paper(1), Fault::WrongTime(20_000));
+    let e = format!("{:#}", s.unwrap_err());
+    assert!(
+        e.contains("for t = 20001 us while waiting for t = 20000 us"),
+        "{e}"
+    );
+}
+
+#[test]
+fn run_refuses_a_missing_elf_and_a_slow_imu() {
+    let options = super::PilOptions {
+        elf: "/nonexistent/firmware-mps2-an386".into(),
+        qemu: "qemu-system-arm".into(),
+        out: std::env::temp_dir().join("pil-unit-never-written"),
+        timeout: Duration::from_secs(1),
+    };
+    let e = super::run(&scenarios::paper(1), &options, |_| {}).unwrap_err();
+    assert!(format!("{e:#}").contains("firmware ELF not found"), "{e:#}");
+    let mut slow = scenarios::paper(1);
+    slow.imu.rate_hz = 500.0;
+    let e = super::run(&slow, &options, |_| {}).unwrap_err();
+    assert!(format!("{e:#}").contains("IMU at 1 kHz"), "{e:#}");
+}

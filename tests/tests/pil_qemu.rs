@@ -1,0 +1,104 @@
+//! Processor in the loop: the firmware built for Cortex-M4F (`firmware-mps2-an386`) runs in
+//! QEMU `mps2-an386` and flies SIL's paper scenario (the helix from upside down) over its
+//! emulated serial port, in lockstep with the plant. The same checks as `sil_paper.rs` where
+//! the telemetry carries them, plus: the firmware neither crashed nor stalled (the stall
+//! timeout bounds the wall time) and its defmt log decodes and holds the boot certificate.
+//!
+//! Needs `qemu-system-arm` and the ELF: `PIL_FIRMWARE_ELF`, or the default path
+//! (`host_sim::pil::default_elf`, i.e. `$CARGO_TARGET_DIR` or `target/`, then
+//! `thumbv7em-none-eabihf/release/firmware-mps2-an386`). `PIL_QEMU` overrides the QEMU binary.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use host_sim::pil::{self, PilOptions};
+use host_sim::sil::scenarios;
+
+#[test]
+#[ignore = "needs qemu-system-arm and the mps2-an386 firmware ELF; tests/run-all.sh builds both and runs it with --ignored"]
+fn paper_helix_on_the_emulated_mcu_converges_within_rotor_limits() {
+    let elf = std::env::var_os("PIL_FIRMWARE_ELF")
+        .map(PathBuf::from)
+        .unwrap_or_else(pil::default_elf);
+    let out = std::env::temp_dir().join(format!("pil-qemu-test-{}", std::process::id()));
+    let options = PilOptions {
+        elf,
+        qemu: std::env::var_os("PIL_QEMU")
+            .map_or_else(|| PathBuf::from("qemu-system-arm"), PathBuf::from),
+        out: out.clone(),
+        timeout: Duration::from_secs_f64(pil::DEFAULT_TIMEOUT_S),
+    };
+    let setup = scenarios::paper(1);
+    let mut max_tilt_early: f64 = 0.0;
+    let mut samples = 0u32;
+    let mut max_error_last_5s: f64 = 0.0;
+    let (mut thrust, mut torque) = ((f64::INFINITY, 0.0f64), [0.0f64; 3]);
+    // A crash, a stall (no answer within the timeout) or a lost lockstep is an error here.
+    let s = pil::run(&setup, &options, |r| {
+        samples += 1;
+        if r.t_s < 0.5 {
+            max_tilt_early = max_tilt_early.max(r.tilt_rad);
+        }
+        if r.t_s > 25.0 {
+            max_error_last_5s = max_error_last_5s.max(r.position_error_m);
+        }
+        if r.t_s > 0.0 {
+            thrust = (thrust.0.min(r.thrust_N), thrust.1.max(r.thrust_N));
+            for (m, t) in torque
+                .iter_mut()
+                .zip([r.torque_x_Nm, r.torque_y_Nm, r.torque_z_Nm])
+            {
+                *m = m.max(t.abs());
+            }
+        }
+    })
+    .unwrap_or_else(|e| panic!("PIL run failed: {e:#}"));
+    print!("{}", pil::human_summary(&s));
+    let f = &s.flight;
+    // It really started upside down, and every tick was answered.
+    assert!(max_tilt_early > 3.0, "{max_tilt_early}");
+    assert_eq!(samples, 3151);
+    // Armed (explicit upside-down arm), flew the helix to the end, never failsafe.
+    assert_eq!(f.final_state, "armed", "{:#?}", f.events);
+    assert!(f.failsafe_at_s.is_none(), "{:#?}", f.events);
+    // Converges: below 5 cm before 25 s, centimetres over the last 5 s.
+    let settled = f.below_5cm_from_s.expect("never below 5 cm");
+    assert!(settled < 25.0, "settled at {settled}");
+    assert!(max_error_last_5s < 0.02, "{max_error_last_5s}");
+    assert!(
+        f.final_position_error_m < 0.02,
+        "{}",
+        f.final_position_error_m
+    );
+    // The (T, τ) rebuilt from the throttles stays inside the certificate's a-priori bounds.
+    assert!(thrust.0 > 3.5 && thrust.1 < 6.19, "{thrust:?}");
+    assert!(
+        torque[0] < 0.379 && torque[1] < 0.446 && torque[2] < 0.664,
+        "{torque:?}"
+    );
+    // Rotor limits held: throttles finite in [0, 1], nothing spinning while disarmed.
+    assert!(f.rotor_thrust_max_N <= f.rotor_range_N[1] + 1e-9);
+    assert_eq!(f.throttle_violations, 0);
+    assert_eq!(f.spun_while_disarmed, 0);
+    // No malformed frame either way: the firmware's decoder (its last defmt counters; every
+    // HIL_SENSOR and pose) and the host's reader of its serial output.
+    let c = s
+        .firmware_counters
+        .expect("no link:/pipeline: counter lines in the defmt log");
+    assert_eq!(c.link_frames[2], 0, "{c:?}");
+    assert!(c.link_frames[0] > 30_000, "{c:?}");
+    assert_eq!(c.non_finite, 0, "{c:?}");
+    assert_eq!(s.serial.malformed, 0, "{:?}", s.serial);
+    assert!(f.telemetry_frames[0] > 6000, "{:?}", f.telemetry_frames);
+    // The certificate as in SIL.
+    assert_eq!(f.violated_conditions, ["theorem2.torque_max_yaw"]);
+    assert!(!f.a_priori_box_fits);
+    // The defmt log decodes and has the boot certificate line.
+    assert!(s.defmt_error.is_none(), "{:?}", s.defmt_error);
+    assert_eq!(s.defmt_malformed, 0);
+    let line = s.certificate_line.as_deref().expect("no certificate line");
+    assert!(line.contains("certificate:"), "{line}");
+    let log = std::fs::read_to_string(out.join("defmt.log")).unwrap();
+    assert!(log.contains("certificate:"));
+    let _ = std::fs::remove_dir_all(&out);
+}
