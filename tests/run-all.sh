@@ -50,7 +50,10 @@ mps2=(-p firmware --bin firmware-mps2-an386 --target thumbv7em-none-eabihf --rel
   --no-default-features --features board-mps2-an386)
 cargo clippy "${mps2[@]}" -- -D warnings
 cargo build "${mps2[@]}"
-elf_mps2="${CARGO_TARGET_DIR:-target}/thumbv7em-none-eabihf/release/firmware-mps2-an386"
+# Absolute: the PIL test runs with the tests package as its working directory.
+target_dir="${CARGO_TARGET_DIR:-target}"
+case "$target_dir" in /*) ;; *) target_dir="$PWD/$target_dir" ;; esac
+elf_mps2="$target_dir/thumbv7em-none-eabihf/release/firmware-mps2-an386"
 bash firmware/qemu/boot-check.sh "$elf_mps2"
 
 step "processor in the loop: the paper's helix from upside down, firmware on QEMU (lockstep)"

@@ -9,7 +9,7 @@
 //! (`src/bin/mps2_an386/`).
 //!
 //! Apart from [`app`], nothing here touches a register or logs: it computes plain values that
-//! the binaries apply to the hardware and formats with defmt. It is `no_std` and builds for
+//! the binaries apply to the hardware and format with defmt. It is `no_std` and builds for
 //! both the MCU and the host, where its unit tests run (`cargo test -p firmware`).
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
