@@ -6,29 +6,3 @@
 //! The noise levels are used as the half-widths of the bench's uniform, deterministic noise.
 
 include!(concat!(env!("OUT_DIR"), "/scenario_constants.rs"));
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    // TEMPORARY: the generated values against the literals they replace, bit for bit.
-    #[test]
-    fn generated_constants_equal_the_old_literals() {
-        let bits3 = |v: [f32; 3]| v.map(f32::to_bits);
-        assert_eq!(bits3(REST_POSITION), bits3([5.0, 5.0, 10.0]));
-        assert_eq!(
-            REST_ROLL.to_bits(),
-            (-179.0 * core::f32::consts::PI / 180.0f32).to_bits()
-        );
-        assert_eq!(
-            REST_YAW.to_bits(),
-            (100.0 * core::f32::consts::PI / 180.0f32).to_bits()
-        );
-        assert_eq!(bits3(GYRO_BIAS), bits3([0.01, -0.02, 0.015]));
-        assert_eq!(bits3(ACCEL_BIAS), bits3([0.05, -0.03, 0.08]));
-        assert_eq!(GYRO_NOISE.to_bits(), 3e-3f32.to_bits());
-        assert_eq!(ACCEL_NOISE.to_bits(), 0.05f32.to_bits());
-        assert_eq!(POSE_NOISE.to_bits(), 5e-4f32.to_bits());
-        assert_eq!(POSE_LATENCY_US, 10_000);
-    }
-}

@@ -34,8 +34,8 @@ compile_error!("pick one board feature: board-stm32f405 (default) or board-mps2-
 #[cfg(not(target_os = "none"))]
 fn main() {
     println!(
-        "firmware: this binary is built for thumbv7em-none-eabihf (STM32F405RG): \
-         cargo build -p firmware --target thumbv7em-none-eabihf --release"
+        "firmware: this binary is built for thumbv7em-none-eabihf (STM32F405RG): cargo fw-build \
+         (cargo build -p firmware --target thumbv7em-none-eabihf --release)"
     );
 }
 
