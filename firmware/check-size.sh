@@ -2,7 +2,7 @@
 # Size budget of the release firmware: flash (vector table + text + rodata + the load image of
 # .data) <= 128 KiB, static RAM (.data + .bss + .uninit, stack excluded) <= 32 KiB.
 #
-#   bash firmware/check-size.sh            # builds the release ELF, then checks it
+#   bash firmware/check-size.sh            # builds the release ELF (cargo fw-build), then checks it
 #   bash firmware/check-size.sh PATH/ELF   # checks an ELF that is already built
 #
 # Reads the section table with binutils' `size -A` (installed with gcc); exits 1 over budget.
@@ -15,7 +15,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 if [ $# -ge 1 ]; then
   elf="$1"
 else
-  (cd "$root" && cargo build -p firmware --target thumbv7em-none-eabihf --release)
+  (cd "$root" && cargo fw-build)
   target_dir="${CARGO_TARGET_DIR:-$root/target}"
   case "$target_dir" in /*) ;; *) target_dir="$root/$target_dir" ;; esac
   elf="$target_dir/thumbv7em-none-eabihf/release/firmware"

@@ -40,7 +40,7 @@ cargo build -p controller-core --target thumbv7em-none-eabihf --release
 
 step "firmware for thumbv7em-none-eabihf"
 cargo clippy -p firmware --target thumbv7em-none-eabihf --release -- -D warnings
-cargo build -p firmware --target thumbv7em-none-eabihf --release
+cargo fw-build
 
 step "firmware size budget (flash <= 128 KiB, static RAM <= 32 KiB)"
 bash firmware/check-size.sh
@@ -49,7 +49,7 @@ step "firmware for QEMU mps2-an386 (the same tasks, the processor-in-the-loop bo
 mps2=(-p firmware --bin firmware-mps2-an386 --target thumbv7em-none-eabihf --release
   --no-default-features --features board-mps2-an386)
 cargo clippy "${mps2[@]}" -- -D warnings
-cargo build "${mps2[@]}"
+cargo fw-qemu
 # Absolute: the PIL test runs with the tests package as its working directory.
 target_dir="${CARGO_TARGET_DIR:-target}"
 case "$target_dir" in /*) ;; *) target_dir="$PWD/$target_dir" ;; esac

@@ -5,7 +5,8 @@
 #   bash firmware/qemu/bench.sh [--budget N] [other m4f-bench options]
 #
 # 1. builds the TCG plugin (firmware/qemu/build-plugin.sh: gcc);
-# 2. builds the step-bench ELF (thumbv7em-none-eabihf, release, board-mps2-an386);
+# 2. builds the step-bench ELF (`cargo fw-qemu`: thumbv7em-none-eabihf, release, board-mps2-an386;
+#    with the bench-fixtures feature);
 # 3. runs `m4f-bench` (host-sim): QEMU + plugin, counts per step, ARM-vs-host comparison,
 #    table; exit 1 on a disagreement or when the largest full step exceeds the budget.
 #
@@ -51,8 +52,7 @@ if command -v rustup >/dev/null && ! rustup target list --installed | grep -qx t
 fi
 
 plugin="$(bash "$here/build-plugin.sh")"
-cargo build -p firmware --bin step-bench --target thumbv7em-none-eabihf --release \
-  --no-default-features --features board-mps2-an386
+cargo fw-qemu --bin step-bench --features bench-fixtures
 elf="$CARGO_TARGET_DIR/thumbv7em-none-eabihf/release/step-bench"
 cargo run --release -p host-sim --bin m4f-bench -- \
   --elf "$elf" --plugin "$plugin" --budget "$BUDGET" ${args[@]+"${args[@]}"}

@@ -1,12 +1,17 @@
-//! Board-independent parts of the STM32F405 firmware: the clock plan and the boot report
-//! (the set-up, its a-priori bound certificate and the controller built from it), and the
-//! flight logic: [`pipeline::FlightPipeline`] composes [`config`], [`frames`] (NED/FRD ↔
+//! Board-independent parts of the firmware: the boot report (the set-up, its a-priori bound
+//! certificate and the controller built from it), the device drivers' pure parts ([`drivers`]),
+//! and the flight logic: [`pipeline::FlightPipeline`] composes [`config`], [`frames`] (NED/FRD ↔
 //! NWU/FLU), [`link`] (MAVLink 2), [`estimator`], [`imu_attitude`], [`flight_reference`],
 //! [`mixer`] and [`safety`]; host-sim flies the same pipeline in software in the loop.
 //!
 //! On the MCU only, [`app`] is the board-independent task layer (control loop, queues, logger,
-//! boot banner) that both boards run: the STM32F405 (`src/main.rs`) and QEMU's mps2-an386
-//! (`src/bin/mps2_an386/`).
+//! boot banner) that every board runs. Each board is one folder of binary sources, with its
+//! clocks, pins and drivers' hardware side: the STM32F405 (`src/bin/stm32f405/`) and QEMU's
+//! mps2-an386 (`src/bin/mps2_an386/`).
+//!
+//! With the `bench-fixtures` feature only (never in the flight build), `step_inputs` is the
+//! deterministic control-step sequence of the Cortex-M4F bench (`src/bin/step_bench/`), the
+//! criterion bench and host-sim's ARM-vs-host comparison.
 //!
 //! Apart from [`app`], nothing here touches a register or logs: it computes plain values that
 //! the binaries apply to the hardware and format with defmt. It is `no_std` and builds for
@@ -16,8 +21,6 @@
 
 #[cfg(target_os = "none")]
 pub mod app;
-pub mod board;
-pub mod clocks;
 pub mod config;
 pub mod drivers;
 pub mod estimator;
@@ -29,5 +32,6 @@ pub mod mixer;
 pub mod pipeline;
 pub mod report;
 pub mod safety;
+#[cfg(feature = "bench-fixtures")]
 pub mod step_inputs;
 pub mod timing;

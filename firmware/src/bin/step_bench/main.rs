@@ -19,8 +19,8 @@
 //! - `DONE regions=<n> off_path=<m>` last; then exit 0 through semihosting (exit 1 if some flight
 //!   step left the flight path, or on a panic or fault).
 //!
-//! Build: `cargo build -p firmware --bin step-bench --target thumbv7em-none-eabihf --release
-//! --no-default-features --features board-mps2-an386`; run with `bash firmware/qemu/bench.sh`.
+//! Build: `cargo fw-qemu --bin step-bench --features bench-fixtures` (the mps2-an386 release
+//! build with the bench fixtures); run with `bash firmware/qemu/bench.sh`.
 #![no_std]
 #![no_main]
 

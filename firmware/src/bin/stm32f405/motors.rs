@@ -1,5 +1,5 @@
 //! Motor output on the MCU: DShot600 through the two motor timers' update-DMA bursts, or the
-//! standard PWM fallback, per `board::MOTOR_PROTOCOL`. The encodings are the host-tested pure
+//! standard PWM fallback, per `pins::MOTOR_PROTOCOL`. The encodings are the host-tested pure
 //! functions of `firmware::drivers::dshot`; this module only moves their results into the
 //! timers.
 
@@ -8,9 +8,10 @@ use embassy_stm32::time::Hertz;
 use embassy_stm32::timer::simple_pwm::SimplePwm;
 use embassy_stm32::timer::Channel;
 use embassy_stm32::Peri;
-use firmware::board::{self, hw};
 use firmware::drivers::dshot::{self, BitTiming, MotorProtocol};
 use firmware::pipeline::MotorOutput;
+
+use crate::pins::{self, hw};
 
 const BURST: usize = dshot::burst_len(2);
 
@@ -61,7 +62,7 @@ impl Motors {
                     "motors: DShot600, {=u16} timer ticks per bit ({=f32} ns), 0: {=u16} ticks, \
                      1: {=u16} ticks",
                     timing.period_ticks,
-                    timing.period_ns(board::MOTOR_TIMER_HZ),
+                    timing.period_ns(pins::MOTOR_TIMER_HZ),
                     timing.zero_high,
                     timing.one_high
                 );
@@ -107,7 +108,7 @@ impl Motors {
     /// The frames for `out` (mixer order → board order; zero when disarmed). Pure and quick: the
     /// control task calls it inside its measured step.
     pub fn prepare(&self, out: &MotorOutput) -> Frames {
-        let throttle = board::to_motor_outputs(out.throttle);
+        let throttle = pins::to_motor_outputs(out.throttle);
         match self.mode {
             Mode::Dshot(_) => Frames::Dshot(
                 throttle.map(|t| dshot::frame(dshot::throttle_to_dshot(t, out.armed), false)),

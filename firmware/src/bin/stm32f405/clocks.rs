@@ -4,7 +4,8 @@
 //! The divider values live here as numbers, checked against the STM32F405 limits of RM0090
 //! (section 6 "Reset and clock control", and the datasheet's maximum bus frequencies) at compile
 //! time; `main.rs` maps them to the HAL's register enums and compares the frequencies the HAL
-//! reports after init with [`ClockPlan::frequencies`].
+//! reports after init with [`ClockPlan::frequencies`]. Pure: its unit tests run on the host
+//! (`cargo test -p firmware`).
 
 /// Dividers and multipliers of the STM32F4 main PLL and bus prescalers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -18,12 +18,14 @@
 //! with it through fixed-size `embassy-sync` queues guarded by short critical sections, so no
 //! lock is ever held across the control step and no I/O task can delay it.
 //!
-//! This file is the STM32F405 board layer only: clocks, pins, the IMU, UART and motor drivers,
-//! the watchdog and the interrupt executor. The tasks' logic is the board-independent task layer
+//! This folder is the STM32F405 board layer, all of it: the clock plan (`clocks.rs`), the pin
+//! table (`pins.rs`), the motor outputs (`motors.rs`) and, here, the IMU and UART drivers, the
+//! watchdog and the interrupt executor. The tasks' logic is the board-independent task layer
 //! `firmware::app` (control loop, queues, logger, boot banner), which the QEMU board
 //! (`src/bin/mps2_an386/`) runs too; the flight logic below it is the host-tested library
-//! (`src/lib.rs`); every pin is in `src/board.rs`. On the host this binary is a stub that says
-//! what it is, so that `cargo test --workspace` and host clippy can build every member.
+//! (`src/lib.rs`). On the host this binary is a stub that says what it is, so that
+//! `cargo test --workspace` and host clippy can build every member; its pure modules (`clocks`,
+//! `pins`) are compiled there too, so their unit tests run with `cargo test -p firmware`.
 #![cfg_attr(target_os = "none", no_std, no_main)]
 
 #[cfg(all(feature = "board-stm32f405", feature = "board-mps2-an386"))]
@@ -32,13 +34,18 @@ compile_error!("pick one board feature: board-stm32f405 (default) or board-mps2-
 #[cfg(not(target_os = "none"))]
 fn main() {
     println!(
-        "firmware: this binary is built for thumbv7em-none-eabihf (STM32F405RG): \
-         cargo build -p firmware --target thumbv7em-none-eabihf --release"
+        "firmware: this binary is built for thumbv7em-none-eabihf (STM32F405RG): cargo fw-build \
+         (cargo build -p firmware --target thumbv7em-none-eabihf --release)"
     );
 }
 
+// On the host only their unit tests use them.
+#[cfg_attr(not(target_os = "none"), allow(dead_code))]
+mod clocks;
 #[cfg(target_os = "none")]
 mod motors;
+#[cfg_attr(not(target_os = "none"), allow(dead_code))]
+mod pins;
 
 #[cfg(target_os = "none")]
 mod mcu {
@@ -66,14 +73,14 @@ mod mcu {
     use firmware::app::control::{self, DeadlineClock, MotorSink, Watchdog};
     use firmware::app::queues::{count, link_received, IMU_SAMPLES, IO, LINK_TX};
     use firmware::app::{boot_log, logger};
-    use firmware::board::{self, hw};
-    use firmware::clocks::{self, Reported, PLAN};
     use firmware::config::FlightConfig;
     use firmware::drivers::icm42688::{self, Icm42688};
     use firmware::pipeline::{FlightPipeline, ImuSample, MotorOutput};
     use {defmt_rtt as _, panic_probe as _};
 
+    use crate::clocks::{self, Reported, PLAN};
     use crate::motors::Motors;
+    use crate::pins::{self, hw};
 
     // ---------------------------------------------------------------------------------------
     // Clocks.
@@ -150,7 +157,7 @@ mod mcu {
 
     static CONTROL_EXECUTOR: InterruptExecutor = InterruptExecutor::new();
 
-    /// The control executor runs in this (otherwise unused) interrupt; see `board::hw`.
+    /// The control executor runs in this (otherwise unused) interrupt; see `pins::hw`.
     #[interrupt]
     unsafe fn UART5() {
         // SAFETY: the executor is started on this very interrupt in `main` and nothing else
@@ -246,8 +253,8 @@ mod mcu {
                 Ok(s) => {
                     count(&IO.imu_reads, 1);
                     let sample = ImuSample {
-                        gyro_rad_s: board::to_body(s.gyro_rad_s),
-                        accel_m_s2: board::to_body(s.accel_m_s2),
+                        gyro_rad_s: pins::to_body(s.gyro_rad_s),
+                        accel_m_s2: pins::to_body(s.accel_m_s2),
                         time_us,
                     };
                     if IMU_SAMPLES.try_send(sample).is_err() {
@@ -344,8 +351,8 @@ mod mcu {
         );
         info!(
             "board: {=str}; pin map from {=str}",
-            board::NAME,
-            board::PIN_MAP_SOURCE
+            pins::NAME,
+            pins::PIN_MAP_SOURCE
         );
         log_clocks(rcc::clocks(&p.RCC));
 
@@ -358,7 +365,7 @@ mod mcu {
         let mut led = Output::new(b.led, Level::High, Speed::Low);
 
         // Motors first, so the ESCs see "stop" from the earliest moment.
-        let mut motors = Motors::new(b.motors, board::MOTOR_PROTOCOL);
+        let mut motors = Motors::new(b.motors, pins::MOTOR_PROTOCOL);
         motors.stop().await;
 
         let config = FlightConfig::paper();
@@ -374,8 +381,8 @@ mod mcu {
 
         // IMU.
         let mut spi_config = spi::Config::default();
-        spi_config.frequency = Hertz(board::IMU_SPI_HZ);
-        spi_config.mode = spi::MODE_3;
+        spi_config.frequency = Hertz(pins::IMU_SPI_HZ);
+        spi_config.mode = hw::imu_spi_mode();
         let imu_bus = Spi::new(
             b.imu.spi,
             b.imu.sck,
@@ -392,7 +399,7 @@ mod mcu {
 
         // MAVLink link.
         let mut uart_config = usart::Config::default();
-        uart_config.baudrate = board::MAVLINK_BAUD;
+        uart_config.baudrate = pins::MAVLINK_BAUD;
         let uart = unwrap!(Uart::new(
             b.link.uart,
             b.link.rx,

@@ -1,5 +1,10 @@
-//! The board: every pin, peripheral, DMA stream and interrupt the firmware uses, and the IMU
-//! mounting. Another board is another version of this one file.
+//! The STM32F405 board's pin table: every pin, peripheral, DMA stream and interrupt the firmware
+//! uses, the IMU bus settings and the IMU mounting. Another board with this MCU is another
+//! version of this one file.
+//!
+//! The table below names the pins; the values the code sets (SPI mode and clock, baud rate) are
+//! the constants it links to, written once; the `hw` module (MCU build only) hands out exactly
+//! these pins and DMA streams.
 //!
 //! # SpeedyBee F405 V4 (the default)
 //!
@@ -14,10 +19,10 @@
 //!
 //! | function | pin | peripheral | DMA (RM0090 table 42/43) |
 //! | --- | --- | --- | --- |
-//! | IMU SCK / MISO / MOSI | PA5 / PA6 / PA7 | SPI1 (AF5), mode 0, 10.5 MHz | RX DMA2 stream 0 ch 3, TX DMA2 stream 3 ch 3 |
+//! | IMU SCK / MISO / MOSI | PA5 / PA6 / PA7 | SPI1 (AF5), [`IMU_SPI_MODE`], [`IMU_SPI_HZ`] | RX DMA2 stream 0 ch 3, TX DMA2 stream 3 ch 3 |
 //! | IMU chip select | PA4 | GPIO out, active low | – |
 //! | IMU data ready (INT1) | PC4 | EXTI line 4, rising / high | – |
-//! | MAVLink TX / RX | PA9 / PA10 | USART1 (AF7), 921600 8N1 | TX DMA2 stream 7 ch 4, RX DMA2 stream 5 ch 4 (circular) |
+//! | MAVLink TX / RX | PA9 / PA10 | USART1 (AF7), [`MAVLINK_BAUD`] 8N1 | TX DMA2 stream 7 ch 4, RX DMA2 stream 5 ch 4 (circular) |
 //! | motor 1 / 2 | PB6 / PB7 | TIM4 CH1 / CH2 (AF2) | TIM4_UP DMA1 stream 6 ch 2 (burst to CCR1..CCR2) |
 //! | motor 3 / 4 | PB0 / PB1 | TIM3 CH3 / CH4 (AF2) | TIM3_UP DMA1 stream 2 ch 5 (burst to CCR3..CCR4) |
 //! | status LED | PC13 | GPIO out, on = low (Betaflight's non-inverted LED) | – |
@@ -43,19 +48,43 @@ pub const PIN_MAP_SOURCE: &str =
 /// 10.5 MHz (the ICM-42688-P allows 24 MHz).
 pub const IMU_SPI_HZ: u32 = 10_500_000;
 
+/// Clock polarity and phase of an SPI bus (the four SPI modes: mode = 2·CPOL + CPHA).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SpiMode {
+    /// CPOL = 1: the clock idles high.
+    pub clock_idles_high: bool,
+    /// CPHA = 1: data is sampled on the clock's second edge.
+    pub sample_on_second_edge: bool,
+}
+
+/// IMU SPI mode: mode 3 (clock idles high, data sampled on the second, rising, edge). The
+/// ICM-42688-P accepts modes 0 and 3 (datasheet DS-000347, SPI interface; see
+/// `firmware::drivers::icm42688`).
+pub const IMU_SPI_MODE: SpiMode = SpiMode {
+    clock_idles_high: true,
+    sample_on_second_edge: true,
+};
+
+// Modes 1 and 2 (CPOL ≠ CPHA) do not talk to the ICM-42688-P: such a table does not compile.
+const _: () = assert!(
+    IMU_SPI_MODE.clock_idles_high == IMU_SPI_MODE.sample_on_second_edge,
+    "the ICM-42688-P accepts SPI modes 0 and 3 only"
+);
+
 /// MAVLink UART baud rate.
 pub const MAVLINK_BAUD: u32 = 921_600;
 
 /// Motor protocol of the ESCs wired to this board: DShot600, or the PWM fallback for ESCs
 /// without DShot (`MotorProtocol::Pwm`).
-pub const MOTOR_PROTOCOL: crate::drivers::dshot::MotorProtocol =
-    crate::drivers::dshot::MotorProtocol::Dshot600;
+pub const MOTOR_PROTOCOL: firmware::drivers::dshot::MotorProtocol =
+    firmware::drivers::dshot::MotorProtocol::Dshot600;
 
-/// Timer kernel clock of the motor timers (TIM3 and TIM4 are on APB1: 2 × 42 MHz, clocks.rs).
-pub const MOTOR_TIMER_HZ: u32 = 84_000_000;
+/// Timer kernel clock of the motor timers \[Hz\]: TIM3 and TIM4 are on APB1, so 2 × PCLK1 =
+/// 84 MHz in the clock plan.
+pub const MOTOR_TIMER_HZ: u32 = crate::clocks::PLAN.frequencies().tim_apb1;
 
 /// Board motor output (0-based: M1 = 0) driven by each index of the mixer's `throttle` array.
-/// The mixer (`mixer.rs`) uses Betaflight's quad-X numbering, as the board's silkscreen does,
+/// The mixer (`firmware::mixer`) uses Betaflight's quad-X numbering, as the board's silkscreen does,
 /// so this is the identity; a board with another numbering permutes it here.
 pub const MOTOR_OUTPUT_OF_MIXER: [usize; 4] = [0, 1, 2, 3];
 
@@ -87,7 +116,7 @@ pub fn to_motor_outputs<T: Copy + Default>(mixer: [T; 4]) -> [T; 4] {
 }
 
 /// The hardware resources, as embassy peripherals (MCU build only).
-#[cfg(all(target_os = "none", feature = "board-stm32f405"))]
+#[cfg(target_os = "none")]
 #[allow(missing_docs)] // field names are self-explanatory; the table above documents them.
 pub mod hw {
     use embassy_stm32::gpio::OutputType;
@@ -95,6 +124,7 @@ pub mod hw {
         DMA1_CH2, DMA1_CH6, DMA2_CH0, DMA2_CH3, DMA2_CH5, DMA2_CH7, EXTI4, IWDG, PA10, PA4, PA5,
         PA6, PA7, PA9, PB0, PB1, PB6, PB7, PC13, PC4, SPI1, TIM3, TIM4, USART1,
     };
+    use embassy_stm32::spi;
     use embassy_stm32::time::Hertz;
     use embassy_stm32::timer::low_level::CountingMode;
     use embassy_stm32::timer::simple_pwm::{PwmPin, SimplePwm};
@@ -114,6 +144,23 @@ pub mod hw {
             EXTI4 => exti::InterruptHandler<interrupt::typelevel::EXTI4>;
         }
     );
+
+    /// [`super::IMU_SPI_MODE`] as the HAL's SPI mode.
+    pub const fn imu_spi_mode() -> spi::Mode {
+        let mode = super::IMU_SPI_MODE;
+        spi::Mode {
+            polarity: if mode.clock_idles_high {
+                spi::Polarity::IdleHigh
+            } else {
+                spi::Polarity::IdleLow
+            },
+            phase: if mode.sample_on_second_edge {
+                spi::Phase::CaptureOnSecondTransition
+            } else {
+                spi::Phase::CaptureOnFirstTransition
+            },
+        }
+    }
 
     /// The software interrupt of the control executor: UART5's vector (the UART is unused).
     pub const CONTROL_IRQ: interrupt::Interrupt = interrupt::Interrupt::UART5;
