@@ -6,18 +6,14 @@
 
 pub mod ablation;
 pub mod campaign;
-pub mod cli;
 pub mod closed_loop;
 pub mod compare;
 pub mod controllers;
-pub mod experiments;
-pub mod m4f;
+pub mod harness;
 pub mod output;
 pub mod perturbation;
-pub mod pil;
 pub mod plant;
 pub mod report;
 pub mod scenario;
-pub mod sil;
 pub mod sim;
 pub mod so3;

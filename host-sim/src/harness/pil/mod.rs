@@ -1,5 +1,5 @@
 //! Processor in the loop: the firmware, compiled for Cortex-M4F, runs in QEMU (`mps2-an386`)
-//! and flies the SIL plant, sensors and scenarios ([`crate::sil`]) over its serial port, in
+//! and flies the SIL plant, sensors and scenarios ([`crate::harness::sil`]) over its serial port, in
 //! lockstep with the simulation clock.
 //!
 //! Protocol (MAVLink 2; host = system 255 / component 190, firmware = 1 / 1), for every 1 ms
@@ -36,12 +36,13 @@
 //!   come from its last 1 Hz defmt counter lines ([`defmt_log::counters`]): up to 1 s old at
 //!   the end of the run.
 //!
-//! [`run`] spawns QEMU ([`qemu`]), flies a scenario through [`crate::sil::fly`], kills QEMU and
-//! decodes its defmt log ([`defmt_log`]); [`run_cli`] is the `pil` subcommand.
+//! [`run`] spawns QEMU ([`crate::harness::qemu`]), flies a scenario through
+//! [`crate::harness::sil::fly`], kills QEMU and decodes its defmt log ([`defmt_log`]);
+//! [`run_command`] is the `pil` subcommand.
 
 pub mod defmt_log;
 pub mod frames;
-pub mod qemu;
+pub mod transport;
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -55,10 +56,13 @@ use firmware::safety::FlightState;
 use nalgebra::{Matrix4, Vector3, Vector4};
 use serde::Serialize;
 
-use crate::sil::{self, FinalReport, FlightSoftware, SilRecord, SilSetup, SilSummary, TickReport};
+use crate::harness::qemu::{Qemu, Received};
+use crate::harness::sil::{
+    self, FinalReport, FlightSoftware, SilRecord, SilSetup, SilSummary, TickReport,
+};
 use defmt_log::FirmwareCounters;
 use frames::{Actuators, FrameReader, ReaderCounters, Target};
-use qemu::{Qemu, Received, Transport};
+use transport::Transport;
 
 /// The firmware binary QEMU runs, relative to the target directory.
 pub const ELF_IN_TARGET_DIR: &str = "thumbv7em-none-eabihf/release/firmware-mps2-an386";
@@ -484,7 +488,7 @@ pub fn run(
     let log_path = options.out.join("defmt.log");
 
     let start = Instant::now();
-    let mut qemu = Qemu::spawn(&options.qemu, &options.elf, &bin)?;
+    let mut qemu = Qemu::spawn_serial_link(&options.qemu, &options.elf, &bin)?;
     let elf = options.elf.clone();
     qemu.set_log_decoder(move |bin| match defmt_log::decode_files(&elf, bin) {
         Ok(log) => log.lines,
@@ -581,12 +585,31 @@ pub fn human_summary(s: &PilSummary) -> String {
     o
 }
 
+/// What the `pil` subcommand runs: the SIL `paper` scenario on the firmware in QEMU.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PilCommandOptions {
+    /// Firmware ELF for QEMU `mps2-an386` (`None`: [`default_elf`]).
+    pub elf: Option<PathBuf>,
+    /// QEMU binary (the command line's default: `qemu-system-arm`).
+    pub qemu: PathBuf,
+    /// Output directory (`None`: `./out/pil`); gets timeseries.csv, summary.json, defmt.bin
+    /// and defmt.log.
+    pub out: Option<PathBuf>,
+    /// Random seed (sensor noise, dropouts, byte chunking); the command line's default: 1.
+    pub seed: u64,
+    /// Flight time after release \[s\], finite and ≥ 0 (`None`: the scenario's 30 s).
+    pub duration: Option<f64>,
+    /// Stall timeout: wall-clock seconds to wait for the firmware's answer to a tick, finite
+    /// and > 0 (the command line's default: [`DEFAULT_TIMEOUT_S`]).
+    pub timeout: f64,
+}
+
 /// The `pil` subcommand: the paper scenario (SIL's `scenarios::paper`) on the firmware in
 /// QEMU; writes `timeseries.csv`, `summary.json`, `defmt.bin` and `defmt.log` to the output
 /// directory and prints a summary. Errors (non-zero exit): the run failed (missing ELF or
 /// QEMU, stall, crash, lockstep lost) or a file could not be written; the convergence itself
 /// is judged by the tests.
-pub fn run_cli(args: &crate::cli::PilArgs) -> Result<()> {
+pub fn run_command(args: &PilCommandOptions) -> Result<()> {
     let mut setup = sil::scenarios::paper(args.seed);
     if let Some(d) = args.duration {
         if !(d.is_finite() && d >= 0.0) {

@@ -15,9 +15,10 @@ use firmware::pipeline::{FlightPipeline, ImuSample};
 use nalgebra::Vector3;
 
 use super::frames::FrameReader;
-use super::qemu::{Received, Transport};
+use super::transport::Transport;
 use super::FirmwareLink;
-use crate::sil::{self, scenarios};
+use crate::harness::qemu::Received;
+use crate::harness::sil::{self, scenarios};
 
 /// How the fake misbehaves.
 #[derive(Clone, Copy, Debug, PartialEq)]
