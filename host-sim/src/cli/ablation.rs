@@ -6,7 +6,7 @@ use anyhow::Result;
 use clap::Args;
 use host_sim::ablation::{self, AblationOptions};
 
-use super::BaseArgs;
+use super::common::BaseArgs;
 
 /// Options of `host-sim ablation`.
 #[derive(Debug, Args, Clone)]

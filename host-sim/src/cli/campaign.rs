@@ -7,7 +7,7 @@ use clap::{Args, ValueEnum};
 use host_sim::campaign::{self, CampaignOptions, Convergence, SamplerRadii};
 use host_sim::controllers::ControllerKind;
 
-use super::BaseArgs;
+use super::common::BaseArgs;
 
 /// Which controller a run uses (the command line's spelling of [`ControllerKind`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]

@@ -6,7 +6,7 @@ use anyhow::Result;
 use clap::Args;
 use host_sim::compare::{self, CompareOptions};
 
-use super::BaseArgs;
+use super::common::BaseArgs;
 
 /// Options of `host-sim compare`.
 #[derive(Debug, Args, Clone)]

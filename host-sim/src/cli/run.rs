@@ -7,7 +7,7 @@ use clap::Args;
 use host_sim::report::human_summary;
 use host_sim::scenario::Scenario;
 
-use super::PrecisionArg;
+use super::common::PrecisionArg;
 
 /// Options of a single run.
 #[derive(Debug, Args, Clone, Default)]

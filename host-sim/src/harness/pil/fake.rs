@@ -14,9 +14,9 @@ use firmware::link::{self};
 use firmware::pipeline::{FlightPipeline, ImuSample};
 use nalgebra::Vector3;
 
+use super::firmware_link::FirmwareLink;
 use super::frames::FrameReader;
 use super::transport::Transport;
-use super::FirmwareLink;
 use crate::harness::qemu::Received;
 use crate::harness::sil::{self, scenarios};
 
