@@ -99,3 +99,20 @@ pub fn run(args: &CampaignArgs) -> Result<()> {
         threads: args.threads,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every spelling on the command line names the controller of the same label.
+    #[test]
+    fn controller_spellings_map_to_their_controllers() {
+        for v in ControllerArg::value_variants() {
+            let name = v.to_possible_value().map(|p| p.get_name().to_string());
+            assert_eq!(
+                name,
+                Some(ControllerKind::from(*v).label().replace('_', "-"))
+            );
+        }
+    }
+}

@@ -61,3 +61,18 @@ impl From<&BaseArgs> for BaseOptions {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every spelling on the command line names the precision of the same scenario-file name.
+    #[test]
+    fn precision_spellings_map_to_their_precisions() {
+        for v in PrecisionArg::value_variants() {
+            let name = v.to_possible_value().map(|p| p.get_name().to_string());
+            let serde_name = serde_json::to_string(&Precision::from(*v)).ok();
+            assert_eq!(name.map(|n| format!("\"{n}\"")), serde_name);
+        }
+    }
+}

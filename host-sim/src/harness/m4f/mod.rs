@@ -8,8 +8,8 @@
 //! ELF's symbol table), counts the guest instructions executed from the entry of the first to
 //! the entry of the second. The first regions are empty: their count is the brackets' own
 //! overhead, subtracted from every step. The binary prints each step's outputs as `f32` bit
-//! patterns over semihosting; [`compare`] checks them against [`step_inputs::run_sequence`] run
-//! natively.
+//! patterns over semihosting; [`compare`] checks them against
+//! [`firmware::step_inputs::run_sequence`] run natively.
 //!
 //! Instructions are not cycles: at 1 instruction per cycle, 168 MHz (the STM32F405's clock)
 //! gives a **lower bound** on the time (flash wait states, FPU divide/square-root latencies,
@@ -22,7 +22,8 @@
 //! Files: [`elf`] (the markers' addresses from the symbol table), [`regions`] (what a measured
 //! region is), [`run`] (the bench on QEMU through [`crate::harness::qemu`], the trace
 //! recount), [`output`] (parsers of the bench's and the plugin's output), [`agreement`] (ARM vs
-//! host), [`stats`] (the figures), [`render`] (the table) and [`profile`] (per function).
+//! host), [`stats`] (the figures), [`render`](mod@render) (the table) and
+//! [`profile`](mod@profile) (per function).
 
 pub mod agreement;
 pub mod elf;

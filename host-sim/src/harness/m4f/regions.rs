@@ -24,7 +24,8 @@ pub struct Region {
     pub index: u32,
     /// Instructions counted between the brackets, overhead included.
     pub raw_instructions: u64,
-    /// Outputs (see [`step_inputs::FullOutputs`], [`step_inputs::ControllerOutputs`]).
+    /// Outputs (see [`firmware::step_inputs::FullOutputs`],
+    /// [`firmware::step_inputs::ControllerOutputs`]).
     pub outputs: Vec<f32>,
 }
 
@@ -33,7 +34,7 @@ pub struct Region {
 pub struct ArmRun {
     /// The regions, in execution order.
     pub regions: Vec<Region>,
-    /// The brackets' overhead [instructions] (the empty regions' count; they must agree).
+    /// The brackets' overhead \[instructions\] (the empty regions' count; they must agree).
     pub overhead: u64,
     /// Instructions executed by the whole program.
     pub total_instructions: u64,

@@ -88,7 +88,7 @@ pub struct Figures {
     pub elf: String,
     /// Core clock assumed for the implied times \[Hz\].
     pub core_hz: f64,
-    /// Bracket overhead subtracted from every count [instructions].
+    /// Bracket overhead subtracted from every count \[instructions\].
     pub overhead_instructions: u64,
     /// One flight tick: 10 IMU samples, a pose frame, `control_tick`.
     pub full_step: StepFigures,
