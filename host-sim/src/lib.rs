@@ -2,7 +2,13 @@
 //!
 //! [`scenario`] reads TOML scenarios (the paper's is embedded), [`plant`] integrates
 //! eq:FullDynamics, [`sim`] closes the loop, and [`output`] writes CSV, PNG plots and
-//! `summary.json`.
+//! `summary.json`. [`campaign`], [`ablation`] and [`compare`] fly many runs; [`harness`] flies
+//! the firmware itself (software and processor in the loop, Cortex-M4F instruction counts).
+//!
+//! The command line belongs to the `host-sim` binary (`src/cli/`): the library takes plain
+//! option structs ([`harness::sil::SilOptions`], [`harness::pil::PilCommandOptions`],
+//! [`campaign::CampaignOptions`], [`ablation::AblationOptions`], [`compare::CompareOptions`])
+//! and knows nothing of clap.
 
 pub mod ablation;
 pub mod campaign;
