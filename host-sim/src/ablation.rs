@@ -22,14 +22,15 @@ use serde::Serialize;
 
 use crate::campaign::figures::{time_series_png, xy_figure, Axis, Style, XySeries, PALETTE};
 use crate::campaign::metrics::{BoundSet, RunMetrics};
+use crate::campaign::options::BaseOptions;
 use crate::campaign::runner::{bound_set, run_one};
 use crate::campaign::sampler::{run_seed, Sampler, SamplerRadii, HALF_TURN_AXES};
 use crate::campaign::stats::Distribution;
 use crate::campaign::trace::{trace, TracePoint};
 use crate::campaign::Convergence;
 use crate::controllers::ControllerKind;
-use crate::experiments::{fmt_opt, AblationArgs};
 use crate::output::chart::{LegendAt, Panel, Scale, Series};
+use crate::report::fmt_opt;
 use crate::scenario::{Precision, Scenario};
 
 /// Attitude noise levels of the hysteresis ablation [deg, std per axis].
@@ -420,10 +421,21 @@ fn write_plots(
     Ok(files)
 }
 
+/// What the `ablation` job runs (the command line's defaults in parentheses).
+#[derive(Clone, Debug, PartialEq)]
+pub struct AblationOptions {
+    /// Output directory, created; files overwritten (`out/ablation`).
+    pub out: PathBuf,
+    /// Repetitions of the seven 180° starts per noise level, hysteresis ablation (4).
+    pub repeats: u64,
+    /// Scenario, seed and overrides.
+    pub base: BaseOptions,
+}
+
 /// `host-sim ablation`: runs both ablations, writes `ablation.md`, `ablation.json` and plots.
 ///
 /// Errors: invalid scenario, a failed run, or a file that cannot be written.
-pub fn run_cli(args: &AblationArgs) -> Result<()> {
+pub fn run_command(args: &AblationOptions) -> Result<()> {
     let scenario = args.base.scenario()?;
     let (report, traces) = run_ablation(&scenario, args.base.seed, args.repeats)?;
     std::fs::create_dir_all(&args.out)

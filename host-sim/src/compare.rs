@@ -10,7 +10,7 @@
 //! campaign (Haar attitudes, offsets in balls); chattering under attitude noise at 180°.
 
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use nalgebra::Vector3;
@@ -21,15 +21,16 @@ use crate::campaign::figures::{
     cdf_points, time_series_png, xy_figure, Axis, Style, XySeries, PALETTE,
 };
 use crate::campaign::metrics::{BoundSet, RunMetrics};
+use crate::campaign::options::BaseOptions;
 use crate::campaign::runner::{bound_set, run_one, RunResult};
 use crate::campaign::sampler::{run_seed, Sampler, SamplerRadii, HALF_TURN_AXES};
 use crate::campaign::stats::{summarise, CampaignStats};
 use crate::campaign::trace::trace;
 use crate::campaign::{run_campaign, CampaignConfig, Convergence};
 use crate::controllers::ControllerKind;
-use crate::experiments::{fmt_opt, CompareArgs};
 use crate::output::chart::{LegendAt, Panel, Scale, Series};
 use crate::plant::RigidBodyState;
+use crate::report::fmt_opt;
 use crate::scenario::{HeadingConfig, Scenario, TrajectoryConfig};
 
 /// One contestant: a controller and whether the plant clips its commands.
@@ -504,10 +505,21 @@ fn write_plots(
     Ok(files)
 }
 
+/// What the `compare` job runs (the command line's defaults in parentheses).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CompareOptions {
+    /// Output directory, created; files overwritten (`out/compare`).
+    pub out: PathBuf,
+    /// Runs of the campaign each controller flies, the same initial conditions for all (200).
+    pub runs: u64,
+    /// Scenario, seed and overrides.
+    pub base: BaseOptions,
+}
+
 /// `host-sim compare`: runs the comparison and writes `compare.md`, `compare.json`, plots.
 ///
 /// Errors: invalid scenario, a failed sanity run, or a file that cannot be written.
-pub fn run_cli(args: &CompareArgs) -> Result<()> {
+pub fn run_command(args: &CompareOptions) -> Result<()> {
     let base = args.base.scenario()?;
     let (report, campaigns) = run_compare(&base, args.runs, args.base.seed)?;
     std::fs::create_dir_all(&args.out)

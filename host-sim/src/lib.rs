@@ -2,22 +2,24 @@
 //!
 //! [`scenario`] reads TOML scenarios (the paper's is embedded), [`plant`] integrates
 //! eq:FullDynamics, [`sim`] closes the loop, and [`output`] writes CSV, PNG plots and
-//! `summary.json`.
+//! `summary.json`. [`campaign`], [`ablation`] and [`compare`] fly many runs; [`harness`] flies
+//! the firmware itself (software and processor in the loop, Cortex-M4F instruction counts).
+//!
+//! The command line belongs to the `host-sim` binary (`src/cli/`): the library takes plain
+//! option structs ([`harness::sil::SilOptions`], [`harness::pil::PilCommandOptions`],
+//! [`campaign::CampaignOptions`], [`ablation::AblationOptions`], [`compare::CompareOptions`])
+//! and knows nothing of clap.
 
 pub mod ablation;
 pub mod campaign;
-pub mod cli;
 pub mod closed_loop;
 pub mod compare;
 pub mod controllers;
-pub mod experiments;
-pub mod m4f;
+pub mod harness;
 pub mod output;
 pub mod perturbation;
-pub mod pil;
 pub mod plant;
 pub mod report;
 pub mod scenario;
-pub mod sil;
 pub mod sim;
 pub mod so3;

@@ -179,7 +179,7 @@ pub struct InitialConfig {
 }
 
 /// Controller scalar type.
-#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum Precision {
     /// Single precision, as on the flight controller.

@@ -5,14 +5,14 @@
 //! timeout bounds the wall time) and its defmt log decodes and holds the boot certificate.
 //!
 //! Needs `qemu-system-arm` and the ELF: `PIL_FIRMWARE_ELF`, or the default path
-//! (`host_sim::pil::default_elf`, i.e. `$CARGO_TARGET_DIR` or `target/`, then
+//! (`host_sim::harness::pil::default_elf`, i.e. `$CARGO_TARGET_DIR` or `target/`, then
 //! `thumbv7em-none-eabihf/release/firmware-mps2-an386`). `PIL_QEMU` overrides the QEMU binary.
 
 use std::path::PathBuf;
 use std::time::Duration;
 
-use host_sim::pil::{self, PilOptions};
-use host_sim::sil::scenarios;
+use host_sim::harness::pil::{self, PilOptions};
+use host_sim::harness::sil::scenarios;
 
 #[test]
 #[ignore = "needs qemu-system-arm and the mps2-an386 firmware ELF; tests/run-all.sh builds both and runs it with --ignored"]

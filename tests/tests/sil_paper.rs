@@ -2,7 +2,7 @@
 //! pipeline with realistic sensors (IMU noise and bias, mocap latency, noise and dropouts over
 //! MAVLink) and motors with lag and per-rotor limits: it converges and the rotor limits hold.
 
-use host_sim::sil::{run, scenarios};
+use host_sim::harness::sil::{run, scenarios};
 
 #[test]
 fn paper_helix_from_upside_down_converges_within_rotor_limits() {

@@ -1,7 +1,7 @@
 //! SIL scenario 2: pose lost in flight: failsafe within 100 ms of the pose timing out (one
 //! 10 ms control tick after the 100 ms limit), level, descending, disarmed after 2 s.
 
-use host_sim::sil::{run, scenarios};
+use host_sim::harness::sil::{run, scenarios};
 
 #[test]
 fn pose_loss_failsafe_level_descent_and_disarm() {

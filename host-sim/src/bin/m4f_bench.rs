@@ -1,5 +1,5 @@
 //! `m4f-bench`: Cortex-M4F instruction counts of the firmware's control step under QEMU, and the
-//! ARM-vs-host agreement of its outputs (see `host_sim::m4f`). Usually run through
+//! ARM-vs-host agreement of its outputs (see `host_sim::harness::m4f`). Usually run through
 //! `bash firmware/qemu/bench.sh [--budget N]`, which builds the plugin and the ELF first.
 //!
 //! Exit status: 0 when everything agrees (and the largest full step is within `--budget`),
@@ -11,7 +11,7 @@ use std::time::Duration;
 
 use anyhow::{Context, Result};
 use clap::Parser;
-use host_sim::m4f::{self, Qemu};
+use host_sim::harness::m4f::{self, BenchOptions};
 
 /// Count the instructions of the firmware's control step on an emulated Cortex-M4F (QEMU
 /// mps2-an386 + the insn_count TCG plugin) and check its f32 outputs against the host.
@@ -65,7 +65,7 @@ fn main() -> ExitCode {
 }
 
 fn run(args: &Args) -> Result<bool> {
-    let q = Qemu {
+    let q = BenchOptions {
         program: args.qemu.clone(),
         elf: args
             .elf

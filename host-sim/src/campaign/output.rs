@@ -271,7 +271,7 @@ fn write_campaign_plots(
     // Worst cases per run, sorted, against the a-priori bounds and the limits.
     let b = &report.bounds;
     let n = ok.len().max(1) as f64;
-    let sorted = |f: &dyn Fn(&&crate::campaign::RunMetrics) -> f64| {
+    let sorted = |f: &dyn Fn(&&super::metrics::RunMetrics) -> f64| {
         let mut v: Vec<f64> = ok.iter().map(f).collect();
         v.sort_by(f64::total_cmp);
         v.into_iter()

@@ -66,7 +66,7 @@ pub trait FlightController: Send {
 }
 
 /// Which controller a run uses.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ControllerKind {
     /// The paper's saturated hybrid law (controller-core), at the scenario's precision.

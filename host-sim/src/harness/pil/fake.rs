@@ -14,10 +14,11 @@ use firmware::link::{self};
 use firmware::pipeline::{FlightPipeline, ImuSample};
 use nalgebra::Vector3;
 
+use super::firmware_link::FirmwareLink;
 use super::frames::FrameReader;
-use super::qemu::{Received, Transport};
-use super::FirmwareLink;
-use crate::sil::{self, scenarios};
+use super::transport::Transport;
+use crate::harness::qemu::Received;
+use crate::harness::sil::{self, scenarios};
 
 /// How the fake misbehaves.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -13,7 +13,7 @@
 //!
 //! [`scenarios`] defines the runs; [`run`] executes one and returns its records and summary.
 //! The loop itself ([`fly`]) only sees the flight software through [`FlightSoftware`]: the
-//! in-process pipeline here, the firmware under QEMU in [`crate::pil`].
+//! in-process pipeline here, the firmware under QEMU in [`crate::harness::pil`].
 
 pub mod scenarios;
 pub mod sensors;
@@ -295,7 +295,7 @@ pub struct FinalReport {
 /// then [`control_tick`](Self::control_tick) at every control period.
 ///
 /// Implementations: the in-process [`FlightPipeline`] (SIL, [`run`]) and the firmware under
-/// QEMU over its serial port (processor in the loop, [`crate::pil`]).
+/// QEMU over its serial port (processor in the loop, [`crate::harness::pil`]).
 pub trait FlightSoftware {
     /// Link bytes arriving at `t_us` \[µs\] (any chunking). Errors: transport failures.
     fn on_link_bytes(&mut self, bytes: &[u8], t_us: u64) -> Result<()>;
@@ -750,9 +750,20 @@ pub fn human_summary(s: &SilSummary) -> String {
     o
 }
 
+/// What the `sil` subcommand runs.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SilOptions {
+    /// Scenario name, one of [`scenarios::NAMES`] (the command line's default: `paper`).
+    pub scenario: String,
+    /// Random seed (sensor noise, dropouts, byte chunking); the command line's default: 1.
+    pub seed: u64,
+    /// Output directory (`None`: `./out/sil-<scenario>`); gets timeseries.csv and summary.json.
+    pub out: Option<std::path::PathBuf>,
+}
+
 /// The `sil` subcommand: runs the scenario, prints the summary, writes `timeseries.csv` and
-/// `summary.json`.
-pub fn run_cli(args: &crate::cli::SilArgs) -> Result<()> {
+/// `summary.json`. Errors: unknown scenario; the run failed or a file could not be written.
+pub fn run_command(args: &SilOptions) -> Result<()> {
     let setup = scenarios::by_name(&args.scenario, args.seed).ok_or_else(|| {
         anyhow!(
             "unknown SIL scenario {:?}; known: {}",

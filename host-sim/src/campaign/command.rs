@@ -1,0 +1,82 @@
+//! The `campaign` job: runs a campaign from [`CampaignOptions`], prints a short summary and
+//! writes the files.
+
+use std::time::Instant;
+
+use anyhow::{bail, Result};
+
+use super::metrics::Convergence;
+use super::options::CampaignOptions;
+use super::output::{write_campaign, CampaignReport};
+use super::runner::{bound_set, run_campaign, CampaignConfig};
+use super::sampler::SamplerRadii;
+use super::stats::summarise;
+use crate::report::fmt_opt;
+
+/// `host-sim campaign`: runs the campaign, prints a short summary, writes the files.
+///
+/// Errors: invalid options or scenario; a file cannot be written.
+pub fn run_command(args: &CampaignOptions) -> Result<()> {
+    let scenario = args.base.scenario()?;
+    if args.converged_after_s > scenario.simulation.duration_s {
+        bail!(
+            "--converged-after-s ({}) is after the end of the run ({} s)",
+            args.converged_after_s,
+            scenario.simulation.duration_s
+        );
+    }
+    let config = CampaignConfig {
+        scenario,
+        controller: args.controller,
+        runs: args.runs,
+        seed: args.base.seed,
+        radii: SamplerRadii {
+            position_m: args.position_radius_m,
+            velocity_m_s: args.velocity_radius_m_s,
+            angular_velocity_rad_s: args.angular_velocity_radius_rad_s,
+        },
+        half_turns: args.half_turns,
+        convergence: Convergence {
+            position_m: args.converged_position_m,
+            attitude_deg: args.converged_attitude_deg,
+            after_s: args.converged_after_s,
+        },
+        progress: true,
+        threads: args.threads,
+    };
+    let start = Instant::now();
+    let results = run_campaign(&config)?;
+    let wall = start.elapsed().as_secs_f64();
+    let nominal = !config.scenario.perturbations.violates_model();
+    let stats = summarise(&results, nominal);
+    let report = CampaignReport::new(&config, bound_set(&config.scenario)?, stats, wall);
+    let files = write_campaign(&args.out, &report, &results, args.plots)?;
+    let r = &report.results;
+    let checked = if nominal { &r.nominal } else { &r.perturbed };
+    println!(
+        "{} runs of {} s ({}): {} converged ({:.2} %), 180-deg starts {}/{}; settling p50 {} s, \
+         p99 {} s; samples outside the a-priori bounds: {} of {} ({}); max switches in 1 s: {}; \
+         wall time {:.1} s ({:.1} runs/s)",
+        r.runs,
+        report.duration_s,
+        report.controller,
+        r.converged,
+        100.0 * r.fraction_converged,
+        r.half_turn_converged,
+        r.half_turn_runs,
+        fmt_opt(r.settling_time_s.p50),
+        fmt_opt(r.settling_time_s.p99),
+        checked.samples_outside_a_priori,
+        checked.samples,
+        if nominal {
+            "nominal runs"
+        } else {
+            "perturbed runs"
+        },
+        r.switching.max_switches_in_1s,
+        wall,
+        report.runs_per_s
+    );
+    println!("Wrote {} files to {}", files.len(), args.out.display());
+    Ok(())
+}

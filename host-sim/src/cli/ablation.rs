@@ -1,0 +1,32 @@
+//! `host-sim ablation`: the paper's design choices, measured.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+use host_sim::ablation::{self, AblationOptions};
+
+use super::common::BaseArgs;
+
+/// Options of `host-sim ablation`.
+#[derive(Debug, Args, Clone)]
+pub struct AblationArgs {
+    /// Output directory.
+    #[arg(long, value_name = "DIR", default_value = "out/ablation")]
+    pub out: PathBuf,
+    /// Repetitions of the seven 180° starts per noise level (hysteresis ablation).
+    #[arg(long, default_value_t = 4)]
+    pub repeats: u64,
+    /// Scenario, seed and overrides.
+    #[command(flatten)]
+    pub base: BaseArgs,
+}
+
+/// Runs both ablations ([`ablation::run_command`]).
+pub fn run(args: &AblationArgs) -> Result<()> {
+    ablation::run_command(&AblationOptions {
+        out: args.out.clone(),
+        repeats: args.repeats,
+        base: (&args.base).into(),
+    })
+}

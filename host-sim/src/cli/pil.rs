@@ -1,0 +1,44 @@
+//! `host-sim pil`: processor in the loop.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+use host_sim::harness::pil::{self, PilCommandOptions};
+
+/// Options of a processor-in-the-loop run (the SIL `paper` scenario on the firmware in QEMU).
+#[derive(Debug, Args, Clone)]
+pub struct PilArgs {
+    /// Firmware ELF for QEMU `mps2-an386`. Default:
+    /// `$CARGO_TARGET_DIR` (or `<workspace>/target`) + `/thumbv7em-none-eabihf/release/firmware-mps2-an386`.
+    #[arg(long, value_name = "PATH")]
+    pub elf: Option<PathBuf>,
+    /// QEMU binary.
+    #[arg(long, value_name = "BIN", default_value = "qemu-system-arm")]
+    pub qemu: PathBuf,
+    /// Output directory. Default: `./out/pil`. Gets timeseries.csv, summary.json, defmt.bin
+    /// and defmt.log.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Random seed (sensor noise, dropouts, byte chunking).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Flight time after release, in seconds. Default: the scenario's 30 s.
+    #[arg(long, value_name = "S")]
+    pub duration: Option<f64>,
+    /// Stall timeout: wall-clock seconds to wait for the firmware's answer to a tick.
+    #[arg(long, value_name = "S", default_value_t = pil::DEFAULT_TIMEOUT_S)]
+    pub timeout: f64,
+}
+
+/// Runs the PIL flight ([`pil::run_command`]).
+pub fn run(args: &PilArgs) -> Result<()> {
+    pil::run_command(&PilCommandOptions {
+        elf: args.elf.clone(),
+        qemu: args.qemu.clone(),
+        out: args.out.clone(),
+        seed: args.seed,
+        duration: args.duration,
+        timeout: args.timeout,
+    })
+}

@@ -1,0 +1,31 @@
+//! `host-sim sil`: software in the loop.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+use host_sim::harness::sil::{self, SilOptions};
+
+/// Options of a software-in-the-loop run.
+#[derive(Debug, Args, Clone)]
+pub struct SilArgs {
+    /// Scenario: `paper` (the helix from the upside-down start), `pose-loss` (failsafe),
+    /// `takeoff-land`.
+    #[arg(long, default_value = "paper")]
+    pub scenario: String,
+    /// Random seed (sensor noise, dropouts, byte chunking).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Output directory. Default: `./out/sil-<scenario>`. Gets timeseries.csv and summary.json.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// Runs the SIL scenario ([`sil::run_command`]).
+pub fn run(args: &SilArgs) -> Result<()> {
+    sil::run_command(&SilOptions {
+        scenario: args.scenario.clone(),
+        seed: args.seed,
+        out: args.out.clone(),
+    })
+}

@@ -1,0 +1,338 @@
+//! The firmware at the other end of the serial link, as the SIL loop's flight software: what
+//! the host sends each step and how it rebuilds, from the firmware's telemetry, what SIL reads
+//! from the pipeline's status (see the [module documentation](super) for the protocol).
+
+use std::time::{Duration, Instant};
+
+use anyhow::{bail, Result};
+use firmware::config::FlightConfig;
+use firmware::link;
+use firmware::link::mavlink::dialects::common::{MavCmd, MavMessage, MavResult, MavState};
+use firmware::pipeline::{ImuSample, Mode, MotorOutput};
+use firmware::safety::FlightState;
+use nalgebra::{Matrix4, Vector3, Vector4};
+
+use super::frames::{self, Actuators, FrameReader, ReaderCounters, Target};
+use super::transport::Transport;
+use crate::harness::qemu::Received;
+use crate::harness::sil::{FinalReport, FlightSoftware, TickReport};
+
+/// The firmware at the other end of a [`Transport`], as the SIL loop's flight software: sends
+/// the link bytes and one `HIL_SENSOR` per IMU sample, and at each tick reads the serial
+/// output until the tick's `HIL_ACTUATOR_CONTROLS` and `POSITION_TARGET_LOCAL_NED`, rebuilding
+/// what SIL reads from the pipeline's status (module documentation).
+pub struct FirmwareLink<T: Transport> {
+    transport: T,
+    reader: FrameReader,
+    timeout: Duration,
+    rotors: firmware::config::RotorConfig,
+    effectiveness: Matrix4<f64>,
+    pending: Vec<u8>,
+    sequence: u8,
+    bytes_sent: u64,
+    state: FlightState,
+    mode: Mode,
+    reference: Vector3<f64>,
+    estimate: Option<(u64, Vector3<f64>)>,
+    events: Vec<(String, Option<FlightState>)>,
+    refused: u32,
+    ack_mode: Option<Mode>,
+    last_frames: Vec<&'static str>,
+}
+
+/// The reference mode of `HEARTBEAT.custom_mode` (the pipeline's `Mode as u32`).
+pub fn mode_from_custom(custom_mode: u32) -> Option<Mode> {
+    [
+        Mode::Idle,
+        Mode::Hover,
+        Mode::Takeoff,
+        Mode::Land,
+        Mode::Helix,
+    ]
+    .into_iter()
+    .find(|m| *m as u32 == custom_mode)
+}
+
+/// The flight state named at the start of a `STATUSTEXT` (`"failsafe: pose lost …"`) and the
+/// rest of the text.
+fn state_change(text: &str) -> Option<(FlightState, &str)> {
+    let (name, reason) = text.split_once(": ")?;
+    [
+        FlightState::Disarmed,
+        FlightState::Armed,
+        FlightState::Failsafe,
+    ]
+    .into_iter()
+    .find(|s| s.name() == name)
+    .map(|s| (s, reason))
+}
+
+impl<T: Transport> FirmwareLink<T> {
+    /// A link to the firmware flying `cfg` (its rotor curve turns throttles back into thrust;
+    /// `effectiveness` is the mixer's matrix, rotor thrusts \[N\] → `(T [N], τ [N m])`), waiting
+    /// at most `timeout` (wall clock) for each tick's answer.
+    pub fn new(
+        transport: T,
+        cfg: &FlightConfig,
+        effectiveness: Matrix4<f64>,
+        timeout: Duration,
+    ) -> Self {
+        Self {
+            transport,
+            reader: FrameReader::new(),
+            timeout,
+            rotors: cfg.rotors,
+            effectiveness,
+            pending: Vec::new(),
+            sequence: 0,
+            bytes_sent: 0,
+            state: FlightState::Disarmed,
+            mode: Mode::Idle,
+            reference: Vector3::zeros(),
+            estimate: None,
+            events: Vec::new(),
+            refused: 0,
+            ack_mode: None,
+            last_frames: Vec::new(),
+        }
+    }
+
+    /// The transport back (to stop the emulator).
+    pub fn into_transport(self) -> T {
+        self.transport
+    }
+
+    /// Frame counters of the serial output read so far.
+    pub fn serial_counters(&self) -> ReaderCounters {
+        self.reader.counters()
+    }
+
+    /// Bytes sent so far.
+    pub fn bytes_sent(&self) -> u64 {
+        self.bytes_sent
+    }
+
+    fn flush(&mut self) -> Result<()> {
+        if !self.pending.is_empty() {
+            self.transport.send(&self.pending)?;
+            self.bytes_sent += self.pending.len() as u64;
+            self.pending.clear();
+        }
+        Ok(())
+    }
+
+    fn set_state(&mut self, to: FlightState, reason: &str) {
+        if to != self.state {
+            let from = self.state;
+            self.state = to;
+            self.events.push((
+                format!("state {} -> {} ({reason})", from.name(), to.name()),
+                Some(to),
+            ));
+        }
+        if to == FlightState::Disarmed {
+            self.set_mode(Mode::Idle);
+        }
+    }
+
+    fn set_mode(&mut self, mode: Mode) {
+        if mode != self.mode {
+            self.mode = mode;
+            self.events.push((format!("mode {}", mode.name()), None));
+        }
+    }
+
+    /// Takes in one message of the firmware while waiting for tick `t_us`: `Some` actuators /
+    /// `true` when the message is the tick's actuator frame / reference.
+    fn take_in(
+        &mut self,
+        t_us: u64,
+        message: MavMessage,
+        actuators: &mut Option<Actuators>,
+        target: &mut bool,
+    ) -> Result<()> {
+        if self.last_frames.len() == 8 {
+            self.last_frames.remove(0);
+        }
+        self.last_frames
+            .push(firmware::link::mavlink::Message::message_name(&message));
+        match message {
+            MavMessage::HIL_ACTUATOR_CONTROLS(m) => {
+                let a = Actuators::from_message(&m);
+                if a.time_us != t_us {
+                    bail!(
+                        "PIL: HIL_ACTUATOR_CONTROLS for t = {} us while waiting for t = {t_us} us \
+                         (the firmware ticked at another time: lockstep lost)",
+                        a.time_us
+                    );
+                }
+                actuators.get_or_insert(a);
+            }
+            MavMessage::POSITION_TARGET_LOCAL_NED(m) => {
+                let p = Target::from_message(&m);
+                self.reference = p.position;
+                *target |= u64::from(p.time_ms) * 1000 == t_us;
+            }
+            MavMessage::HEARTBEAT(m) => {
+                let to = match m.system_status {
+                    MavState::MAV_STATE_STANDBY => Some(FlightState::Disarmed),
+                    MavState::MAV_STATE_ACTIVE => Some(FlightState::Armed),
+                    MavState::MAV_STATE_CRITICAL => Some(FlightState::Failsafe),
+                    _ => None,
+                };
+                if let Some(to) = to {
+                    self.set_state(to, "HEARTBEAT");
+                }
+                if let Some(mode) = mode_from_custom(m.custom_mode) {
+                    self.set_mode(mode);
+                }
+            }
+            MavMessage::STATUSTEXT(m) => {
+                let text = String::from_utf8_lossy(&m.text.to_str().map_or_else(
+                    |_| m.text.iter().copied().take_while(|&b| b != 0).collect(),
+                    |s| s.as_bytes().to_vec(),
+                ))
+                .into_owned();
+                match state_change(&text) {
+                    Some((to, reason)) => self.set_state(to, reason),
+                    None => self.events.push((format!("text: {text}"), None)),
+                }
+            }
+            MavMessage::COMMAND_ACK(m) => {
+                self.events
+                    .push((format!("ack {:?}: {:?}", m.command, m.result), None));
+                if m.result != MavResult::MAV_RESULT_ACCEPTED {
+                    self.refused += 1;
+                } else if let Some(mode) = match m.command {
+                    // An accepted mission, takeoff or landing switches the mode at once
+                    // (taken after this tick's state changes); the next HEARTBEAT confirms it.
+                    MavCmd::MAV_CMD_MISSION_START => Some(Mode::Helix),
+                    MavCmd::MAV_CMD_NAV_TAKEOFF => Some(Mode::Takeoff),
+                    MavCmd::MAV_CMD_NAV_LAND => Some(Mode::Land),
+                    _ => None,
+                } {
+                    self.ack_mode = Some(mode);
+                }
+            }
+            MavMessage::LOCAL_POSITION_NED(m) => {
+                let p = firmware::frames::flip_vector([m.x, m.y, m.z]).cast::<f64>();
+                self.estimate = Some((u64::from(m.time_boot_ms) * 1000, p));
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    fn report(&mut self, a: Actuators) -> TickReport {
+        if let Some(mode) = self.ack_mode.take() {
+            self.set_mode(mode);
+        }
+        let state = match (a.armed, self.state) {
+            (false, _) => FlightState::Disarmed,
+            (true, FlightState::Disarmed) => FlightState::Armed,
+            (true, s) => s,
+        };
+        let mode = if state == FlightState::Disarmed {
+            Mode::Idle
+        } else {
+            self.mode
+        };
+        let rotor = |u: f32| {
+            if a.armed && u.is_finite() && u > 0.0 {
+                f64::from(self.rotors.thrust_from_throttle(u))
+            } else {
+                0.0
+            }
+        };
+        let wrench = self.effectiveness * Vector4::from(a.throttle.map(rotor));
+        TickReport {
+            output: MotorOutput {
+                throttle: a.throttle,
+                armed: a.armed,
+            },
+            state,
+            mode,
+            flying: mode != Mode::Idle,
+            reference: self.reference,
+            estimate: self.estimate,
+            thrust: wrench[0],
+            torque: [wrench[1], wrench[2], wrench[3]],
+            events: std::mem::take(&mut self.events),
+        }
+    }
+}
+
+impl<T: Transport> FlightSoftware for FirmwareLink<T> {
+    fn on_link_bytes(&mut self, bytes: &[u8], _t_us: u64) -> Result<()> {
+        self.pending.extend_from_slice(bytes);
+        Ok(())
+    }
+
+    fn on_imu(&mut self, sample: &ImuSample) -> Result<()> {
+        let mut buf = [0u8; link::MAX_FRAME];
+        let n = link::encode(
+            &frames::hil_sensor(sample),
+            255,
+            190,
+            self.sequence,
+            &mut buf,
+        );
+        self.sequence = self.sequence.wrapping_add(1);
+        self.pending.extend_from_slice(&buf[..n]);
+        self.flush()
+    }
+
+    fn control_tick(&mut self, t_us: u64) -> Result<TickReport> {
+        self.flush()?;
+        let deadline = Instant::now() + self.timeout;
+        let (mut actuators, mut target) = (None, false);
+        loop {
+            while let Some((_, message)) = self.reader.next_message() {
+                self.take_in(t_us, message, &mut actuators, &mut target)?;
+                if let (Some(a), true) = (actuators, target) {
+                    return Ok(self.report(a));
+                }
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            match self.transport.receive(left) {
+                Received::Bytes(b) => self.reader.push(&b),
+                Received::Timeout => bail!(
+                    "PIL stall at t = {t_us} us: no {} within {:.1} s (wall clock); last frames \
+                     from the firmware: {:?}; {} B sent, {:?} read, {} B held after the last \
+                     frame: {:02x?}; {}",
+                    match (actuators.is_some(), target) {
+                        (false, false) =>
+                            "HIL_ACTUATOR_CONTROLS and POSITION_TARGET_LOCAL_NED for this tick",
+                        (false, true) => "HIL_ACTUATOR_CONTROLS for this tick",
+                        _ => "POSITION_TARGET_LOCAL_NED for this tick",
+                    },
+                    self.timeout.as_secs_f64(),
+                    self.last_frames,
+                    self.bytes_sent,
+                    self.reader.counters(),
+                    self.reader.pending_bytes().len(),
+                    self.reader.pending_bytes(),
+                    self.transport.post_mortem()
+                ),
+                Received::Closed => bail!(
+                    "PIL: the firmware's serial output closed at t = {t_us} us (emulator \
+                     exited: crash, panic or hard fault?); last frames: {:?}; {}",
+                    self.last_frames,
+                    self.transport.post_mortem()
+                ),
+            }
+        }
+    }
+
+    fn finish(&mut self) -> Result<FinalReport> {
+        let c = self.reader.counters();
+        Ok(FinalReport {
+            mixer_saturations: 0,
+            link_frames: [0; 3],
+            telemetry_frames: [c.valid, c.malformed],
+            state: self.state,
+            non_finite: 0,
+            refused_commands: self.refused,
+        })
+    }
+}
