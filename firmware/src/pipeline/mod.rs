@@ -9,9 +9,9 @@
 //! checked finite last of all.
 //!
 //! One facet per file, each an `impl FlightPipeline` block or a small pure type:
-//! [`commands`] (commands and the certificate gate), [`mission`] (the takeoff/land mode
-//! machine, [`ModeMachine`]), [`landed`] (the landed detector, [`LandedDetector`]),
-//! [`failsafe`] (the failsafe law), [`telemetry`] (telemetry scheduling) and [`events`]
+//! `commands.rs` (commands and the certificate gate), `mission.rs` (the takeoff/land mode
+//! machine, [`ModeMachine`]), `landed.rs` (the landed detector, [`LandedDetector`]),
+//! `failsafe.rs` (the failsafe law), `telemetry.rs` (telemetry scheduling) and `events.rs`
 //! (events, counters, status). This file holds the pipeline's state, its construction and the
 //! per-sample and per-tick flow.
 
