@@ -82,14 +82,18 @@ impl RotorConfig {
     }
 }
 
-/// Time limits of the safety state machine \[µs\].
+/// Time limits of the safety state machine \[µs\] and the failsafe's level-hold law.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SafetyConfig {
-    /// A pose older than this refuses arming \[µs\] (issue: 50 ms).
+    /// A pose older than this refuses arming \[µs\]: the controller starts from the pose, so it
+    /// must be no more than a few motion-capture periods old.
     pub arm_pose_max_age_us: u64,
-    /// A pose older than this in flight starts the IMU-only failsafe \[µs\] (issue: 100 ms).
+    /// A pose older than this in flight starts the IMU-only failsafe \[µs\]: beyond it the
+    /// estimate extrapolates too far for the position law to act on it.
     pub failsafe_pose_age_us: u64,
-    /// Pose lost this long disarms \[µs\] (issue: 2 s).
+    /// Pose lost this long disarms \[µs\]: the failsafe descent has had time to reach the
+    /// ground from a typical indoor height, so stopping the motors no longer drops the vehicle
+    /// from height.
     pub disarm_pose_age_us: u64,
     /// Whether an arm command may ask to arm upside down (it must also say so explicitly).
     pub allow_inverted_arming: bool,
@@ -98,6 +102,13 @@ pub struct SafetyConfig {
     /// Failsafe: commanded vertical descent speed [m/s] (positive down) from the IMU
     /// dead-reckoned vertical velocity.
     pub failsafe_descent_speed: f32,
+    /// Failsafe: gain [1/s] from the vertical speed error to the commanded vertical
+    /// acceleration (`a = g + k (−v_descent − v_z)`): a first-order approach to the descent
+    /// speed with time constant `1/k`.
+    pub failsafe_descent_gain: f32,
+    /// Failsafe: smallest tilt cosine `e₃ᵀ R e₃` the thrust is divided by \[dimensionless\], so a
+    /// strongly tilted vehicle asks at most `1/this` times the level thrust instead of diverging.
+    pub failsafe_tilt_cos_min: f32,
     /// Failsafe: thrust is kept in `[lo, hi] · m g` \[dimensionless\].
     pub failsafe_thrust_ratio: [f32; 2],
     /// Refuse references whose Theorem 2 conditions fail too (default false: Theorem 2's bounds
@@ -105,20 +116,60 @@ pub struct SafetyConfig {
     pub require_theorem2: bool,
 }
 
-/// Reference smoothing and missions.
+/// Reference smoothing and missions (takeoff and landing targets).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReferenceConfig {
     /// Bandwidth `λ` [1/s] of the fourth-order critically damped setpoint filter.
     pub smoothing_rate: f32,
     /// Default takeoff height above the arming point \[m\] when the command gives none.
     pub takeoff_height: f32,
-    /// Landing: below this height above the arming point with `|v| <` `landed_speed` the vehicle
-    /// counts as landed \[m\].
-    pub landed_height: f32,
-    /// Landing speed threshold [m/s].
-    pub landed_speed: f32,
+    /// Largest takeoff height a command may ask for \[m\]: a guard against a garbled or
+    /// mis-scaled parameter (e.g. millimetres) sending the vehicle through the ceiling.
+    pub takeoff_height_max: f32,
+    /// A takeoff ends (mode hover) once the estimated position is within this distance of the
+    /// takeoff target \[m\].
+    pub takeoff_reached_distance: f32,
     /// Land target: this far below the arming height \[m\] so the vehicle settles on the ground.
     pub land_undershoot: f32,
+}
+
+/// The landed detector: when the vehicle counts as on the ground, at the end of a landing or
+/// in the failsafe (see [`crate::pipeline::LandedDetector`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LandedConfig {
+    /// Landing: the vehicle is on the ground below this height above the arming point \[m\]
+    /// (the land target undershoots the ground, so the height settles near 0) ...
+    pub height: f32,
+    /// ... with a speed `|v|` below this [m/s] (the landing reference is still moving, or the
+    /// vehicle bounces, above it).
+    pub speed: f32,
+    /// Failsafe: no ground contact is detected before this time in the failsafe \[µs\], so the
+    /// thrust step at its entry (which shakes the accelerometer and the dead-reckoned velocity)
+    /// is not mistaken for a touchdown.
+    pub failsafe_settle_us: u64,
+    /// Failsafe: on the ground, the dead-reckoned vertical speed `|v_z|` is below this [m/s]
+    /// (the failsafe descends faster, see [`SafetyConfig::failsafe_descent_speed`]) ...
+    pub failsafe_vertical_speed: f32,
+    /// ... the commanded thrust is below this fraction of the weight `m g`
+    /// \[dimensionless\] (the descent law lowers it once the ground stops the descent) ...
+    pub failsafe_thrust_ratio: f32,
+    /// ... and the specific force `|f|` is above this fraction of `g` \[dimensionless\] (the
+    /// ground carries the weight; in free fall it would read near 0).
+    pub failsafe_specific_force_ratio: f32,
+    /// Consecutive control ticks the conditions must hold before the vehicle counts as landed
+    /// \[ticks\]: a bounce or one noisy estimate does not disarm it.
+    pub confirm_ticks: u32,
+}
+
+/// Telemetry rates of [`crate::pipeline::FlightPipeline::telemetry`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TelemetryConfig {
+    /// Period of the `HEARTBEAT` \[µs\] (MAVLink's 1 Hz convention: ground stations count the
+    /// link lost after a few missed heartbeats).
+    pub heartbeat_period_us: u64,
+    /// Period of `ATTITUDE_QUATERNION` and `LOCAL_POSITION_NED` \[µs\]: fast enough for a ground
+    /// station's display, a fraction of the link the pose stream leaves free.
+    pub state_period_us: u64,
 }
 
 /// Everything [`crate::pipeline::FlightPipeline::new`] needs.
@@ -136,8 +187,16 @@ pub struct FlightConfig {
     pub safety: SafetyConfig,
     /// Reference smoothing and missions.
     pub reference: ReferenceConfig,
+    /// Landed detector thresholds.
+    pub landed: LandedConfig,
+    /// Telemetry rates.
+    pub telemetry: TelemetryConfig,
     /// Nominal control period \[s\] (100 Hz).
     pub control_period: f32,
+    /// The control step `dt` measured between ticks is clamped to `[lo, hi] ·`
+    /// `control_period` \[dimensionless\], so a late, early or repeated tick (timer jitter, a
+    /// stall) cannot feed the filters a zero or huge step.
+    pub control_dt_ratio: [f32; 2],
     /// Known latency of the motion-capture pose \[µs\], subtracted from the arrival time.
     pub mocap_latency_us: u64,
     /// Stillness calibration length [samples of the IMU].
@@ -150,6 +209,9 @@ pub struct FlightConfig {
     /// Mahony proportional gain [1/s] and integral gain [1/s²] of the IMU-only attitude
     /// (`k_I = k_P²/4` makes the error dynamics critically damped).
     pub mahony_gains: [f32; 2],
+    /// Longest step \[s\] the Mahony filter integrates between two IMU samples: after a gap
+    /// (a stalled or restarted sensor) it does not integrate one stale rate over the whole gap.
+    pub mahony_dt_max: f32,
     /// MAVLink system id of this vehicle.
     pub system_id: u8,
     /// MAVLink component id of this vehicle (1 = autopilot).
@@ -209,22 +271,39 @@ impl FlightConfig {
                 allow_inverted_arming: true,
                 upright_min_cos: 0.5,
                 failsafe_descent_speed: 0.7,
+                failsafe_descent_gain: 2.0,
+                failsafe_tilt_cos_min: 0.5,
                 failsafe_thrust_ratio: [0.6, 1.2],
                 require_theorem2: false,
             },
             reference: ReferenceConfig {
                 smoothing_rate: 2.0,
                 takeoff_height: 1.0,
-                landed_height: 0.08,
-                landed_speed: 0.15,
+                takeoff_height_max: 100.0,
+                takeoff_reached_distance: 0.1,
                 land_undershoot: 0.3,
             },
+            landed: LandedConfig {
+                height: 0.08,
+                speed: 0.15,
+                failsafe_settle_us: 300_000,
+                failsafe_vertical_speed: 0.15,
+                failsafe_thrust_ratio: 0.9,
+                failsafe_specific_force_ratio: 0.95,
+                confirm_ticks: 30,
+            },
+            telemetry: TelemetryConfig {
+                heartbeat_period_us: 1_000_000,
+                state_period_us: 50_000,
+            },
             control_period: 0.01,
+            control_dt_ratio: [0.2, 5.0],
             mocap_latency_us: 10_000,
             gyro_calibration_samples: 1000,
             mocap_position_sigma: 1.0e-3,
             velocity_filter_accel_psd: 2.0,
             mahony_gains: [1.0, 0.25],
+            mahony_dt_max: 0.01,
             system_id: 1,
             component_id: 1,
         }

@@ -1,0 +1,305 @@
+//! Commands from the ground station and the certificate gate. Each inbound MAVLink message
+//! (pose, command, hover setpoint, HIL sensor sample) is dispatched here; commands are
+//! answered with a `COMMAND_ACK` and refusals logged and sent as `STATUSTEXT`. A new reference
+//! (hold at arming, takeoff, land, setpoint, helix) is flown only if the a-priori bound
+//! certificate accepts its constants ([`FlightPipeline::accept`]: Assumption 1 and Theorem 1,
+//! Theorem 2 as configured) and the controller takes it.
+
+use controller_core::{certify, Controller, FilterStart, TrajectoryConstants};
+use mavlink::dialects::common::{MavResult, MavSeverity};
+use nalgebra::Vector3;
+
+#[cfg(feature = "hil")]
+use super::ImuSample;
+use super::{Event, FlightPipeline, Mode};
+use crate::estimator::PoseCheck;
+use crate::flight_reference::{FlightReference, ReferenceMode};
+use crate::link::{Command, Inbound};
+use crate::safety::{check_arm, ArmInputs, FlightState};
+
+/// Refusal detail for events and STATUSTEXT: the reason, and for a certificate or
+/// parameter refusal the condition with both sides (`condition` empty otherwise).
+pub(super) struct Refusal {
+    reason: &'static str,
+    condition: &'static str,
+    lhs: f32,
+    rhs: f32,
+}
+
+impl FlightPipeline {
+    /// One decoded inbound message at `now_us`.
+    pub(super) fn handle(&mut self, m: Inbound, now_us: u64) {
+        match m {
+            Inbound::Pose {
+                position, attitude, ..
+            } => match self.estimator.on_pose(&position, &attitude, now_us) {
+                PoseCheck::Used => {
+                    self.counters.poses_used = self.counters.poses_used.saturating_add(1)
+                }
+                PoseCheck::NonFinite => self.non_finite("pose"),
+                // A quaternion far from unit norm is as unusable as a NaN: same handling.
+                PoseCheck::BadQuaternion => self.non_finite("pose quaternion"),
+                PoseCheck::OutOfOrder => {}
+            },
+            Inbound::Command { command, mav_cmd } => {
+                let result = self.command(command, now_us);
+                let r = match result {
+                    Ok(()) => {
+                        self.event(Event::CommandAccepted {
+                            command: command.name(),
+                        });
+                        MavResult::MAV_RESULT_ACCEPTED
+                    }
+                    Err(refusal) => {
+                        self.refused(command.name(), &refusal);
+                        MavResult::MAV_RESULT_DENIED
+                    }
+                };
+                let _ = self.acks.push_back((mav_cmd, r));
+            }
+            Inbound::Setpoint { position, yaw } => {
+                if let Err(r) = self.setpoint(position, yaw, now_us) {
+                    self.refused("setpoint", &r);
+                }
+            }
+            #[cfg(feature = "hil")]
+            Inbound::HilSensor {
+                gyro_rad_s,
+                accel_m_s2,
+                time_us,
+            } => {
+                self.on_imu(&ImuSample {
+                    gyro_rad_s,
+                    accel_m_s2,
+                    time_us,
+                });
+                self.hil_time_us = Some(self.hil_time_us.map_or(time_us, |t| t.max(time_us)));
+            }
+        }
+    }
+
+    /// Time of the latest `HIL_SENSOR` sample \[µs\] (`hil` feature only): the simulation's
+    /// clock, which paces the processor-in-the-loop control ticks. `None` before the first.
+    #[cfg(feature = "hil")]
+    pub fn hil_time_us(&self) -> Option<u64> {
+        self.hil_time_us
+    }
+
+    /// Counts and logs a refused command or setpoint, and queues its STATUSTEXT.
+    fn refused(&mut self, command: &'static str, r: &Refusal) {
+        self.counters.refused_commands = self.counters.refused_commands.saturating_add(1);
+        self.event(Event::CommandRefused {
+            command,
+            reason: r.reason,
+        });
+        if !r.condition.is_empty() {
+            self.event(Event::ReferenceRefused {
+                condition: r.condition,
+                lhs: r.lhs,
+                rhs: r.rhs,
+            });
+        }
+        let _ = self
+            .texts
+            .push_back((MavSeverity::MAV_SEVERITY_WARNING, command, r.reason));
+    }
+
+    /// A refusal with a reason only.
+    fn simple(reason: &'static str) -> Refusal {
+        Refusal {
+            reason,
+            condition: "",
+            lhs: 0.0,
+            rhs: 0.0,
+        }
+    }
+
+    /// Certificate gate for a new reference: refuses when an Assumption 1 or Theorem 1
+    /// condition fails (or Theorem 2 too if configured), or when the controller refuses it.
+    fn accept(&mut self, k: &TrajectoryConstants<f32>, start: FilterStart) -> Result<(), Refusal> {
+        let c = &self.cfg;
+        let cert = match certify(&c.vehicle, &c.limits, &c.gains, k, start) {
+            Ok(cert) => cert,
+            Err(e) => {
+                let r = crate::report::refusal(&e);
+                return Err(Refusal {
+                    reason: "reference refused: parameter",
+                    condition: r.name,
+                    lhs: r.value as f32,
+                    rhs: f32::NAN,
+                });
+            }
+        };
+        let strict = c.safety.require_theorem2;
+        let mut warnings: heapless::Vec<(&'static str, f32, f32), 4> = heapless::Vec::new();
+        for cond in cert.violations() {
+            if cond.name.starts_with("theorem2") && !strict {
+                let _ = warnings.push((cond.name, cond.lhs, cond.rhs));
+            } else {
+                return Err(Refusal {
+                    reason: "reference infeasible (certificate)",
+                    condition: cond.name,
+                    lhs: cond.lhs,
+                    rhs: cond.rhs,
+                });
+            }
+        }
+        let controller = match self.controller.as_mut() {
+            Some(ctl) => ctl,
+            None => return Err(Self::simple("not armed")),
+        };
+        if let Err(e) = controller.accept_reference(k) {
+            let r = crate::report::refusal(&e);
+            return Err(Refusal {
+                reason: "reference refused by the controller",
+                condition: r.name,
+                lhs: r.value as f32,
+                rhs: r.high as f32,
+            });
+        }
+        for (condition, lhs, rhs) in warnings {
+            self.event(Event::ReferenceWarning {
+                condition,
+                lhs,
+                rhs,
+            });
+        }
+        Ok(())
+    }
+
+    /// Where the filter starts for a reference change: zero before the controller has run.
+    fn filter_start(&self) -> FilterStart {
+        if self.mission.mode() == Mode::Idle {
+            FilterStart::Zero
+        } else {
+            FilterStart::InSaturationBox
+        }
+    }
+
+    /// Flies to `target` (NWU \[m\]) with `yaw` \[rad\] through the setpoint filter in `mode`,
+    /// if the certificate gate accepts the filter's constants.
+    fn go_to(
+        &mut self,
+        target: Vector3<f32>,
+        yaw: f32,
+        now_us: u64,
+        mode: Mode,
+    ) -> Result<(), Refusal> {
+        let proposed = self.reference.proposed(now_us, target, yaw);
+        let k = proposed.constants();
+        self.accept(&k, self.filter_start())?;
+        self.reference.set_target(proposed);
+        self.set_mode(mode);
+        Ok(())
+    }
+
+    /// Runs command `c`, or says why not.
+    fn command(&mut self, c: Command, now_us: u64) -> Result<(), Refusal> {
+        let state = self.supervisor.state();
+        match c {
+            Command::Kill => {
+                let t = self.supervisor.kill(now_us);
+                self.transition(t);
+                Ok(())
+            }
+            Command::Disarm => match state {
+                FlightState::Disarmed => Ok(()),
+                FlightState::Armed if self.mission.mode() == Mode::Idle => {
+                    let t = self.supervisor.disarm(now_us, "disarm command");
+                    self.transition(t);
+                    Ok(())
+                }
+                _ => Err(Self::simple("in flight: land, or kill")),
+            },
+            Command::Arm { inverted } => {
+                let est = self.estimator.estimate(now_us);
+                let up_cos = est.map_or(f32::NAN, |e| (e.attitude * Vector3::z()).z);
+                let inputs = ArmInputs {
+                    calibrating: self.estimator.calibrating(),
+                    converged: self.estimator.converged(),
+                    pose_age_us: self.estimator.pose_age_us(now_us),
+                    pose_bad: self.estimator.last_pose_bad(),
+                    up_cos,
+                    inverted_requested: inverted,
+                };
+                check_arm(&self.cfg.safety, state, &inputs)
+                    .map_err(|r| Self::simple(r.reason()))?;
+                let est = est.ok_or_else(|| Self::simple("no estimate"))?;
+                let controller = Controller::new(
+                    self.cfg.vehicle,
+                    self.cfg.gains,
+                    &TrajectoryConstants::zero(),
+                )
+                .map_err(|_| Self::simple("controller refused"))?;
+                self.controller = Some(controller);
+                let (_, _, yaw) = est.attitude.euler_angles();
+                self.reference = FlightReference::new(
+                    self.cfg.reference.smoothing_rate,
+                    est.position,
+                    yaw,
+                    self.table,
+                );
+                // The hold reference (constants zero) must pass the gate too.
+                if let Err(r) = self.accept(&TrajectoryConstants::zero(), FilterStart::Zero) {
+                    self.controller = None;
+                    return Err(r);
+                }
+                self.landed.reset();
+                if let Some(mode) = self.mission.armed(est.position.z) {
+                    self.event(Event::ModeChanged { mode });
+                }
+                let t = self.supervisor.arm(now_us);
+                self.transition(t);
+                Ok(())
+            }
+            Command::Takeoff { height } => {
+                let position = self.estimator.estimate(now_us).map(|e| e.position);
+                let target = self
+                    .mission
+                    .takeoff_target(&self.cfg.reference, state, position, height)
+                    .map_err(Self::simple)?;
+                let (_, yaw) = self.reference.filter().output();
+                self.go_to(target, yaw, now_us, Mode::Takeoff)
+            }
+            Command::Land => {
+                let position = self.estimator.estimate(now_us).map(|e| e.position);
+                let target = self
+                    .mission
+                    .land_target(&self.cfg.reference, state, position)
+                    .map_err(Self::simple)?;
+                let (_, yaw) = self.reference.filter().output();
+                self.landed.reset();
+                self.go_to(target, yaw, now_us, Mode::Land)
+            }
+            Command::StartHelix => {
+                if state != FlightState::Armed {
+                    return Err(Self::simple("not armed"));
+                }
+                let k = self.reference.helix_constants();
+                self.accept(&k, self.filter_start())?;
+                self.reference.start_helix(now_us);
+                self.set_mode(Mode::Helix);
+                Ok(())
+            }
+        }
+    }
+
+    /// A hover setpoint: position NWU \[m\], yaw \[rad\] (`None`: keep the current target's).
+    fn setpoint(
+        &mut self,
+        position: Vector3<f32>,
+        yaw: Option<f32>,
+        now_us: u64,
+    ) -> Result<(), Refusal> {
+        self.mission
+            .setpoint_allowed(self.supervisor.state())
+            .map_err(Self::simple)?;
+        let yaw = yaw.unwrap_or_else(|| self.reference.filter().target().1);
+        if self.reference.filter().target() == (position, yaw)
+            && self.reference.mode() == ReferenceMode::Setpoint
+        {
+            return Ok(()); // repeated setpoint (GCS streams): nothing to do
+        }
+        self.go_to(position, yaw, now_us, Mode::Hover)
+    }
+}

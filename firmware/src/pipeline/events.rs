@@ -1,0 +1,183 @@
+//! What the board logs: events (state and mode changes, refusals, non-finite values) in a
+//! bounded queue, monotone counters and the status snapshot. Plain numbers and static strings,
+//! so the board formats them with defmt and host-sim prints them.
+
+use heapless::Deque;
+
+use super::{FlightPipeline, Mode};
+use crate::link::LinkCounters;
+use crate::safety::FlightState;
+
+/// Something the board logs with defmt (plain numbers and static strings).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Event {
+    /// The gyro calibration finished; bias [rad/s] FLU.
+    Calibrated {
+        /// Bias [rad/s].
+        bias: [f32; 3],
+    },
+    /// The flight state changed.
+    StateChanged {
+        /// Old state.
+        from: FlightState,
+        /// New state.
+        to: FlightState,
+        /// Why.
+        reason: &'static str,
+    },
+    /// The reference mode changed.
+    ModeChanged {
+        /// New mode.
+        mode: Mode,
+    },
+    /// A command was accepted.
+    CommandAccepted {
+        /// Command name.
+        command: &'static str,
+    },
+    /// A command or setpoint was refused.
+    CommandRefused {
+        /// Command name (`"setpoint"` for a hover target).
+        command: &'static str,
+        /// Why.
+        reason: &'static str,
+    },
+    /// A reference was refused by the certificate: the violated condition with both sides
+    /// (`lhs > rhs` should hold), or a parameter refusal (`lhs` = its value, `rhs` = NaN).
+    ReferenceRefused {
+        /// Condition or parameter name.
+        condition: &'static str,
+        /// Left-hand side / value.
+        lhs: f32,
+        /// Right-hand side.
+        rhs: f32,
+    },
+    /// A reference was accepted although a Theorem 2 condition fails (bounds not guaranteed;
+    /// the conditions are sufficient, not necessary).
+    ReferenceWarning {
+        /// Condition name.
+        condition: &'static str,
+        /// Left-hand side.
+        lhs: f32,
+        /// Right-hand side.
+        rhs: f32,
+    },
+    /// A non-finite value was found (and counted).
+    NonFinite {
+        /// Where.
+        source: &'static str,
+    },
+}
+
+/// Counters for the logs (monotone).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// MAVLink frame counters.
+    pub link: LinkCounters,
+    /// Non-finite values found (pose, IMU, controller, mixer).
+    pub non_finite: u32,
+    /// Commands and setpoints refused.
+    pub refused_commands: u32,
+    /// Events lost because the queue was full.
+    pub events_dropped: u32,
+    /// Ticks in which the mixer gave something up.
+    pub mixer_saturations: u32,
+    /// Control ticks run.
+    pub control_ticks: u32,
+    /// IMU samples received.
+    pub imu_samples: u32,
+    /// Poses used by the estimator.
+    pub poses_used: u32,
+    /// Telemetry frames not sent for lack of room.
+    pub telemetry_dropped: u32,
+}
+
+/// Snapshot for the logs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PipelineStatus {
+    /// Flight state.
+    pub state: FlightState,
+    /// Reference mode.
+    pub mode: Mode,
+    /// Gyro calibration running.
+    pub calibrating: bool,
+    /// Estimator converged.
+    pub converged: bool,
+    /// Age of the last good pose \[µs\] at the last tick (`u64::MAX`: never).
+    pub pose_age_us: u64,
+    /// Counters.
+    pub counters: Counters,
+    /// Estimated position \[m\], NWU.
+    pub position: [f32; 3],
+    /// Estimated velocity [m/s], NWU.
+    pub velocity: [f32; 3],
+    /// Reference position \[m\], NWU.
+    pub reference_position: [f32; 3],
+    /// `|p − p_d|` \[m\] (0 when not flying the controller).
+    pub position_error: f32,
+    /// Commanded collective thrust \[N\] (after the mixer).
+    pub thrust: f32,
+    /// Commanded torque [N m], FLU (after the mixer).
+    pub torque: [f32; 3],
+    /// Last motor throttles.
+    pub throttle: [f32; 4],
+}
+
+/// Event queue length: the events of a burst of commands and state changes within one log
+/// period; more are counted as dropped ([`Counters::events_dropped`]).
+pub(super) const EVENTS: usize = 16;
+
+/// The bounded event queue, oldest first.
+pub(super) type EventQueue = Deque<Event, EVENTS>;
+
+impl FlightPipeline {
+    /// Queues `e` for the log; counts it as dropped when the queue is full.
+    pub(super) fn event(&mut self, e: Event) {
+        if self.events.push_back(e).is_err() {
+            self.counters.events_dropped = self.counters.events_dropped.saturating_add(1);
+        }
+    }
+
+    /// Counts a non-finite value found at `source`, logs it, and tells the next tick's
+    /// supervisor (which sends an armed vehicle to the failsafe).
+    pub(super) fn non_finite(&mut self, source: &'static str) {
+        self.counters.non_finite = self.counters.non_finite.saturating_add(1);
+        self.pending_non_finite = true;
+        self.event(Event::NonFinite { source });
+    }
+
+    /// Snapshot of the state and counters.
+    pub fn status(&self) -> PipelineStatus {
+        let mix = self.last_mix;
+        PipelineStatus {
+            state: self.supervisor.state(),
+            mode: self.mission.mode(),
+            calibrating: self.estimator.calibrating(),
+            converged: self.estimator.converged(),
+            pose_age_us: self.status_pose_age,
+            counters: self.counters,
+            position: self.status_position,
+            velocity: self.status_velocity,
+            reference_position: self.status_reference,
+            position_error: if self.flying() {
+                self.status_error
+            } else {
+                0.0
+            },
+            thrust: mix.map_or(0.0, |m| m.achieved_thrust),
+            torque: mix.map_or([0.0; 3], |m| {
+                [
+                    m.achieved_torque.x,
+                    m.achieved_torque.y,
+                    m.achieved_torque.z,
+                ]
+            }),
+            throttle: self.last_output.throttle,
+        }
+    }
+
+    /// The next event (state change, refusal, …), oldest first.
+    pub fn take_events(&mut self) -> Option<Event> {
+        self.events.pop_front()
+    }
+}

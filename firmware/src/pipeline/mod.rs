@@ -1,0 +1,466 @@
+//! The flight pipeline: IMU and MAVLink in, motor throttles and telemetry out. Everything the
+//! firmware flies, with no register and no logging, so host-sim runs the very same code.
+//!
+//! Per control tick (100 Hz): estimate at `now` → safety supervisor → by state: disarmed
+//! (throttle 0), armed idle (idle throttle, waiting for takeoff / mission / setpoint), armed
+//! flying (reference → controller-core law → mixer → thrust curve), failsafe (IMU-only level
+//! attitude hold with the paper's saturated attitude law and a descent thrust). Any non-finite
+//! value on the way is counted and sends an armed vehicle to the failsafe; the throttles are
+//! checked finite last of all.
+//!
+//! One facet per file, each an `impl FlightPipeline` block or a small pure type:
+//! `commands.rs` (commands and the certificate gate), `mission.rs` (the takeoff/land mode
+//! machine, [`ModeMachine`]), `landed.rs` (the landed detector, [`LandedDetector`]),
+//! `failsafe.rs` (the failsafe law), `telemetry.rs` (telemetry scheduling) and `events.rs`
+//! (events, counters, status). This file holds the pipeline's state, its construction and the
+//! per-sample and per-tick flow.
+
+mod commands;
+mod events;
+mod failsafe;
+mod landed;
+mod mission;
+mod telemetry;
+#[cfg(test)]
+mod tests;
+
+pub use events::{Counters, Event, PipelineStatus};
+pub use landed::{LandedDetector, LandedInputs};
+pub use mission::{Mode, ModeMachine};
+
+use controller_core::{
+    certify, Certificate, Controller, FilterStart, ParameterError, TrajectoryConstants,
+    VehicleState,
+};
+use heapless::Deque;
+use mavlink::dialects::common::{MavCmd, MavResult, MavSeverity};
+use nalgebra::{UnitQuaternion, Vector3};
+
+use crate::config::FlightConfig;
+use crate::estimator::{Estimate, Estimator, EstimatorConfig};
+use crate::flight_reference::{FlightReference, SupTable};
+use crate::imu_attitude::Mahony;
+use crate::link::{Decoder, Inbound};
+use crate::mixer::{BoxFit, MixOutput, Mixer, MixerError};
+use crate::safety::{FlightState, Supervisor, TickInputs, Transition};
+use events::EventQueue;
+
+/// One IMU sample, body FLU (x forward, y left, z up: the controller's body frame).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImuSample {
+    /// Angular rate [rad/s], raw (the bias is removed here).
+    pub gyro_rad_s: [f32; 3],
+    /// Specific force [m/s²] (reads `+g` along up at rest).
+    pub accel_m_s2: [f32; 3],
+    /// Sample time \[µs\], the same clock as `now_us` elsewhere.
+    pub time_us: u64,
+}
+
+/// Motor commands of one tick.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MotorOutput {
+    /// Throttle per motor in [0, 1] (0 = stopped), order of [`crate::mixer`]; never NaN;
+    /// all 0 when disarmed.
+    pub throttle: [f32; 4],
+    /// Whether the motors may spin.
+    pub armed: bool,
+}
+
+impl MotorOutput {
+    const STOPPED: Self = Self {
+        throttle: [0.0; 4],
+        armed: false,
+    };
+}
+
+/// Why the pipeline cannot be built.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BootError {
+    /// A vehicle, limit, gain or reference parameter is refused (see
+    /// [`crate::report::refusal`] to flatten it for logs).
+    Parameter(ParameterError),
+    /// The rotor geometry or range is unusable.
+    Mixer(MixerError),
+}
+
+/// What the board logs at boot: the certificate of the demo mission (the paper's helix, filters
+/// starting at zero) and whether its a-priori `(T, τ)` box fits inside the rotors.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BootReport {
+    /// The a-priori bound certificate for the helix demo.
+    pub certificate: Certificate<f32>,
+    /// The certificate's box `[T_min, T_max] × Π[−τ_i, τ_i]` against the rotors.
+    pub a_priori_fit: BoxFit,
+    /// Total rotor thrust capacity `4 f_max` \[N\] (vs the configured `T_max`).
+    pub thrust_capacity: f32,
+}
+
+/// The flight pipeline.
+pub struct FlightPipeline {
+    cfg: FlightConfig,
+    mixer: Mixer,
+    report: BootReport,
+    table: SupTable,
+    estimator: Estimator,
+    mahony: Mahony,
+    decoder: Decoder,
+    supervisor: Supervisor,
+    controller: Option<Controller<f32>>,
+    reference: FlightReference,
+    mission: ModeMachine,
+    last_tick_us: Option<u64>,
+    last_imu_us: Option<u64>,
+    pending_non_finite: bool,
+    landed: LandedDetector,
+    last_mix: Option<MixOutput>,
+    last_output: MotorOutput,
+    failsafe_thrust: f32,
+    events: EventQueue,
+    acks: Deque<(MavCmd, MavResult), 8>,
+    texts: Deque<(MavSeverity, &'static str, &'static str), 8>,
+    sequence: u8,
+    next_heartbeat_us: u64,
+    next_state_us: u64,
+    counters: Counters,
+    status_position: [f32; 3],
+    status_velocity: [f32; 3],
+    status_attitude: UnitQuaternion<f32>,
+    status_rates: [f32; 3],
+    status_reference: [f32; 3],
+    status_error: f32,
+    status_pose_age: u64,
+    was_calibrating: bool,
+    /// Time of the latest `HIL_SENSOR` \[µs\]: the simulation's clock.
+    #[cfg(feature = "hil")]
+    hil_time_us: Option<u64>,
+    /// Tick time \[µs\] whose HIL outputs are not sent yet.
+    #[cfg(feature = "hil")]
+    hil_pending: Option<u64>,
+}
+
+impl FlightPipeline {
+    /// Builds the pipeline: certifies the helix demo, builds the mixer and checks the a-priori
+    /// box against the rotors. Errors: [`BootError`].
+    pub fn new(config: &FlightConfig) -> Result<Self, BootError> {
+        let cfg = *config;
+        let mixer = Mixer::new(&cfg.rotors).map_err(BootError::Mixer)?;
+        let table = SupTable::PRECOMPUTED;
+        let reference =
+            FlightReference::new(cfg.reference.smoothing_rate, Vector3::zeros(), 0.0, table);
+        let certificate = certify(
+            &cfg.vehicle,
+            &cfg.limits,
+            &cfg.gains,
+            &reference.helix_constants(),
+            FilterStart::Zero,
+        )
+        .map_err(BootError::Parameter)?;
+        // The controller must accept a hover (constants zero) too.
+        Controller::new(cfg.vehicle, cfg.gains, &TrajectoryConstants::zero())
+            .map_err(BootError::Parameter)?;
+        let b = &certificate.bounds;
+        let a_priori_fit = mixer.box_fit(b.thrust_min, b.thrust_max, &b.torque_max);
+        let report = BootReport {
+            certificate,
+            a_priori_fit,
+            thrust_capacity: 4.0 * cfg.rotors.thrust_max,
+        };
+        let estimator = Estimator::new(EstimatorConfig {
+            latency_us: cfg.mocap_latency_us,
+            calibration_samples: cfg.gyro_calibration_samples,
+            position_sigma: cfg.mocap_position_sigma,
+            accel_psd: cfg.velocity_filter_accel_psd,
+            gravity: cfg.vehicle.gravity,
+        });
+        Ok(Self {
+            cfg,
+            mixer,
+            report,
+            table,
+            estimator,
+            mahony: Mahony::new(
+                cfg.mahony_gains[0],
+                cfg.mahony_gains[1],
+                cfg.vehicle.gravity,
+            ),
+            decoder: Decoder::new(cfg.system_id),
+            supervisor: Supervisor::new(cfg.safety),
+            controller: None,
+            reference,
+            mission: ModeMachine::new(),
+            last_tick_us: None,
+            last_imu_us: None,
+            pending_non_finite: false,
+            landed: LandedDetector::new(cfg.landed, &cfg.vehicle),
+            last_mix: None,
+            last_output: MotorOutput::STOPPED,
+            failsafe_thrust: 0.0,
+            events: Deque::new(),
+            acks: Deque::new(),
+            texts: Deque::new(),
+            sequence: 0,
+            next_heartbeat_us: 0,
+            next_state_us: 0,
+            counters: Counters::default(),
+            status_position: [0.0; 3],
+            status_velocity: [0.0; 3],
+            status_attitude: UnitQuaternion::identity(),
+            status_rates: [0.0; 3],
+            status_reference: [0.0; 3],
+            status_error: 0.0,
+            status_pose_age: u64::MAX,
+            was_calibrating: true,
+            #[cfg(feature = "hil")]
+            hil_time_us: None,
+            #[cfg(feature = "hil")]
+            hil_pending: None,
+        })
+    }
+
+    /// The boot certificate and the mixer fit, for the defmt banner.
+    pub fn boot_report(&self) -> BootReport {
+        self.report
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &FlightConfig {
+        &self.cfg
+    }
+
+    /// The mixer (geometry, for host-sim's plant).
+    pub fn mixer(&self) -> &Mixer {
+        &self.mixer
+    }
+
+    /// The last allocation (achieved thrust/torque, what was given up), if any.
+    pub fn last_mix(&self) -> Option<MixOutput> {
+        self.last_mix
+    }
+
+    /// Logs a state change and queues its STATUSTEXT; disarming drops the controller and
+    /// returns the mode machine to idle.
+    fn transition(&mut self, t: Option<Transition>) {
+        if let Some(t) = t {
+            self.event(Event::StateChanged {
+                from: t.from,
+                to: t.to,
+                reason: t.reason,
+            });
+            let severity = if t.to == FlightState::Failsafe {
+                MavSeverity::MAV_SEVERITY_CRITICAL
+            } else {
+                MavSeverity::MAV_SEVERITY_INFO
+            };
+            let _ = self.texts.push_back((severity, t.to.name(), t.reason));
+            if t.to == FlightState::Disarmed {
+                self.controller = None;
+                self.set_mode(Mode::Idle);
+            }
+        }
+    }
+
+    /// Switches the mode machine to `mode`, logging a change.
+    fn set_mode(&mut self, mode: Mode) {
+        if let Some(mode) = self.mission.enter(mode) {
+            self.event(Event::ModeChanged { mode });
+        }
+    }
+
+    /// Whether the controller flies (armed, not idle on the ground).
+    fn flying(&self) -> bool {
+        self.mission.flying(self.supervisor.state())
+    }
+
+    /// One IMU sample (≥ 1 kHz). Non-finite samples are counted and ignored.
+    pub fn on_imu(&mut self, sample: &ImuSample) {
+        self.counters.imu_samples = self.counters.imu_samples.saturating_add(1);
+        let gyro = Vector3::from(sample.gyro_rad_s);
+        let accel = Vector3::from(sample.accel_m_s2);
+        if !self.estimator.on_imu(&gyro, &accel, sample.time_us) {
+            self.non_finite("imu");
+            return;
+        }
+        let dt = match self.last_imu_us {
+            Some(t) if sample.time_us > t => {
+                ((sample.time_us - t) as f32 * 1e-6).min(self.cfg.mahony_dt_max)
+            }
+            _ => 0.0,
+        };
+        self.last_imu_us = Some(sample.time_us);
+        self.mahony
+            .update(&self.estimator.angular_velocity(), &accel, dt);
+        if self.was_calibrating && !self.estimator.calibrating() {
+            self.was_calibrating = false;
+            let b = self.estimator.gyro_bias();
+            self.event(Event::Calibrated {
+                bias: [b.x, b.y, b.z],
+            });
+        }
+    }
+
+    /// MAVLink bytes from the UART, any chunking.
+    pub fn on_link_bytes(&mut self, bytes: &[u8], now_us: u64) {
+        // A 32-byte slice holds at most two complete frames (12 bytes minimum, plus a tail).
+        for chunk in bytes.chunks(32) {
+            let mut got: heapless::Vec<Inbound, 4> = heapless::Vec::new();
+            self.decoder.push(chunk, |m| {
+                let _ = got.push(m);
+            });
+            for m in got {
+                self.handle(m, now_us);
+            }
+        }
+        self.counters.link = self.decoder.counters();
+    }
+
+    /// 100 Hz: the motor throttles for `now_us`. Never panics; never NaN.
+    pub fn control_tick(&mut self, now_us: u64) -> MotorOutput {
+        self.counters.control_ticks = self.counters.control_ticks.saturating_add(1);
+        let nominal = self.cfg.control_period;
+        let [lo, hi] = self.cfg.control_dt_ratio;
+        let dt = match self.last_tick_us {
+            Some(t) if now_us > t => ((now_us - t) as f32 * 1e-6)
+                .max(lo * nominal)
+                .min(hi * nominal),
+            _ => nominal,
+        };
+        self.last_tick_us = Some(now_us);
+        let est = self.estimator.estimate(now_us);
+        let pose_age = self.estimator.pose_age_us(now_us);
+        self.status_pose_age = pose_age.unwrap_or(u64::MAX);
+        if let (Some(e), Some(age)) = (est, pose_age) {
+            if age <= self.cfg.safety.failsafe_pose_age_us {
+                self.mahony.anchor(&e.attitude);
+            }
+        }
+        let landed = self.landed(now_us, est.as_ref());
+        let inputs = TickInputs {
+            pose_age_us: pose_age,
+            non_finite: core::mem::take(&mut self.pending_non_finite),
+            landed,
+        };
+        let t = self.supervisor.tick(now_us, &inputs);
+        self.transition(t);
+
+        let mut out = match self.supervisor.state() {
+            FlightState::Disarmed => {
+                self.last_mix = None;
+                MotorOutput::STOPPED
+            }
+            FlightState::Armed if self.mission.mode() == Mode::Idle => {
+                self.last_mix = None;
+                MotorOutput {
+                    throttle: [self.cfg.rotors.throttle_idle; 4],
+                    armed: true,
+                }
+            }
+            FlightState::Armed => match self.fly(now_us, dt, est) {
+                Some(o) => o,
+                None => {
+                    let t = self
+                        .supervisor
+                        .failsafe(now_us, "controller or estimate failed");
+                    self.transition(t);
+                    self.failsafe_output()
+                }
+            },
+            FlightState::Failsafe => self.failsafe_output(),
+        };
+        // Last line of defence: no NaN reaches a motor, nothing spins disarmed.
+        if !out.throttle.iter().all(|u| u.is_finite()) {
+            self.non_finite("throttle");
+            out.throttle = [0.0; 4];
+        }
+        if !out.armed {
+            out.throttle = [0.0; 4];
+        }
+        for u in out.throttle.iter_mut() {
+            *u = u.clamp(0.0, 1.0);
+        }
+        if let Some(e) = est {
+            self.status_position = [e.position.x, e.position.y, e.position.z];
+            self.status_velocity = [e.velocity.x, e.velocity.y, e.velocity.z];
+            self.status_attitude = e.attitude;
+            self.status_rates = [
+                e.angular_velocity.x,
+                e.angular_velocity.y,
+                e.angular_velocity.z,
+            ];
+        }
+        self.last_output = out;
+        #[cfg(feature = "hil")]
+        {
+            self.hil_pending = Some(now_us);
+        }
+        out
+    }
+
+    /// Landed: at the end of a landing (armed), or on the ground in the failsafe
+    /// ([`LandedDetector`] on this tick's inputs).
+    fn landed(&mut self, now_us: u64, est: Option<&Estimate>) -> bool {
+        let input = match self.supervisor.state() {
+            FlightState::Armed if self.mission.mode() == Mode::Land => match est {
+                Some(e) => LandedInputs::Landing {
+                    position_z: e.position.z,
+                    velocity: e.velocity,
+                    ground_z: self.mission.ground_z(),
+                },
+                None => LandedInputs::Other,
+            },
+            FlightState::Failsafe => LandedInputs::Failsafe {
+                time_in_failsafe_us: self.supervisor.failsafe_time_us(now_us),
+                vertical_velocity: self.estimator.vertical_velocity(),
+                thrust: self.failsafe_thrust,
+                specific_force: self.estimator.specific_force(),
+            },
+            _ => LandedInputs::Other,
+        };
+        self.landed.update(&input)
+    }
+
+    /// Allocates `thrust` \[N\] and `torque` [N m] (FLU) to the rotors and converts to
+    /// throttles; counts a saturated allocation.
+    fn mix_to_output(&mut self, thrust: f32, torque: &Vector3<f32>) -> MotorOutput {
+        let m = self.mixer.mix(thrust, torque);
+        if m.saturated() {
+            self.counters.mixer_saturations = self.counters.mixer_saturations.saturating_add(1);
+        }
+        self.last_mix = Some(m);
+        MotorOutput {
+            throttle: m.thrust.map(|f| self.cfg.rotors.throttle_from_thrust(f)),
+            armed: true,
+        }
+    }
+
+    /// The controller's tick on the estimate: reference sample, law, mode machine, mixer.
+    /// `None` when there is no estimate or controller, or the law failed (non-finite).
+    fn fly(&mut self, now_us: u64, dt: f32, est: Option<Estimate>) -> Option<MotorOutput> {
+        let e = est?;
+        let reference = self.reference.sample(now_us);
+        let state = VehicleState {
+            position: e.position,
+            velocity: e.velocity,
+            attitude: e.attitude,
+            angular_velocity: e.angular_velocity,
+        };
+        let ctl = self.controller.as_mut()?;
+        let out = match ctl.step(&state, &reference, dt) {
+            Ok(o) => o,
+            Err(_) => {
+                self.non_finite("controller");
+                return None;
+            }
+        };
+        self.status_reference = [
+            reference.position.x,
+            reference.position.y,
+            reference.position.z,
+        ];
+        self.status_error = (e.position - reference.position).norm();
+        let target = self.reference.filter().target().0;
+        if let Some(mode) = self.mission.tick(&self.cfg.reference, &e.position, &target) {
+            self.event(Event::ModeChanged { mode });
+        }
+        Some(self.mix_to_output(out.thrust, &out.torque))
+    }
+}

@@ -1,0 +1,191 @@
+//! Telemetry scheduling: what the pipeline sends to the ground station and when. Pending
+//! command acks and status texts first, then a `HEARTBEAT` and the state
+//! (`ATTITUDE_QUATERNION`, `LOCAL_POSITION_NED`) at the rates of
+//! [`crate::config::TelemetryConfig`]; with the `hil` feature, each tick's motor commands and
+//! reference lead. Frames that do not fit the caller's buffer wait for the next call, whole.
+
+use mavlink::dialects::common::{
+    MavAutopilot, MavModeFlag, MavState, MavType, ATTITUDE_QUATERNION_DATA, COMMAND_ACK_DATA,
+    HEARTBEAT_DATA, LOCAL_POSITION_NED_DATA, STATUSTEXT_DATA,
+};
+use nalgebra::Vector3;
+
+use super::FlightPipeline;
+use crate::frames;
+use crate::link;
+use crate::safety::FlightState;
+
+impl FlightPipeline {
+    /// MAVLink bytes to send now: pending command acks and status texts, a HEARTBEAT every
+    /// [`crate::config::TelemetryConfig::heartbeat_period_us`], ATTITUDE_QUATERNION and
+    /// LOCAL_POSITION_NED every [`crate::config::TelemetryConfig::state_period_us`] (NED/FRD).
+    /// Returns the number of bytes written; frames that do not fit wait for the next call.
+    pub fn telemetry(&mut self, now_us: u64, out: &mut [u8]) -> usize {
+        let mut n = 0;
+        #[cfg(feature = "hil")]
+        if let Some(tick_us) = self.hil_pending {
+            match self.hil_outputs(tick_us, out) {
+                0 => return 0,
+                k => n += k,
+            }
+            self.hil_pending = None;
+        }
+        while let Some(&(command, result)) = self.acks.front() {
+            let m = COMMAND_ACK_DATA { command, result };
+            match self.put(&m, &mut out[n..]) {
+                0 => return n,
+                k => n += k,
+            }
+            self.acks.pop_front();
+        }
+        while let Some(&(severity, a, b)) = self.texts.front() {
+            let mut text = [0u8; 50];
+            let mut i = 0;
+            for byte in a.bytes().chain(": ".bytes()).chain(b.bytes()) {
+                if i < text.len() {
+                    text[i] = byte;
+                    i += 1;
+                }
+            }
+            let m = STATUSTEXT_DATA {
+                severity,
+                text: text.into(),
+            };
+            match self.put(&m, &mut out[n..]) {
+                0 => return n,
+                k => n += k,
+            }
+            self.texts.pop_front();
+        }
+        if now_us >= self.next_heartbeat_us {
+            let armed = self.supervisor.state() != FlightState::Disarmed;
+            let mut mode = MavModeFlag::MAV_MODE_FLAG_GUIDED_ENABLED
+                | MavModeFlag::MAV_MODE_FLAG_STABILIZE_ENABLED;
+            if armed {
+                mode |= MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED;
+            }
+            let system_status = match self.supervisor.state() {
+                FlightState::Disarmed => MavState::MAV_STATE_STANDBY,
+                FlightState::Armed => MavState::MAV_STATE_ACTIVE,
+                FlightState::Failsafe => MavState::MAV_STATE_CRITICAL,
+            };
+            let m = HEARTBEAT_DATA {
+                custom_mode: self.mission.mode() as u32,
+                mavtype: MavType::MAV_TYPE_QUADROTOR,
+                autopilot: MavAutopilot::MAV_AUTOPILOT_GENERIC,
+                base_mode: mode,
+                system_status,
+                mavlink_version: 3,
+            };
+            match self.put(&m, &mut out[n..]) {
+                0 => {
+                    self.counters.telemetry_dropped += 1;
+                    return n;
+                }
+                k => n += k,
+            }
+            self.next_heartbeat_us = now_us + self.cfg.telemetry.heartbeat_period_us;
+        }
+        if now_us >= self.next_state_us {
+            let time_boot_ms = (now_us / 1000) as u32;
+            let q = frames::quaternion_to_mavlink(&self.status_attitude);
+            let w = frames::flip_to_array(&Vector3::from(self.status_rates));
+            let att = ATTITUDE_QUATERNION_DATA {
+                time_boot_ms,
+                q1: q[0],
+                q2: q[1],
+                q3: q[2],
+                q4: q[3],
+                rollspeed: w[0],
+                pitchspeed: w[1],
+                yawspeed: w[2],
+            };
+            let p = frames::flip_to_array(&Vector3::from(self.status_position));
+            let v = frames::flip_to_array(&Vector3::from(self.status_velocity));
+            let pos = LOCAL_POSITION_NED_DATA {
+                time_boot_ms,
+                x: p[0],
+                y: p[1],
+                z: p[2],
+                vx: v[0],
+                vy: v[1],
+                vz: v[2],
+            };
+            match self.put(&att, &mut out[n..]) {
+                0 => {
+                    self.counters.telemetry_dropped += 1;
+                    return n;
+                }
+                k => n += k,
+            }
+            match self.put(&pos, &mut out[n..]) {
+                0 => {
+                    self.counters.telemetry_dropped += 1;
+                    return n;
+                }
+                k => n += k,
+            }
+            self.next_state_us = now_us + self.cfg.telemetry.state_period_us;
+        }
+        n
+    }
+
+    /// The tick's motor commands (`HIL_ACTUATOR_CONTROLS`: throttles in `controls[0..4]`, mixer
+    /// order; `mode` has `SAFETY_ARMED` when armed) and reference (`POSITION_TARGET_LOCAL_NED`,
+    /// NED \[m\]), both or nothing; returns the bytes written.
+    #[cfg(feature = "hil")]
+    fn hil_outputs(&mut self, tick_us: u64, out: &mut [u8]) -> usize {
+        use mavlink::dialects::common::{
+            HilActuatorControlsFlags, MavFrame, PositionTargetTypemask, HIL_ACTUATOR_CONTROLS_DATA,
+            POSITION_TARGET_LOCAL_NED_DATA,
+        };
+        let mut controls = [0.0f32; 16];
+        controls[..4].copy_from_slice(&self.last_output.throttle);
+        let actuators = HIL_ACTUATOR_CONTROLS_DATA {
+            time_usec: tick_us,
+            flags: HilActuatorControlsFlags::empty(),
+            controls,
+            mode: if self.last_output.armed {
+                MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED
+            } else {
+                MavModeFlag::empty()
+            },
+        };
+        let r = frames::flip_to_array(&Vector3::from(self.status_reference));
+        let target = POSITION_TARGET_LOCAL_NED_DATA {
+            time_boot_ms: (tick_us / 1000) as u32,
+            x: r[0],
+            y: r[1],
+            z: r[2],
+            type_mask: PositionTargetTypemask::empty(),
+            coordinate_frame: MavFrame::MAV_FRAME_LOCAL_NED,
+            ..Default::default()
+        };
+        // Encode into a scratch copy first, so that a lack of room leaves nothing half-sent.
+        let mut scratch = [0u8; 2 * link::MAX_FRAME];
+        let a = self.put(&actuators, &mut scratch);
+        let b = self.put(&target, &mut scratch[a..]);
+        if a + b > out.len() {
+            self.sequence = self.sequence.wrapping_sub(2);
+            return 0;
+        }
+        out[..a + b].copy_from_slice(&scratch[..a + b]);
+        a + b
+    }
+
+    /// Encodes `m` into `out` with the next sequence number; 0 (and the number unused) if it
+    /// does not fit.
+    fn put<D: mavlink::MessageData>(&mut self, m: &D, out: &mut [u8]) -> usize {
+        let k = link::encode_data(
+            m,
+            self.cfg.system_id,
+            self.cfg.component_id,
+            self.sequence,
+            out,
+        );
+        if k > 0 {
+            self.sequence = self.sequence.wrapping_add(1);
+        }
+        k
+    }
+}

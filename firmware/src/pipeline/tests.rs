@@ -1,0 +1,231 @@
+//! Cross-facet tests of the whole pipeline: boot, telemetry with command refusals, non-finite
+//! IMU samples, and the HIL messages.
+
+use super::*;
+use crate::link;
+use crate::mixer::MixerError;
+use mavlink::dialects::common::MavMessage;
+use mavlink::dialects::common::{
+    MavModeFlag, MavState, ATTITUDE_QUATERNION_DATA, COMMAND_ACK_DATA, HEARTBEAT_DATA,
+    LOCAL_POSITION_NED_DATA, STATUSTEXT_DATA,
+};
+use mavlink::{MavlinkVersion, MessageData};
+
+/// Splits telemetry bytes into (msgid, payload) frames (unsigned MAVLink 2 only).
+fn all_frames(bytes: &[u8]) -> Vec<(u32, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i + 12 <= bytes.len() {
+        assert_eq!(bytes[i], 0xFD);
+        let len = bytes[i + 1] as usize;
+        let id = u32::from_le_bytes([bytes[i + 7], bytes[i + 8], bytes[i + 9], 0]);
+        out.push((id, bytes[i + 10..i + 10 + len].to_vec()));
+        i += 12 + len;
+    }
+    assert_eq!(i, bytes.len());
+    out
+}
+
+/// [`all_frames`] without the HIL outputs (`hil` feature), which lead every tick's
+/// telemetry and have their own test.
+fn frames(bytes: &[u8]) -> Vec<(u32, Vec<u8>)> {
+    #[cfg(feature = "hil")]
+    let hil = [
+        mavlink::dialects::common::HIL_ACTUATOR_CONTROLS_DATA::ID,
+        mavlink::dialects::common::POSITION_TARGET_LOCAL_NED_DATA::ID,
+    ];
+    #[cfg(not(feature = "hil"))]
+    let hil: [u32; 0] = [];
+    all_frames(bytes)
+        .into_iter()
+        .filter(|(id, _)| !hil.contains(id))
+        .collect()
+}
+
+fn command(c: MavCmd, p1: f32, p2: f32) -> Vec<u8> {
+    let m = MavMessage::COMMAND_LONG(mavlink::dialects::common::COMMAND_LONG_DATA {
+        param1: p1,
+        param2: p2,
+        command: c,
+        target_system: 1,
+        ..Default::default()
+    });
+    let mut b = [0u8; link::MAX_FRAME];
+    let n = link::encode(&m, 255, 190, 0, &mut b);
+    b[..n].to_vec()
+}
+
+/// The boot report of the paper vehicle: the certificate as in report.rs (only Theorem 2's
+/// yaw condition fails), the a-priori box does not fit the rotors, 12 N of rotor thrust.
+#[test]
+fn boot_report() {
+    let p = FlightPipeline::new(&FlightConfig::paper()).unwrap();
+    let r = p.boot_report();
+    let names: Vec<_> = r.certificate.violations().map(|c| c.name).collect();
+    assert_eq!(names, ["theorem2.torque_max_yaw"]);
+    assert!(!r.a_priori_fit.fits);
+    assert!((r.thrust_capacity - 12.0).abs() < 1e-6);
+    assert!((r.a_priori_fit.thrust_needed[0] - 3.512).abs() < 1e-3);
+}
+
+/// A broken geometry is refused at boot.
+#[test]
+fn bad_rotors_refused() {
+    let mut c = FlightConfig::paper();
+    c.rotors.thrust_max = f32::NAN;
+    assert!(matches!(
+        FlightPipeline::new(&c),
+        Err(BootError::Mixer(MixerError::BadThrustRange))
+    ));
+    let mut c = FlightConfig::paper();
+    c.gains.reset_threshold = 2.0;
+    assert!(matches!(
+        FlightPipeline::new(&c),
+        Err(BootError::Parameter(_))
+    ));
+}
+
+/// Disarmed at boot: zero throttle; telemetry sends HEARTBEAT (standby, not armed),
+/// ATTITUDE_QUATERNION and LOCAL_POSITION_NED; an arm without pose is denied over MAVLink
+/// (COMMAND_ACK DENIED + STATUSTEXT) and as an event.
+#[test]
+fn boot_telemetry_and_refusal() {
+    let mut p = FlightPipeline::new(&FlightConfig::paper()).unwrap();
+    let out = p.control_tick(10_000);
+    assert_eq!(out, MotorOutput::STOPPED);
+    let mut buf = [0u8; 1024];
+    let n = p.telemetry(10_000, &mut buf);
+    let ids: Vec<u32> = frames(&buf[..n]).iter().map(|f| f.0).collect();
+    assert_eq!(
+        ids,
+        [
+            HEARTBEAT_DATA::ID,
+            ATTITUDE_QUATERNION_DATA::ID,
+            LOCAL_POSITION_NED_DATA::ID
+        ]
+    );
+    let hb = HEARTBEAT_DATA::deser(MavlinkVersion::V2, &frames(&buf[..n])[0].1).unwrap();
+    assert_eq!(hb.system_status, MavState::MAV_STATE_STANDBY);
+    assert!(!hb
+        .base_mode
+        .contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED));
+
+    p.on_link_bytes(
+        &command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 0.0),
+        20_000,
+    );
+    assert_eq!(p.status().counters.refused_commands, 1);
+    let n = p.telemetry(20_000, &mut buf);
+    let f = frames(&buf[..n]);
+    assert_eq!(f[0].0, COMMAND_ACK_DATA::ID);
+    let ack = COMMAND_ACK_DATA::deser(MavlinkVersion::V2, &f[0].1).unwrap();
+    assert_eq!(ack.result, MavResult::MAV_RESULT_DENIED);
+    assert_eq!(f[1].0, STATUSTEXT_DATA::ID);
+    let text = STATUSTEXT_DATA::deser(MavlinkVersion::V2, &f[1].1).unwrap();
+    assert!(text
+        .text
+        .to_str()
+        .unwrap()
+        .starts_with("arm: gyro calibrating"));
+    let mut refused = false;
+    while let Some(e) = p.take_events() {
+        refused |= matches!(e, Event::CommandRefused { command: "arm", .. });
+    }
+    assert!(refused);
+    // Small buffers: nothing is half-written.
+    p.on_link_bytes(&command(MavCmd::MAV_CMD_NAV_LAND, 0.0, 0.0), 30_000);
+    let mut tiny = [0u8; 8];
+    assert_eq!(p.telemetry(30_000, &mut tiny), 0);
+    let n = p.telemetry(30_000, &mut buf);
+    assert_eq!(frames(&buf[..n])[0].0, COMMAND_ACK_DATA::ID);
+}
+
+/// Non-finite IMU samples are counted and never reach the motors.
+#[test]
+fn non_finite_imu_is_counted() {
+    let mut p = FlightPipeline::new(&FlightConfig::paper()).unwrap();
+    p.on_imu(&ImuSample {
+        gyro_rad_s: [f32::NAN, 0.0, 0.0],
+        accel_m_s2: [0.0, 0.0, 9.81],
+        time_us: 1000,
+    });
+    assert_eq!(p.status().counters.non_finite, 1);
+    let out = p.control_tick(10_000);
+    assert!(out.throttle.iter().all(|u| *u == 0.0));
+    assert!(matches!(
+        p.take_events(),
+        Some(Event::NonFinite { source: "imu" })
+    ));
+}
+
+/// HIL (`hil` feature): a `HIL_SENSOR` in body FRD reaches the estimator as a FLU sample on
+/// the simulation's clock, one missing IMU flag makes it no sample, and each tick sends
+/// its throttles and reference once, in NED, before any other telemetry.
+#[cfg(feature = "hil")]
+#[test]
+fn hil_sensor_in_actuators_and_reference_out() {
+    use mavlink::dialects::common::{
+        HilSensorUpdatedFlags, HIL_ACTUATOR_CONTROLS_DATA, HIL_SENSOR_DATA,
+        POSITION_TARGET_LOCAL_NED_DATA,
+    };
+    let sensor = |t: u64, fields: u32| {
+        let m = MavMessage::HIL_SENSOR(HIL_SENSOR_DATA {
+            time_usec: t,
+            // Level and still: the accelerometer reads +g along down's opposite (FRD z up is -z).
+            zacc: -9.81,
+            xgyro: 0.01,
+            ygyro: 0.02,
+            zgyro: 0.03,
+            fields_updated: HilSensorUpdatedFlags::from_bits_retain(fields),
+            ..Default::default()
+        });
+        let mut b = [0u8; link::MAX_FRAME];
+        let n = link::encode(&m, 255, 190, 0, &mut b);
+        b[..n].to_vec()
+    };
+    let mut p = FlightPipeline::new(&FlightConfig::paper()).unwrap();
+    assert_eq!(p.hil_time_us(), None);
+    p.on_link_bytes(&sensor(1_000, link::HIL_SENSOR_IMU_FIELDS), 0);
+    assert_eq!(p.hil_time_us(), Some(1_000));
+    assert_eq!(p.status().counters.imu_samples, 1);
+    // Without the gyro z flag it is not an IMU sample: dropped, the clock does not move.
+    p.on_link_bytes(
+        &sensor(2_000, link::HIL_SENSOR_IMU_FIELDS & !0b10_0000),
+        1_000,
+    );
+    assert_eq!(p.hil_time_us(), Some(1_000));
+    assert_eq!(p.status().counters.imu_samples, 1);
+    assert_eq!(p.status().counters.link.frames_dropped, 1);
+
+    let out = p.control_tick(10_000);
+    let mut buf = [0u8; 1024];
+    let n = p.telemetry(10_000, &mut buf);
+    let got = all_frames(&buf[..n]);
+    assert_eq!(got[0].0, HIL_ACTUATOR_CONTROLS_DATA::ID);
+    assert_eq!(got[1].0, POSITION_TARGET_LOCAL_NED_DATA::ID);
+    let a = HIL_ACTUATOR_CONTROLS_DATA::deser(MavlinkVersion::V2, &got[0].1).unwrap();
+    assert_eq!(a.time_usec, 10_000);
+    assert_eq!(&a.controls[..4], &out.throttle);
+    assert!(a.controls[4..].iter().all(|&c| c == 0.0));
+    assert_eq!(
+        a.mode.contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED),
+        out.armed
+    );
+    let r = POSITION_TARGET_LOCAL_NED_DATA::deser(MavlinkVersion::V2, &got[1].1).unwrap();
+    let reference = p.status().reference_position;
+    assert_eq!(
+        [r.x, r.y, r.z],
+        [reference[0], -reference[1], -reference[2]]
+    );
+    // Sent once per tick; too little room sends neither and keeps them for the next call.
+    let n2 = p.telemetry(10_500, &mut buf);
+    assert!(all_frames(&buf[..n2])
+        .iter()
+        .all(|(id, _)| *id != HIL_ACTUATOR_CONTROLS_DATA::ID));
+    p.control_tick(20_000);
+    assert_eq!(p.telemetry(20_000, &mut buf[..40]), 0);
+    let n3 = p.telemetry(20_000, &mut buf);
+    let got = all_frames(&buf[..n3]);
+    let a = HIL_ACTUATOR_CONTROLS_DATA::deser(MavlinkVersion::V2, &got[0].1).unwrap();
+    assert_eq!(a.time_usec, 20_000);
+}
