@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The project's test command (README, "Run all the tests"; .ci/run calls exactly this).
+# The project's test command (README, "The two commands"; .ci/run calls exactly this).
 # Installs what it needs (the thumbv7em target, clippy, rustfmt, QEMU), then: formatting, every
 # host test (unit, property, cross-crate, end to end), clippy with warnings denied, the no_std
 # controller-core and the firmware built for the Cortex-M4F (thumbv7em-none-eabihf) for both

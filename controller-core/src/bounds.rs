@@ -434,7 +434,7 @@ mod tests {
         }
     }
 
-    /// As written, Theorem 2's yaw condition fails for τ_max = 0.5 N m (see README), and the
+    /// As written, Theorem 2's yaw condition fails for τ_max = 0.5 N m (see docs/paper-and-bounds.md), and the
     /// certificate says so with numbers rather than panicking.
     #[test]
     fn violations_are_reported_with_numbers() {

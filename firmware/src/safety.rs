@@ -322,7 +322,7 @@ mod tests {
         );
     }
 
-    /// The timings: failsafe after 100 ms without pose, disarm after 2 s.
+    /// The paper configuration's timings: failsafe after 100 ms without pose, disarm after 2 s.
     #[test]
     fn timings() {
         let mut s = Supervisor::new(cfg());

@@ -1,6 +1,6 @@
 //! The board-independent task layer of the MCU firmware: what every board runs around the
 //! [`crate::pipeline::FlightPipeline`], with the hardware left to the board layers
-//! (`src/main.rs` for the STM32F405, `src/bin/mps2_an386/` for QEMU's Cortex-M4F).
+//! (`src/bin/stm32f405/` for the STM32F405, `src/bin/mps2_an386/` for QEMU's Cortex-M4F).
 //!
 //! - [`control`]: the control loop (drain inputs → `control_tick` → motors → telemetry →
 //!   timing → watchdog), generic over a [`control::ControlClock`] (a hardware deadline timer, or

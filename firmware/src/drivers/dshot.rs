@@ -258,7 +258,7 @@ mod tests {
         }
     }
 
-    /// DShot600 on an APB1 timer of the F405 (84 MHz, see clocks.rs): 140 ticks per bit,
+    /// DShot600 on an APB1 timer of the F405 (84 MHz, see `src/bin/stm32f405/clocks.rs`): 140 ticks per bit,
     /// 0-bit high 53 ticks (631 ns, spec 625 ns), 1-bit high 105 ticks (1250 ns).
     #[test]
     fn dshot600_timing_at_84_mhz() {

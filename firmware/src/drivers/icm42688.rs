@@ -7,7 +7,7 @@
 //! registers are read, gyro and accel ranges and output data rate (default ±2000 °/s, ±16 g,
 //! 1 kHz), both sensors on in low-noise mode; then one 14-byte burst read per sample
 //! (temperature, accel XYZ, gyro XYZ, big-endian, bank 0 registers 0x1D..=0x2A), converted to SI
-//! units **in the sensor frame** (`board.rs` rotates it into the body frame). The gyro bias is
+//! units **in the sensor frame** (the board's pin table, `src/bin/stm32f405/pins.rs`, rotates it into the body frame). The gyro bias is
 //! estimated downstream, by the pipeline's estimator
 //! (`estimator.rs`), from the first still samples after boot.
 //!

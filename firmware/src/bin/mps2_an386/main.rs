@@ -17,7 +17,7 @@
 //! - **watchdog**: none: host-sim's stall timeout plays its part.
 //!
 //! The control task runs on an `InterruptExecutor` above thread mode, as on the STM32. Run it
-//! with `host-sim pil` (README, "Processor in the loop").
+//! with `host-sim pil` (docs/sil-pil.md, "Processor in the loop").
 #![cfg_attr(target_os = "none", no_std, no_main)]
 
 #[cfg(not(target_os = "none"))]

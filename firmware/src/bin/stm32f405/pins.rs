@@ -92,7 +92,7 @@ pub const MOTOR_OUTPUT_OF_MIXER: [usize; 4] = [0, 1, 2, 3];
 ///
 /// Betaflight's `CW90_DEG` (the chip turned 90° clockwise seen from above) maps a sensor vector to
 /// the board frame as `x_b = y_s, y_b = −x_s, z_b = z_s`; Betaflight's board frame is right-handed
-/// with x forward and z up, i.e. FLU. Bench check (README): level → accel z ≈ +9.81 m/s²; roll
+/// with x forward and z up, i.e. FLU. Bench check (docs/logs.md): level → accel z ≈ +9.81 m/s²; roll
 /// right → gyro x > 0; nose up → gyro y < 0; yaw left (counter-clockwise from above) → gyro z > 0.
 pub const SENSOR_TO_BODY: [[f32; 3]; 3] = [[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]];
 
