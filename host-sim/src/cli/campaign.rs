@@ -52,7 +52,7 @@ pub struct CampaignArgs {
     /// Scenario, seed and overrides.
     #[command(flatten)]
     pub base: BaseArgs,
-    /// Radius of the position-offset ball around p_d(0) \[m\].
+    /// Radius of the position-offset ball around p_d(0) (m).
     #[arg(long, default_value_t = SamplerRadii::default().position_m)]
     pub position_radius_m: f64,
     /// Radius of the velocity-offset ball around the reference velocity [m/s].
@@ -64,13 +64,13 @@ pub struct CampaignArgs {
     /// Leave out the fixed 180° starts (all runs Haar-uniform).
     #[arg(long)]
     pub no_half_turns: bool,
-    /// Convergence: position error threshold \[m\].
+    /// Convergence: position error threshold (m).
     #[arg(long, default_value_t = Convergence::default().position_m)]
     pub converged_position_m: f64,
-    /// Convergence: attitude error threshold \[deg\].
+    /// Convergence: attitude error threshold (deg).
     #[arg(long, default_value_t = Convergence::default().attitude_deg)]
     pub converged_attitude_deg: f64,
-    /// Convergence: settled by this time \[s\].
+    /// Convergence: settled by this time (s).
     #[arg(long, default_value_t = Convergence::default().after_s)]
     pub converged_after_s: f64,
     /// Write only campaign.json and runs.csv.

@@ -35,10 +35,10 @@ pub struct BaseArgs {
     /// Campaign seed: run i draws from splitmix(seed, i), so results do not depend on threads.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Simulated duration of every run \[s\], overriding `simulation.duration_s`.
+    /// Simulated duration of every run (s), overriding `simulation.duration_s`.
     #[arg(long, value_name = "S")]
     pub duration_s: Option<f64>,
-    /// Controller rate \[Hz\], overriding `simulation.controller_period_s`.
+    /// Controller rate (Hz), overriding `simulation.controller_period_s`.
     #[arg(long, value_name = "HZ")]
     pub controller_rate_hz: Option<f64>,
     /// Clip thrust and torque to the physical limits before the plant.
