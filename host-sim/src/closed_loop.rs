@@ -1,17 +1,19 @@
-//! The closed loop for any [`FlightController`], with the perturbations of the scenario's
-//! `[perturbations]` table: sample (noisy measurement) → command → optional clipping →
-//! disturbances → plant (RK4, optional motor lag) over the controller period.
+//! The closed loop, one for every run: sample (measurement, noisy if the perturbations say
+//! so) → command of any [`FlightController`] → optional clipping → disturbances → plant (RK4,
+//! optional motor lag) held over the controller period.
 //!
-//! With the paper's law ([`crate::controllers::paper::PaperLaw`]) and no perturbation this is
-//! the loop of [`crate::sim::run`] step for step (same sample times, same measurement, same
-//! hold, same RK4 substeps); a test pins the commands bit for bit.
+//! [`fly_with`] is the loop itself; its observer also sees the controller, so a caller that
+//! knows the controller's type reads its internals (the main run, [`crate::sim`], reads the
+//! paper law's diagnostics this way). [`fly`] is the loop with the scenario's
+//! `[perturbations]` and a [`LoopSample`] of the errors at every sample, for campaigns,
+//! comparisons and ablations.
 
 use anyhow::{anyhow, Result};
 use controller_core::Trajectory;
 use nalgebra::Vector3;
 
 use crate::controllers::{Command, FlightController};
-use crate::perturbation::Perturber;
+use crate::perturbation::{PerturbationConfig, Perturber};
 use crate::plant::{PlantInput, RigidBodyState};
 use crate::scenario::Scenario;
 use crate::so3::rotation_angle;
@@ -35,8 +37,22 @@ pub struct LoopSample<'a> {
     pub attitude_error_rad: f64,
 }
 
+/// One controller sample of [`fly_with`], after the controller stepped and before the hold.
+#[derive(Clone, Copy, Debug)]
+pub struct Step<'a> {
+    /// Sample index `k` (time `k · controller_period_s`).
+    pub k: u64,
+    /// Time \[s\].
+    pub t: f64,
+    /// The true plant state at the sample (not the measurement).
+    pub state: &'a RigidBodyState,
+    /// The controller's command (before clipping).
+    pub command: &'a Command,
+}
+
 /// Flies `scenario` from `initial` with `controller` for `simulation.duration_s`, drawing the
-/// perturbations from `seed`, and calls `observe` at every sample. Returns the final state.
+/// perturbations of the scenario's `[perturbations]` from `seed`, and calls `observe` at every
+/// sample. Returns the final state.
 ///
 /// Errors: the scenario's perturbations are invalid, or the controller refused a sample (with
 /// the time and reason).
@@ -47,14 +63,54 @@ pub fn fly(
     seed: u64,
     mut observe: impl FnMut(&LoopSample<'_>),
 ) -> Result<RigidBodyState> {
-    scenario
-        .perturbations
-        .validate()
-        .map_err(|e| anyhow!("{e}"))?;
+    let trajectory = scenario.trajectory::<f64>();
+    fly_with(
+        scenario,
+        &scenario.perturbations,
+        controller,
+        initial,
+        seed,
+        |step, _| {
+            let (state, command) = (step.state, step.command);
+            let reference = trajectory.sample(step.t);
+            let rotation = state.attitude.to_rotation_matrix().into_inner();
+            observe(&LoopSample {
+                k: step.k,
+                t: step.t,
+                state,
+                reference_position: reference.position,
+                command,
+                position_error_m: (state.position - reference.position).norm(),
+                attitude_error_rad: rotation_angle(
+                    &(command.desired_rotation.transpose() * rotation),
+                ),
+            });
+        },
+    )
+}
+
+/// The loop: flies `scenario` (its vehicle, limits, trajectory and `[simulation]`) from
+/// `initial` with `controller` and the given `perturbations` (drawn from `seed`; with none, the
+/// measurement is the true state and no random number is drawn): sample the state every
+/// `controller_period_s`, step the controller, hold its command (clipped to the limits if
+/// `simulation.clip_to_limits`) over the period while the RK4 plant advances. Calls `observe`
+/// with the sample and the controller after every step, and returns the plant state at the
+/// last sample.
+///
+/// Errors: `perturbations` are invalid, or the controller refused a sample (with the time and
+/// reason).
+pub fn fly_with<C: FlightController + ?Sized>(
+    scenario: &Scenario,
+    perturbations: &PerturbationConfig,
+    controller: &mut C,
+    initial: &RigidBodyState,
+    seed: u64,
+    mut observe: impl FnMut(&Step<'_>, &C),
+) -> Result<RigidBodyState> {
+    perturbations.validate().map_err(|e| anyhow!("{e}"))?;
     let sim = &scenario.simulation;
     let limits = scenario.limits::<f64>();
-    let trajectory = scenario.trajectory::<f64>();
-    let mut perturber = Perturber::new(&scenario.perturbations, seed);
+    let mut perturber = Perturber::new(perturbations, seed);
     let plant = perturber.plant(&scenario.plant());
     let dt = sim.controller_period_s;
     let steps = (sim.duration_s / dt).round() as u64;
@@ -63,17 +119,15 @@ pub fn fly(
         let t = k as f64 * dt;
         let measured = perturber.measure(&state);
         let command = controller.step(&measured, t, dt)?;
-        let reference = trajectory.sample(t);
-        let rotation = state.attitude.to_rotation_matrix().into_inner();
-        observe(&LoopSample {
-            k,
-            t,
-            state: &state,
-            reference_position: reference.position,
-            command: &command,
-            position_error_m: (state.position - reference.position).norm(),
-            attitude_error_rad: rotation_angle(&(command.desired_rotation.transpose() * rotation)),
-        });
+        observe(
+            &Step {
+                k,
+                t,
+                state: &state,
+                command: &command,
+            },
+            controller,
+        );
         if k == steps {
             break;
         }
@@ -99,7 +153,8 @@ mod tests {
     use super::*;
     use crate::controllers::paper::PaperLaw;
 
-    /// With the paper's law and no perturbation, the commands equal `sim::run`'s bit for bit.
+    /// With the paper's law and no perturbation, [`fly`] (the campaigns' view of the loop)
+    /// gives the commands and states of `sim::run` (the main run's) bit for bit.
     #[test]
     fn nominal_paper_loop_matches_sim_run() {
         let mut scenario = Scenario::paper();

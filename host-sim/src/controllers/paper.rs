@@ -2,7 +2,9 @@
 
 use anyhow::{anyhow, Result};
 use controller_core::scalar::{lit, to_f64, Scalar};
-use controller_core::{Controller, ReferenceTrajectory, Trajectory};
+use controller_core::{
+    ControlOutput, Controller, ReferenceSample, ReferenceTrajectory, Trajectory,
+};
 use nalgebra::Vector3;
 
 use super::{Command, FlightController, SwitchCounts};
@@ -10,13 +12,14 @@ use crate::plant::RigidBodyState;
 use crate::scenario::Scenario;
 use crate::sim::measure;
 
-/// `controller_core::Controller<T>` with the scenario's vehicle, gains and trajectory. Samples
-/// and measures exactly as [`crate::sim::run`] does (reference at `lit(t)`, state through
-/// [`measure`]), so its commands are bit-identical to that loop's.
+/// `controller_core::Controller<T>` with the scenario's vehicle, gains and trajectory: samples
+/// the reference at `lit(t)` and measures the state through [`measure`]. It keeps the last
+/// step's reference and output, whose diagnostics the main run ([`crate::sim`]) reports.
 #[derive(Clone, Debug)]
 pub struct PaperLaw<T: Scalar> {
     controller: Controller<T>,
     trajectory: ReferenceTrajectory<T>,
+    last: Option<(ReferenceSample<T>, ControlOutput<T>)>,
 }
 
 pub(crate) fn back3<T: Scalar>(v: &Vector3<T>) -> Vector3<f64> {
@@ -36,7 +39,14 @@ impl<T: Scalar> PaperLaw<T> {
         Ok(Self {
             controller,
             trajectory,
+            last: None,
         })
+    }
+
+    /// The reference sample and the law's whole output (command and diagnostics) of the last
+    /// [`FlightController::step`], `None` before the first.
+    pub fn last_step(&self) -> Option<(&ReferenceSample<T>, &ControlOutput<T>)> {
+        self.last.as_ref().map(|(r, o)| (r, o))
     }
 }
 
@@ -52,7 +62,7 @@ impl<T: Scalar> FlightController for PaperLaw<T> {
             .step(&measure::<T>(measured), &reference, lit(dt))
             .map_err(|e| anyhow!("controller refused the sample at t = {t:.3} s: {e}"))?;
         let d = &out.diagnostics;
-        Ok(Command {
+        let command = Command {
             thrust: to_f64(out.thrust),
             torque: back3(&out.torque),
             desired_rotation: d.desired_rotation.map(to_f64),
@@ -62,6 +72,8 @@ impl<T: Scalar> FlightController for PaperLaw<T> {
                 switches: d.jumps_total.m_flips,
                 resets: d.jumps_total.q_hat_resets,
             },
-        })
+        };
+        self.last = Some((reference, out));
+        Ok(command)
     }
 }

@@ -11,10 +11,11 @@
 //!   effectiveness matrix (the same geometry the firmware allocates with);
 //! - optionally a flat ground (contact stops the body) for takeoff and landing.
 //!
-//! [`scenarios`] defines the runs; [`run`] executes one and returns its records and summary.
+//! [`scenarios`] defines the runs (files in the format of [`scenario_file`]); [`run`] executes one and returns its records and summary.
 //! The loop itself ([`fly`]) only sees the flight software through [`FlightSoftware`]: the
 //! in-process pipeline here, the firmware under QEMU in [`crate::pil`].
 
+pub mod scenario_file;
 pub mod scenarios;
 pub mod sensors;
 
@@ -753,13 +754,7 @@ pub fn human_summary(s: &SilSummary) -> String {
 /// The `sil` subcommand: runs the scenario, prints the summary, writes `timeseries.csv` and
 /// `summary.json`.
 pub fn run_cli(args: &crate::cli::SilArgs) -> Result<()> {
-    let setup = scenarios::by_name(&args.scenario, args.seed).ok_or_else(|| {
-        anyhow!(
-            "unknown SIL scenario {:?}; known: {}",
-            args.scenario,
-            scenarios::NAMES.join(", ")
-        )
-    })?;
+    let setup = scenarios::load(&args.scenario, args.seed)?;
     let out = args
         .out
         .clone()
