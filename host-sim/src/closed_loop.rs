@@ -2,11 +2,11 @@
 //! so) → command of any [`FlightController`] → optional clipping → disturbances → plant (RK4,
 //! optional motor lag) held over the controller period.
 //!
-//! [`fly_with`] is the loop itself; its observer also sees the controller, so a caller that
-//! knows the controller's type reads its internals (the main run, [`crate::sim`], reads the
-//! paper law's diagnostics this way). [`fly`] is the loop with the scenario's
-//! `[perturbations]` and a [`LoopSample`] of the errors at every sample, for campaigns,
-//! comparisons and ablations.
+//! [`fly_with`] is the loop itself; the caller steps its controller in it, so a caller that
+//! knows the controller's type also sees its internals (the main run, [`crate::sim`], reports
+//! the paper law's diagnostics this way). [`fly`] is the loop for any controller with the
+//! scenario's `[perturbations]` and a [`LoopSample`] of the errors at every sample, for
+//! campaigns, comparisons and ablations.
 
 use anyhow::{anyhow, Result};
 use controller_core::Trajectory;
@@ -37,17 +37,28 @@ pub struct LoopSample<'a> {
     pub attitude_error_rad: f64,
 }
 
-/// One controller sample of [`fly_with`], after the controller stepped and before the hold.
+/// One controller sample of [`fly_with`], as the loop hands it to the control function.
 #[derive(Clone, Copy, Debug)]
 pub struct Step<'a> {
     /// Sample index `k` (time `k · controller_period_s`).
     pub k: u64,
     /// Time \[s\].
     pub t: f64,
-    /// The true plant state at the sample (not the measurement).
+    /// Controller period \[s\]: the command is held this long.
+    pub dt: f64,
+    /// The true plant state at the sample.
     pub state: &'a RigidBodyState,
-    /// The controller's command (before clipping).
-    pub command: &'a Command,
+    /// What the controller measures: the true state, plus noise if the perturbations say so.
+    pub measured: &'a RigidBodyState,
+}
+
+/// The command the loop holds over a controller period (not clipped).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Wrench {
+    /// Collective thrust \[N\] along body z.
+    pub thrust: f64,
+    /// Torque [N m], body frame.
+    pub torque: Vector3<f64>,
 }
 
 /// Flies `scenario` from `initial` with `controller` for `simulation.duration_s`, drawing the
@@ -64,70 +75,70 @@ pub fn fly(
     mut observe: impl FnMut(&LoopSample<'_>),
 ) -> Result<RigidBodyState> {
     let trajectory = scenario.trajectory::<f64>();
-    fly_with(
-        scenario,
-        &scenario.perturbations,
-        controller,
-        initial,
-        seed,
-        |step, _| {
-            let (state, command) = (step.state, step.command);
-            let reference = trajectory.sample(step.t);
-            let rotation = state.attitude.to_rotation_matrix().into_inner();
-            observe(&LoopSample {
-                k: step.k,
-                t: step.t,
-                state,
-                reference_position: reference.position,
-                command,
-                position_error_m: (state.position - reference.position).norm(),
-                attitude_error_rad: rotation_angle(
-                    &(command.desired_rotation.transpose() * rotation),
-                ),
-            });
-        },
-    )
+    fly_with(scenario, &scenario.perturbations, initial, seed, |step| {
+        let command = controller.step(step.measured, step.t, step.dt)?;
+        let state = step.state;
+        let reference = trajectory.sample(step.t);
+        let rotation = state.attitude.to_rotation_matrix().into_inner();
+        observe(&LoopSample {
+            k: step.k,
+            t: step.t,
+            state,
+            reference_position: reference.position,
+            command: &command,
+            position_error_m: (state.position - reference.position).norm(),
+            attitude_error_rad: rotation_angle(&(command.desired_rotation.transpose() * rotation)),
+        });
+        Ok(Wrench {
+            thrust: command.thrust,
+            torque: command.torque,
+        })
+    })
 }
 
-/// The loop: flies `scenario` (its vehicle, limits, trajectory and `[simulation]`) from
-/// `initial` with `controller` and the given `perturbations` (drawn from `seed`; with none, the
-/// measurement is the true state and no random number is drawn): sample the state every
-/// `controller_period_s`, step the controller, hold its command (clipped to the limits if
-/// `simulation.clip_to_limits`) over the period while the RK4 plant advances. Calls `observe`
-/// with the sample and the controller after every step, and returns the plant state at the
-/// last sample.
+/// The loop: flies `scenario` (its vehicle, limits and `[simulation]`) from `initial` with the
+/// given `perturbations` (drawn from `seed`; with none, the measurement is the true state and
+/// no random number is drawn): every `controller_period_s` it asks `control` for the wrench of
+/// the sample (the controller's step, and whatever the caller observes), holds it (clipped to
+/// the limits if `simulation.clip_to_limits`) over the period while the RK4 plant advances, and
+/// returns the plant state at the last sample.
 ///
-/// Errors: `perturbations` are invalid, or the controller refused a sample (with the time and
-/// reason).
-pub fn fly_with<C: FlightController + ?Sized>(
+/// Errors: `perturbations` are invalid, or `control`'s error (a refused sample).
+pub fn fly_with(
     scenario: &Scenario,
     perturbations: &PerturbationConfig,
-    controller: &mut C,
     initial: &RigidBodyState,
     seed: u64,
-    mut observe: impl FnMut(&Step<'_>, &C),
+    mut control: impl FnMut(&Step<'_>) -> Result<Wrench>,
 ) -> Result<RigidBodyState> {
     perturbations.validate().map_err(|e| anyhow!("{e}"))?;
     let sim = &scenario.simulation;
     let limits = scenario.limits::<f64>();
     let mut perturber = Perturber::new(perturbations, seed);
     let plant = perturber.plant(&scenario.plant());
+    // Without perturbations the perturber's measurement, disturbances and actuator are the
+    // identity (the same numbers, no random draw); skipping them keeps nominal runs as fast as
+    // a loop without perturbations.
+    let nominal = perturbations.is_nominal();
     let dt = sim.controller_period_s;
     let steps = (sim.duration_s / dt).round() as u64;
     let mut state = *initial;
+    let mut noisy;
     for k in 0..=steps {
         let t = k as f64 * dt;
-        let measured = perturber.measure(&state);
-        let command = controller.step(&measured, t, dt)?;
-        observe(
-            &Step {
-                k,
-                t,
-                state: &state,
-                command: &command,
-            },
-            controller,
-        );
+        let measured = if nominal {
+            &state
+        } else {
+            noisy = perturber.measure(&state);
+            &noisy
+        };
+        let command = control(&Step {
+            k,
+            t,
+            dt,
+            state: &state,
+            measured,
+        })?;
         if k == steps {
             break;
         }
@@ -142,8 +153,12 @@ pub fn fly_with<C: FlightController + ?Sized>(
                 .torque
                 .zip_map(&limits.torque_max, |t, m| t.clamp(-m, m));
         }
-        perturber.disturb(&mut input, dt);
-        state = perturber.advance(&plant, &state, &input, dt, sim.plant_step_s);
+        state = if nominal {
+            plant.advance(&state, &input, dt, sim.plant_step_s)
+        } else {
+            perturber.disturb(&mut input, dt);
+            perturber.advance(&plant, &state, &input, dt, sim.plant_step_s)
+        };
     }
     Ok(state)
 }

@@ -10,7 +10,7 @@ use controller_core::{
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::Serialize;
 
-use crate::closed_loop;
+use crate::closed_loop::{self, Wrench};
 use crate::controllers::paper::PaperLaw;
 use crate::perturbation::PerturbationConfig;
 use crate::plant::RigidBodyState;
@@ -308,19 +308,21 @@ pub fn fly<T: Scalar>(
     closed_loop::fly_with(
         scenario,
         &PerturbationConfig::default(),
-        &mut law,
         &initial,
         0,
-        |step, law| {
-            if let Some((reference, output)) = law.last_step() {
-                observe(&Sample {
-                    k: step.k,
-                    t: step.t,
-                    state: step.state,
-                    reference,
-                    output,
-                });
-            }
+        |step| {
+            let (reference, output) = law.sample(step.measured, step.t, step.dt)?;
+            observe(&Sample {
+                k: step.k,
+                t: step.t,
+                state: step.state,
+                reference: &reference,
+                output: &output,
+            });
+            Ok(Wrench {
+                thrust: to_f64(output.thrust),
+                torque: back3(&output.torque),
+            })
         },
     )
 }

@@ -13,13 +13,11 @@ use crate::scenario::Scenario;
 use crate::sim::measure;
 
 /// `controller_core::Controller<T>` with the scenario's vehicle, gains and trajectory: samples
-/// the reference at `lit(t)` and measures the state through [`measure`]. It keeps the last
-/// step's reference and output, whose diagnostics the main run ([`crate::sim`]) reports.
+/// the reference at `lit(t)` and measures the state through [`measure`].
 #[derive(Clone, Debug)]
 pub struct PaperLaw<T: Scalar> {
     controller: Controller<T>,
     trajectory: ReferenceTrajectory<T>,
-    last: Option<(ReferenceSample<T>, ControlOutput<T>)>,
 }
 
 pub(crate) fn back3<T: Scalar>(v: &Vector3<T>) -> Vector3<f64> {
@@ -39,30 +37,33 @@ impl<T: Scalar> PaperLaw<T> {
         Ok(Self {
             controller,
             trajectory,
-            last: None,
         })
     }
 
-    /// The reference sample and the law's whole output (command and diagnostics) of the last
-    /// [`FlightController::step`], `None` before the first.
-    pub fn last_step(&self) -> Option<(&ReferenceSample<T>, &ControlOutput<T>)> {
-        self.last.as_ref().map(|(r, o)| (r, o))
-    }
-}
-
-impl<T: Scalar> FlightController for PaperLaw<T> {
-    fn name(&self) -> &str {
-        "paper"
-    }
-
-    fn step(&mut self, measured: &RigidBodyState, t: f64, dt: f64) -> Result<Command> {
+    /// One sample at time `t` \[s\] from the `measured` state for a sample period `dt` \[s\]:
+    /// the reference sample and the law's whole output (command and diagnostics), which the
+    /// main run ([`crate::sim`]) reports; [`Self::command`] turns it into the loop's command.
+    ///
+    /// Errors: the law refused the sample (with the time and reason).
+    #[inline]
+    pub fn sample(
+        &mut self,
+        measured: &RigidBodyState,
+        t: f64,
+        dt: f64,
+    ) -> Result<(ReferenceSample<T>, ControlOutput<T>)> {
         let reference = self.trajectory.sample(lit(t));
         let out = self
             .controller
             .step(&measure::<T>(measured), &reference, lit(dt))
             .map_err(|e| anyhow!("controller refused the sample at t = {t:.3} s: {e}"))?;
+        Ok((reference, out))
+    }
+
+    /// The loop's command (f64) from the law's output `out`.
+    pub fn command(out: &ControlOutput<T>) -> Command {
         let d = &out.diagnostics;
-        let command = Command {
+        Command {
             thrust: to_f64(out.thrust),
             torque: back3(&out.torque),
             desired_rotation: d.desired_rotation.map(to_f64),
@@ -72,8 +73,17 @@ impl<T: Scalar> FlightController for PaperLaw<T> {
                 switches: d.jumps_total.m_flips,
                 resets: d.jumps_total.q_hat_resets,
             },
-        };
-        self.last = Some((reference, out));
-        Ok(command)
+        }
+    }
+}
+
+impl<T: Scalar> FlightController for PaperLaw<T> {
+    fn name(&self) -> &str {
+        "paper"
+    }
+
+    fn step(&mut self, measured: &RigidBodyState, t: f64, dt: f64) -> Result<Command> {
+        let (_, out) = self.sample(measured, t, dt)?;
+        Ok(Self::command(&out))
     }
 }
