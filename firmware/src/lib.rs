@@ -26,6 +26,7 @@ pub mod drivers;
 pub mod estimator;
 pub mod flight_reference;
 pub mod frames;
+pub mod ground_station;
 pub mod imu_attitude;
 pub mod link;
 pub mod mixer;

@@ -3,8 +3,9 @@
 //! [`crate::frames`], the only place that converts), and the encoder for telemetry.
 //!
 //! In: `ODOMETRY` (frame `MAV_FRAME_LOCAL_NED` or `MAV_FRAME_LOCAL_FRD`) and `ATT_POS_MOCAP`
-//! (pose), `COMMAND_LONG` (`MAV_CMD_COMPONENT_ARM_DISARM` arm/disarm, with param2 = 21196 a kill,
-//! with param1 = 1 and param2 = 2989 an explicit upside-down arm; `MAV_CMD_DO_FLIGHTTERMINATION`
+//! (pose), `COMMAND_LONG` (`MAV_CMD_COMPONENT_ARM_DISARM` arm/disarm, with param2 =
+//! [`FORCE_DISARM_PARAM2`] (21196) a kill, with param1 = 1 and param2 = [`FORCE_ARM_PARAM2`]
+//! (2989) an explicit upside-down arm; `MAV_CMD_DO_FLIGHTTERMINATION`
 //! kill; `MAV_CMD_NAV_TAKEOFF` with param7 the height above the arming point \[m\] (NaN/0:
 //! default); `MAV_CMD_NAV_LAND`; `MAV_CMD_MISSION_START` the helix demo), and
 //! `SET_POSITION_TARGET_LOCAL_NED` (frame `MAV_FRAME_LOCAL_NED`, position and yaw; hover
@@ -57,7 +58,7 @@ pub enum PoseSource {
 pub enum Command {
     /// Arm; `inverted` when the sender explicitly allows arming upside down.
     Arm {
-        /// Explicit upside-down permission (param2 = 2989).
+        /// Explicit upside-down permission (param2 = [`FORCE_ARM_PARAM2`]).
         inverted: bool,
     },
     /// Disarm (only on the ground).
@@ -334,19 +335,23 @@ fn odometry(m: &ODOMETRY_DATA) -> Interpretation {
     })
 }
 
-/// PX4's magic numbers: param2 = 21196 forces a disarm in flight; 2989 forces an arm.
-const FORCE_DISARM: f32 = 21196.0;
-const FORCE_ARM: f32 = 2989.0;
+/// `COMMAND_LONG` param2 of `MAV_CMD_COMPONENT_ARM_DISARM` with param1 = 0 that disarms in
+/// flight: a kill (PX4's magic number, MAVLink common's "force disarm").
+pub const FORCE_DISARM_PARAM2: f32 = 21196.0;
+/// `COMMAND_LONG` param2 of `MAV_CMD_COMPONENT_ARM_DISARM` with param1 = 1 that forces the arm
+/// (PX4's magic number, MAVLink common's "force arm"); here the explicit permission to arm
+/// upside down.
+pub const FORCE_ARM_PARAM2: f32 = 2989.0;
 
 fn command(m: &COMMAND_LONG_DATA) -> Interpretation {
     let c = match m.command {
         MavCmd::MAV_CMD_COMPONENT_ARM_DISARM => {
             if m.param1 == 1.0 {
                 Command::Arm {
-                    inverted: m.param2 == FORCE_ARM,
+                    inverted: m.param2 == FORCE_ARM_PARAM2,
                 }
             } else if m.param1 == 0.0 {
-                if m.param2 == FORCE_DISARM {
+                if m.param2 == FORCE_DISARM_PARAM2 {
                     Command::Kill
                 } else {
                     Command::Disarm
@@ -528,7 +533,7 @@ mod tests {
                 Some(Command::Arm { inverted: false }),
             ),
             (
-                cmd(MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 2989.0, 0.0, 0),
+                cmd(MAV_CMD_COMPONENT_ARM_DISARM, 1.0, FORCE_ARM_PARAM2, 0.0, 0),
                 Some(Command::Arm { inverted: true }),
             ),
             (
@@ -536,7 +541,13 @@ mod tests {
                 Some(Command::Disarm),
             ),
             (
-                cmd(MAV_CMD_COMPONENT_ARM_DISARM, 0.0, 21196.0, 0.0, 1),
+                cmd(
+                    MAV_CMD_COMPONENT_ARM_DISARM,
+                    0.0,
+                    FORCE_DISARM_PARAM2,
+                    0.0,
+                    1,
+                ),
                 Some(Command::Kill),
             ),
             (

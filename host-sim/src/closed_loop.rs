@@ -1,17 +1,19 @@
-//! The closed loop for any [`FlightController`], with the perturbations of the scenario's
-//! `[perturbations]` table: sample (noisy measurement) → command → optional clipping →
-//! disturbances → plant (RK4, optional motor lag) over the controller period.
+//! The closed loop, one for every run: sample (measurement, noisy if the perturbations say
+//! so) → command of any [`FlightController`] → optional clipping → disturbances → plant (RK4,
+//! optional motor lag) held over the controller period.
 //!
-//! With the paper's law ([`crate::controllers::paper::PaperLaw`]) and no perturbation this is
-//! the loop of [`crate::sim::run`] step for step (same sample times, same measurement, same
-//! hold, same RK4 substeps); a test pins the commands bit for bit.
+//! [`fly_with`] is the loop itself; the caller steps its controller in it, so a caller that
+//! knows the controller's type also sees its internals (the main run, [`crate::sim`], reports
+//! the paper law's diagnostics this way). [`fly`] is the loop for any controller with the
+//! scenario's `[perturbations]` and a [`LoopSample`] of the errors at every sample, for
+//! campaigns, comparisons and ablations.
 
 use anyhow::{anyhow, Result};
 use controller_core::Trajectory;
 use nalgebra::Vector3;
 
 use crate::controllers::{Command, FlightController};
-use crate::perturbation::Perturber;
+use crate::perturbation::{PerturbationConfig, Perturber};
 use crate::plant::{PlantInput, RigidBodyState};
 use crate::scenario::Scenario;
 use crate::so3::rotation_angle;
@@ -35,8 +37,33 @@ pub struct LoopSample<'a> {
     pub attitude_error_rad: f64,
 }
 
+/// One controller sample of [`fly_with`], as the loop hands it to the control function.
+#[derive(Clone, Copy, Debug)]
+pub struct Step<'a> {
+    /// Sample index `k` (time `k · controller_period_s`).
+    pub k: u64,
+    /// Time \[s\].
+    pub t: f64,
+    /// Controller period \[s\]: the command is held this long.
+    pub dt: f64,
+    /// The true plant state at the sample.
+    pub state: &'a RigidBodyState,
+    /// What the controller measures: the true state, plus noise if the perturbations say so.
+    pub measured: &'a RigidBodyState,
+}
+
+/// The command the loop holds over a controller period (not clipped).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Wrench {
+    /// Collective thrust \[N\] along body z.
+    pub thrust: f64,
+    /// Torque [N m], body frame.
+    pub torque: Vector3<f64>,
+}
+
 /// Flies `scenario` from `initial` with `controller` for `simulation.duration_s`, drawing the
-/// perturbations from `seed`, and calls `observe` at every sample. Returns the final state.
+/// perturbations of the scenario's `[perturbations]` from `seed`, and calls `observe` at every
+/// sample. Returns the final state.
 ///
 /// Errors: the scenario's perturbations are invalid, or the controller refused a sample (with
 /// the time and reason).
@@ -47,33 +74,71 @@ pub fn fly(
     seed: u64,
     mut observe: impl FnMut(&LoopSample<'_>),
 ) -> Result<RigidBodyState> {
-    scenario
-        .perturbations
-        .validate()
-        .map_err(|e| anyhow!("{e}"))?;
-    let sim = &scenario.simulation;
-    let limits = scenario.limits::<f64>();
     let trajectory = scenario.trajectory::<f64>();
-    let mut perturber = Perturber::new(&scenario.perturbations, seed);
-    let plant = perturber.plant(&scenario.plant());
-    let dt = sim.controller_period_s;
-    let steps = (sim.duration_s / dt).round() as u64;
-    let mut state = *initial;
-    for k in 0..=steps {
-        let t = k as f64 * dt;
-        let measured = perturber.measure(&state);
-        let command = controller.step(&measured, t, dt)?;
-        let reference = trajectory.sample(t);
+    fly_with(scenario, &scenario.perturbations, initial, seed, |step| {
+        let command = controller.step(step.measured, step.t, step.dt)?;
+        let state = step.state;
+        let reference = trajectory.sample(step.t);
         let rotation = state.attitude.to_rotation_matrix().into_inner();
         observe(&LoopSample {
-            k,
-            t,
-            state: &state,
+            k: step.k,
+            t: step.t,
+            state,
             reference_position: reference.position,
             command: &command,
             position_error_m: (state.position - reference.position).norm(),
             attitude_error_rad: rotation_angle(&(command.desired_rotation.transpose() * rotation)),
         });
+        Ok(Wrench {
+            thrust: command.thrust,
+            torque: command.torque,
+        })
+    })
+}
+
+/// The loop: flies `scenario` (its vehicle, limits and `[simulation]`) from `initial` with the
+/// given `perturbations` (drawn from `seed`; with none, the measurement is the true state and
+/// no random number is drawn): every `controller_period_s` it asks `control` for the wrench of
+/// the sample (the controller's step, and whatever the caller observes), holds it (clipped to
+/// the limits if `simulation.clip_to_limits`) over the period while the RK4 plant advances, and
+/// returns the plant state at the last sample.
+///
+/// Errors: `perturbations` are invalid, or `control`'s error (a refused sample).
+pub fn fly_with(
+    scenario: &Scenario,
+    perturbations: &PerturbationConfig,
+    initial: &RigidBodyState,
+    seed: u64,
+    mut control: impl FnMut(&Step<'_>) -> Result<Wrench>,
+) -> Result<RigidBodyState> {
+    perturbations.validate().map_err(|e| anyhow!("{e}"))?;
+    let sim = &scenario.simulation;
+    let limits = scenario.limits::<f64>();
+    let mut perturber = Perturber::new(perturbations, seed);
+    let plant = perturber.plant(&scenario.plant());
+    // Without perturbations the perturber's measurement, disturbances and actuator are the
+    // identity (the same numbers, no random draw); skipping them keeps nominal runs as fast as
+    // a loop without perturbations.
+    let nominal = perturbations.is_nominal();
+    let dt = sim.controller_period_s;
+    let steps = (sim.duration_s / dt).round() as u64;
+    let mut state = *initial;
+    let mut noisy;
+    for k in 0..=steps {
+        let t = k as f64 * dt;
+        let measured = if nominal {
+            &state
+        } else {
+            noisy = perturber.measure(&state);
+            &noisy
+        };
+        let command = control(&Step {
+            k,
+            t,
+            dt,
+            state: &state,
+            measured,
+        })?;
         if k == steps {
             break;
         }
@@ -88,8 +153,12 @@ pub fn fly(
                 .torque
                 .zip_map(&limits.torque_max, |t, m| t.clamp(-m, m));
         }
-        perturber.disturb(&mut input, dt);
-        state = perturber.advance(&plant, &state, &input, dt, sim.plant_step_s);
+        state = if nominal {
+            plant.advance(&state, &input, dt, sim.plant_step_s)
+        } else {
+            perturber.disturb(&mut input, dt);
+            perturber.advance(&plant, &state, &input, dt, sim.plant_step_s)
+        };
     }
     Ok(state)
 }
@@ -99,7 +168,8 @@ mod tests {
     use super::*;
     use crate::controllers::paper::PaperLaw;
 
-    /// With the paper's law and no perturbation, the commands equal `sim::run`'s bit for bit.
+    /// With the paper's law and no perturbation, [`fly`] (the campaigns' view of the loop)
+    /// gives the commands and states of `sim::run` (the main run's) bit for bit.
     #[test]
     fn nominal_paper_loop_matches_sim_run() {
         let mut scenario = Scenario::paper();

@@ -1,16 +1,19 @@
-//! One closed-loop run: the controller-core law at its sampling rate, a zero-order hold, and the
-//! RK4 rigid-body plant.
+//! The main run: the paper's law (controller-core, f32 or f64) in the closed loop
+//! ([`crate::closed_loop`]) at its sampling rate, a zero-order hold and the RK4 rigid-body
+//! plant, with the law's diagnostics in every [`Record`] and the [`Summary`].
 
 use anyhow::{anyhow, Result};
 use controller_core::scalar::{lit, to_f64, Scalar};
 use controller_core::{
-    certify, Certificate, ControlOutput, Controller, FilterStart, ReferenceSample, Trajectory,
-    VehicleState,
+    certify, Certificate, ControlOutput, FilterStart, ReferenceSample, Trajectory, VehicleState,
 };
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::Serialize;
 
-use crate::plant::{PlantInput, RigidBodyState};
+use crate::closed_loop::{self, Wrench};
+use crate::controllers::paper::PaperLaw;
+use crate::perturbation::PerturbationConfig;
+use crate::plant::RigidBodyState;
 use crate::scenario::{Precision, Scenario};
 
 /// One controller sample: the state, the reference, the command and the law's internals.
@@ -287,9 +290,11 @@ pub struct Sample<'a, T: Scalar> {
     pub output: &'a ControlOutput<T>,
 }
 
-/// Flies `scenario` from `initial` with the paper's law in scalar `T`: sample the state every
-/// `controller_period_s`, step the controller, hold `(T, τ)` (clipped to the limits if
-/// `simulation.clip_to_limits`), advance the RK4 plant; calls `observe` at every sample and
+/// Flies `scenario` from `initial` with the paper's law in scalar `T` through the one closed
+/// loop ([`crate::closed_loop::fly_with`]) without perturbations (the scenario's
+/// `[perturbations]` are not applied): sample the state every `controller_period_s`, step the
+/// controller, hold `(T, τ)` (clipped to the limits if `simulation.clip_to_limits`), advance the
+/// RK4 plant; calls `observe` at every sample with the law's reference and whole output, and
 /// returns the plant state at the last one.
 ///
 /// Errors: the parameters are refused (named by scenario key), or the controller refused a
@@ -299,50 +304,27 @@ pub fn fly<T: Scalar>(
     initial: RigidBodyState,
     mut observe: impl FnMut(&Sample<'_, T>),
 ) -> Result<RigidBodyState> {
-    let trajectory = scenario.trajectory::<T>();
-    let mut controller = Controller::new(
-        scenario.vehicle::<T>(),
-        scenario.gains::<T>(),
-        &trajectory.constants(),
+    let mut law = PaperLaw::<T>::new(scenario)?;
+    closed_loop::fly_with(
+        scenario,
+        &PerturbationConfig::default(),
+        &initial,
+        0,
+        |step| {
+            let (reference, output) = law.sample(step.measured, step.t, step.dt)?;
+            observe(&Sample {
+                k: step.k,
+                t: step.t,
+                state: step.state,
+                reference: &reference,
+                output: &output,
+            });
+            Ok(Wrench {
+                thrust: to_f64(output.thrust),
+                torque: back3(&output.torque),
+            })
+        },
     )
-    .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;
-    let limits = scenario.limits::<f64>();
-    let plant = scenario.plant();
-    let sim = &scenario.simulation;
-    let dt = sim.controller_period_s;
-    let dt_t: T = lit(dt);
-    let steps = (sim.duration_s / dt).round() as u64;
-    let mut state = initial;
-    for k in 0..=steps {
-        let t = k as f64 * dt;
-        let reference = trajectory.sample(lit(t));
-        let output = controller
-            .step(&measure::<T>(&state), &reference, dt_t)
-            .map_err(|e| anyhow!("controller refused the sample at t = {t:.3} s: {e}"))?;
-        observe(&Sample {
-            k,
-            t,
-            state: &state,
-            reference: &reference,
-            output: &output,
-        });
-        if k == steps {
-            break;
-        }
-        let thrust = to_f64(output.thrust);
-        let torque = back3(&output.torque);
-        let mut input = PlantInput {
-            thrust,
-            torque,
-            ..Default::default()
-        };
-        if sim.clip_to_limits {
-            input.thrust = thrust.clamp(0.0, limits.thrust_max);
-            input.torque = torque.zip_map(&limits.torque_max, |t, m| t.clamp(-m, m));
-        }
-        state = plant.advance(&state, &input, dt, sim.plant_step_s);
-    }
-    Ok(state)
 }
 
 fn run_generic<T: Scalar>(

@@ -1,6 +1,6 @@
 //! Processor in the loop: the firmware built for Cortex-M4F (`firmware-mps2-an386`) runs in
 //! QEMU `mps2-an386` and flies SIL's paper scenario (the helix from upside down) over its
-//! emulated serial port, in lockstep with the plant. The same checks as `sil_paper.rs` where
+//! emulated serial port, in lockstep with the plant. The same checks as host-sim's `sil_paper.rs` where
 //! the telemetry carries them, plus: the firmware neither crashed nor stalled (the stall
 //! timeout bounds the wall time) and its defmt log decodes and holds the boot certificate.
 //!

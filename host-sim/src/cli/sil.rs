@@ -10,7 +10,7 @@ use host_sim::harness::sil::{self, SilOptions};
 #[derive(Debug, Args, Clone)]
 pub struct SilArgs {
     /// Scenario: `paper` (the helix from the upside-down start), `pose-loss` (failsafe),
-    /// `takeoff-land`.
+    /// `takeoff-land` (host-sim/scenarios/sil/, embedded), or the path of a SIL scenario file.
     #[arg(long, default_value = "paper")]
     pub scenario: String,
     /// Random seed (sensor noise, dropouts, byte chunking).

@@ -2,7 +2,9 @@
 
 use anyhow::{anyhow, Result};
 use controller_core::scalar::{lit, to_f64, Scalar};
-use controller_core::{Controller, ReferenceTrajectory, Trajectory};
+use controller_core::{
+    ControlOutput, Controller, ReferenceSample, ReferenceTrajectory, Trajectory,
+};
 use nalgebra::Vector3;
 
 use super::{Command, FlightController, SwitchCounts};
@@ -10,9 +12,8 @@ use crate::plant::RigidBodyState;
 use crate::scenario::Scenario;
 use crate::sim::measure;
 
-/// `controller_core::Controller<T>` with the scenario's vehicle, gains and trajectory. Samples
-/// and measures exactly as [`crate::sim::run`] does (reference at `lit(t)`, state through
-/// [`measure`]), so its commands are bit-identical to that loop's.
+/// `controller_core::Controller<T>` with the scenario's vehicle, gains and trajectory: samples
+/// the reference at `lit(t)` and measures the state through [`measure`].
 #[derive(Clone, Debug)]
 pub struct PaperLaw<T: Scalar> {
     controller: Controller<T>,
@@ -38,21 +39,31 @@ impl<T: Scalar> PaperLaw<T> {
             trajectory,
         })
     }
-}
 
-impl<T: Scalar> FlightController for PaperLaw<T> {
-    fn name(&self) -> &str {
-        "paper"
-    }
-
-    fn step(&mut self, measured: &RigidBodyState, t: f64, dt: f64) -> Result<Command> {
+    /// One sample at time `t` \[s\] from the `measured` state for a sample period `dt` \[s\]:
+    /// the reference sample and the law's whole output (command and diagnostics), which the
+    /// main run ([`crate::sim`]) reports; [`Self::command`] turns it into the loop's command.
+    ///
+    /// Errors: the law refused the sample (with the time and reason).
+    #[inline]
+    pub fn sample(
+        &mut self,
+        measured: &RigidBodyState,
+        t: f64,
+        dt: f64,
+    ) -> Result<(ReferenceSample<T>, ControlOutput<T>)> {
         let reference = self.trajectory.sample(lit(t));
         let out = self
             .controller
             .step(&measure::<T>(measured), &reference, lit(dt))
             .map_err(|e| anyhow!("controller refused the sample at t = {t:.3} s: {e}"))?;
+        Ok((reference, out))
+    }
+
+    /// The loop's command (f64) from the law's output `out`.
+    pub fn command(out: &ControlOutput<T>) -> Command {
         let d = &out.diagnostics;
-        Ok(Command {
+        Command {
             thrust: to_f64(out.thrust),
             torque: back3(&out.torque),
             desired_rotation: d.desired_rotation.map(to_f64),
@@ -62,6 +73,17 @@ impl<T: Scalar> FlightController for PaperLaw<T> {
                 switches: d.jumps_total.m_flips,
                 resets: d.jumps_total.q_hat_resets,
             },
-        })
+        }
+    }
+}
+
+impl<T: Scalar> FlightController for PaperLaw<T> {
+    fn name(&self) -> &str {
+        "paper"
+    }
+
+    fn step(&mut self, measured: &RigidBodyState, t: f64, dt: f64) -> Result<Command> {
+        let (_, out) = self.sample(measured, t, dt)?;
+        Ok(Self::command(&out))
     }
 }

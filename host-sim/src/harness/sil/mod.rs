@@ -11,10 +11,11 @@
 //!   effectiveness matrix (the same geometry the firmware allocates with);
 //! - optionally a flat ground (contact stops the body) for takeoff and landing.
 //!
-//! [`scenarios`] defines the runs; [`run`] executes one and returns its records and summary.
+//! [`scenarios`] defines the runs (files in the format of [`scenario_file`]); [`run`] executes one and returns its records and summary.
 //! The loop itself ([`fly`]) only sees the flight software through [`FlightSoftware`]: the
 //! in-process pipeline here, the firmware under QEMU in [`crate::harness::pil`].
 
+pub mod scenario_file;
 pub mod scenarios;
 pub mod sensors;
 
@@ -753,7 +754,8 @@ pub fn human_summary(s: &SilSummary) -> String {
 /// What the `sil` subcommand runs.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SilOptions {
-    /// Scenario name, one of [`scenarios::NAMES`] (the command line's default: `paper`).
+    /// Scenario: a name of [`scenarios::NAMES`] (the command line's default: `paper`) or the path
+    /// of a SIL scenario file (format: [`scenario_file`]).
     pub scenario: String,
     /// Random seed (sensor noise, dropouts, byte chunking); the command line's default: 1.
     pub seed: u64,
@@ -762,15 +764,10 @@ pub struct SilOptions {
 }
 
 /// The `sil` subcommand: runs the scenario, prints the summary, writes `timeseries.csv` and
-/// `summary.json`. Errors: unknown scenario; the run failed or a file could not be written.
+/// `summary.json`. Errors: unknown scenario name or a bad scenario file (with file, key and
+/// reason); the run failed or a file could not be written.
 pub fn run_command(args: &SilOptions) -> Result<()> {
-    let setup = scenarios::by_name(&args.scenario, args.seed).ok_or_else(|| {
-        anyhow!(
-            "unknown SIL scenario {:?}; known: {}",
-            args.scenario,
-            scenarios::NAMES.join(", ")
-        )
-    })?;
+    let setup = scenarios::load(&args.scenario, args.seed)?;
     let out = args
         .out
         .clone()

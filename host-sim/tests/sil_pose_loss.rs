@@ -1,6 +1,7 @@
 //! SIL scenario 2: pose lost in flight: failsafe within 100 ms of the pose timing out (one
 //! 10 ms control tick after the 100 ms limit), level, descending, disarmed after 2 s.
 
+use firmware::ground_station;
 use host_sim::harness::sil::{run, scenarios};
 
 #[test]
@@ -76,7 +77,10 @@ fn takeoff_hover_land_disarm() {
 #[test]
 fn pose_loss_near_the_ground_disarms_on_the_ground() {
     let mut setup = scenarios::takeoff_land(4);
-    setup.commands = vec![(0.0, scenarios::arm(false)), (0.2, scenarios::takeoff(0.4))];
+    setup.commands = vec![
+        (0.0, ground_station::arm(false)),
+        (0.2, ground_station::takeoff(0.4)),
+    ];
     setup.pose_outage = Some((6.0, f64::INFINITY));
     setup.duration_s = 10.0;
     let s = run(&setup, |_| {}).unwrap();

@@ -4,9 +4,8 @@
 
 use firmware::config::FlightConfig;
 use firmware::frames;
-use firmware::link::mavlink::dialects::common::{
-    MavCmd, MavMessage, ATT_POS_MOCAP_DATA, COMMAND_LONG_DATA,
-};
+use firmware::ground_station;
+use firmware::link::mavlink::dialects::common::{MavCmd, MavMessage, ATT_POS_MOCAP_DATA};
 use firmware::link::{self, MAX_FRAME};
 use firmware::pipeline::{FlightPipeline, ImuSample, MotorOutput};
 use firmware::safety::FlightState;
@@ -28,26 +27,6 @@ fn pose(p: [f32; 3], q: [f32; 4]) -> Vec<u8> {
         y,
         z,
     }))
-}
-
-fn cmd(command: MavCmd, p1: f32, p2: f32, p7: f32) -> Vec<u8> {
-    bytes(&MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-        param1: p1,
-        param2: p2,
-        param7: p7,
-        command,
-        target_system: 1,
-        ..Default::default()
-    }))
-}
-
-fn arm(inverted: bool) -> Vec<u8> {
-    cmd(
-        MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
-        1.0,
-        if inverted { 2989.0 } else { 0.0 },
-        0.0,
-    )
 }
 
 fn config() -> FlightConfig {
@@ -124,7 +103,8 @@ impl Bench {
     fn arm(&mut self, inverted: bool) -> bool {
         let before = self.p.status().state;
         let stale = self.last_good_pose.is_none_or(|t| self.now - t >= 50_000);
-        self.p.on_link_bytes(&arm(inverted), self.now);
+        self.p
+            .on_link_bytes(&bytes(&ground_station::arm(inverted)), self.now);
         let armed = before == FlightState::Disarmed && self.p.status().state == FlightState::Armed;
         if armed {
             assert!(!stale, "armed with a stale pose");
@@ -170,10 +150,7 @@ fn arming_refused_while_pose_stale_or_non_finite() {
     let out = b.tick();
     assert!(out.armed);
     // Kill stops the motors at the next tick.
-    b.p.on_link_bytes(
-        &cmd(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 0.0, 21196.0, 0.0),
-        b.now,
-    );
+    b.p.on_link_bytes(&bytes(&ground_station::kill()), b.now);
     assert_eq!(b.p.status().state, FlightState::Disarmed);
     assert_eq!(b.tick().throttle, [0.0; 4]);
     // Refusals were reported as events and counted.
@@ -248,14 +225,14 @@ proptest! {
                 Op::Imu(g, a) => b.imu(g, a),
                 Op::Pose(p, q) => b.pose(p, q),
                 Op::Arm(inv) => { b.arm(inv); }
-                Op::Disarm => b.p.on_link_bytes(&cmd(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 0.0, 0.0, 0.0), b.now),
+                Op::Disarm => b.p.on_link_bytes(&bytes(&ground_station::command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 0.0, 0.0, 0.0)), b.now),
                 Op::Kill => {
-                    b.p.on_link_bytes(&cmd(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 0.0, 21196.0, 0.0), b.now);
+                    b.p.on_link_bytes(&bytes(&ground_station::kill()), b.now);
                     prop_assert_eq!(b.p.status().state, FlightState::Disarmed);
                 }
-                Op::Takeoff(h) => b.p.on_link_bytes(&cmd(MavCmd::MAV_CMD_NAV_TAKEOFF, 0.0, 0.0, h), b.now),
-                Op::Land => b.p.on_link_bytes(&cmd(MavCmd::MAV_CMD_NAV_LAND, 0.0, 0.0, 0.0), b.now),
-                Op::Mission => b.p.on_link_bytes(&cmd(MavCmd::MAV_CMD_MISSION_START, 0.0, 0.0, 0.0), b.now),
+                Op::Takeoff(h) => b.p.on_link_bytes(&bytes(&ground_station::takeoff(h)), b.now),
+                Op::Land => b.p.on_link_bytes(&bytes(&ground_station::land()), b.now),
+                Op::Mission => b.p.on_link_bytes(&bytes(&ground_station::mission_start()), b.now),
                 Op::Wait(us) => b.advance(us),
                 Op::Tick => { b.now += 1; b.tick(); }
                 Op::Garbage(g) => b.p.on_link_bytes(&g, b.now),

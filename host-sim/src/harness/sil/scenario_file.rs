@@ -1,0 +1,508 @@
+//! SIL scenario files (TOML): what a software-in-the-loop run flies, holds, senses and is sent.
+//!
+//! Units are in the key names, unknown keys are refused, and every error names the file, the
+//! key and the reason. A scenario file holds:
+//!
+//! - `flight = "paper"`: the firmware's configuration, `FlightConfig::paper()` (the only one);
+//! - `pose_message = "odometry" | "att_pos_mocap"`: the MAVLink message carrying the poses;
+//! - `motor_time_constant_s`, `hold_s` (held still before the release), `duration_s` (after
+//!   it), optional `ground_z_m` (flat ground, z up; none if absent) and `pose_outage_s =
+//!   [start, end)` (no pose sent; `inf` allowed);
+//! - `[initial]`: either `scenario = "paper"`, the `[initial]` state of the paper's scenario
+//!   (`host-sim/scenarios/paper.toml`; a file read from disk may also name another scenario
+//!   file, relative to itself), or the body at rest at `position_m` (NWU) with attitude
+//!   `euler_rad` (roll, pitch, yaw, `R = Rz Ry Rx`; level with yaw 0 if absent);
+//! - `[imu]`, `[mocap]`: overrides of single keys of the shared sensor models
+//!   ([`SENSORS`], `host-sim/scenarios/sil/sensors.toml`);
+//! - `[[commands]]`: ground-station messages, each `at_s` (after the release; negative: during
+//!   the hold) and `command` = `"arm"`, `"arm-inverted"`, `"takeoff"` (`height_m` above the
+//!   arming point), `"land"`, `"mission-start"`, `"kill"` or `"setpoint"` (`position_m` and
+//!   `yaw_rad`, NWU), built by [`firmware::ground_station`].
+
+use std::path::Path;
+
+use anyhow::{anyhow, Result};
+use firmware::config::FlightConfig;
+use firmware::ground_station;
+use firmware::link::mavlink::dialects::common::MavMessage;
+use nalgebra::{UnitQuaternion, Vector3};
+use serde::Deserialize;
+
+use super::sensors::{ImuModel, MocapModel, PoseMessage};
+use super::SilSetup;
+use crate::plant::RigidBodyState;
+use crate::scenario::Scenario;
+
+/// The shared sensor models (`host-sim/scenarios/sil/sensors.toml`), as TOML text.
+pub const SENSORS: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/scenarios/sil/sensors.toml"
+));
+
+/// How [`SENSORS`] is named in errors.
+const SENSORS_ORIGIN: &str = "host-sim/scenarios/sil/sensors.toml";
+
+/// A whole SIL scenario file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ScenarioFile {
+    flight: FlightName,
+    pose_message: PoseMessageName,
+    motor_time_constant_s: f64,
+    hold_s: f64,
+    duration_s: f64,
+    #[serde(default)]
+    ground_z_m: Option<f64>,
+    #[serde(default)]
+    pose_outage_s: Option<[f64; 2]>,
+    initial: InitialKeys,
+    #[serde(default)]
+    imu: ImuKeys,
+    #[serde(default)]
+    mocap: MocapKeys,
+    #[serde(default)]
+    commands: Vec<CommandKeys>,
+}
+
+/// `flight`: the firmware configuration flown.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum FlightName {
+    /// `FlightConfig::paper()`.
+    Paper,
+}
+
+/// `pose_message`.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum PoseMessageName {
+    Odometry,
+    AttPosMocap,
+}
+
+/// `[initial]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct InitialKeys {
+    #[serde(default)]
+    scenario: Option<String>,
+    #[serde(default)]
+    position_m: Option<[f64; 3]>,
+    #[serde(default)]
+    euler_rad: Option<[f64; 3]>,
+}
+
+/// `[imu]` of the sensors file, or single keys of it in a scenario file.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ImuKeys {
+    rate_hz: Option<f64>,
+    gyro_noise_rad_s: Option<f64>,
+    gyro_bias_rad_s: Option<[f64; 3]>,
+    accel_noise_m_s2: Option<f64>,
+    accel_bias_m_s2: Option<[f64; 3]>,
+}
+
+/// `[mocap]` of the sensors file, or single keys of it in a scenario file.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MocapKeys {
+    rate_hz: Option<f64>,
+    latency_s: Option<f64>,
+    dropout: Option<f64>,
+    position_noise_m: Option<f64>,
+    attitude_noise_rad: Option<f64>,
+}
+
+/// The sensors file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SensorsFile {
+    imu: ImuKeys,
+    mocap: MocapKeys,
+}
+
+/// One `[[commands]]` entry.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CommandKeys {
+    at_s: f64,
+    command: CommandName,
+    #[serde(default)]
+    height_m: Option<f32>,
+    #[serde(default)]
+    position_m: Option<[f32; 3]>,
+    #[serde(default)]
+    yaw_rad: Option<f32>,
+}
+
+/// `command`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+enum CommandName {
+    Arm,
+    ArmInverted,
+    Takeoff,
+    Land,
+    MissionStart,
+    Kill,
+    Setpoint,
+}
+
+fn require<T: Copy>(value: Option<T>, key: &str) -> std::result::Result<T, String> {
+    value.ok_or_else(|| format!("{key}: missing"))
+}
+
+fn check(ok: bool, key: &str, reason: &str, value: impl std::fmt::Debug) -> Result<(), String> {
+    if ok {
+        Ok(())
+    } else {
+        Err(format!("{key}: {reason}, got {value:?}"))
+    }
+}
+
+fn positive(key: &str, v: f64) -> Result<(), String> {
+    check(v.is_finite() && v > 0.0, key, "must be finite and > 0", v)
+}
+
+fn non_negative(key: &str, v: f64) -> Result<(), String> {
+    check(v.is_finite() && v >= 0.0, key, "must be finite and >= 0", v)
+}
+
+fn finite3<T: Into<f64> + Copy + std::fmt::Debug>(key: &str, a: [T; 3]) -> Result<(), String> {
+    check(
+        a.iter().all(|x| (*x).into().is_finite()),
+        key,
+        "must be finite",
+        a,
+    )
+}
+
+impl ImuKeys {
+    /// `self` with the keys `over` sets replaced.
+    fn overlay(self, over: ImuKeys) -> ImuKeys {
+        ImuKeys {
+            rate_hz: over.rate_hz.or(self.rate_hz),
+            gyro_noise_rad_s: over.gyro_noise_rad_s.or(self.gyro_noise_rad_s),
+            gyro_bias_rad_s: over.gyro_bias_rad_s.or(self.gyro_bias_rad_s),
+            accel_noise_m_s2: over.accel_noise_m_s2.or(self.accel_noise_m_s2),
+            accel_bias_m_s2: over.accel_bias_m_s2.or(self.accel_bias_m_s2),
+        }
+    }
+
+    fn model(&self) -> Result<ImuModel, String> {
+        let m = ImuModel {
+            rate_hz: require(self.rate_hz, "imu.rate_hz")?,
+            gyro_noise: require(self.gyro_noise_rad_s, "imu.gyro_noise_rad_s")?,
+            gyro_bias: require(self.gyro_bias_rad_s, "imu.gyro_bias_rad_s")?,
+            accel_noise: require(self.accel_noise_m_s2, "imu.accel_noise_m_s2")?,
+            accel_bias: require(self.accel_bias_m_s2, "imu.accel_bias_m_s2")?,
+        };
+        positive("imu.rate_hz", m.rate_hz)?;
+        non_negative("imu.gyro_noise_rad_s", m.gyro_noise)?;
+        finite3("imu.gyro_bias_rad_s", m.gyro_bias)?;
+        non_negative("imu.accel_noise_m_s2", m.accel_noise)?;
+        finite3("imu.accel_bias_m_s2", m.accel_bias)?;
+        Ok(m)
+    }
+}
+
+impl MocapKeys {
+    /// `self` with the keys `over` sets replaced.
+    fn overlay(self, over: MocapKeys) -> MocapKeys {
+        MocapKeys {
+            rate_hz: over.rate_hz.or(self.rate_hz),
+            latency_s: over.latency_s.or(self.latency_s),
+            dropout: over.dropout.or(self.dropout),
+            position_noise_m: over.position_noise_m.or(self.position_noise_m),
+            attitude_noise_rad: over.attitude_noise_rad.or(self.attitude_noise_rad),
+        }
+    }
+
+    fn model(&self, message: PoseMessage) -> Result<MocapModel, String> {
+        let m = MocapModel {
+            rate_hz: require(self.rate_hz, "mocap.rate_hz")?,
+            latency_s: require(self.latency_s, "mocap.latency_s")?,
+            dropout: require(self.dropout, "mocap.dropout")?,
+            position_noise: require(self.position_noise_m, "mocap.position_noise_m")?,
+            attitude_noise: require(self.attitude_noise_rad, "mocap.attitude_noise_rad")?,
+            message,
+        };
+        positive("mocap.rate_hz", m.rate_hz)?;
+        non_negative("mocap.latency_s", m.latency_s)?;
+        check(
+            (0.0..=1.0).contains(&m.dropout),
+            "mocap.dropout",
+            "must be a probability in [0, 1]",
+            m.dropout,
+        )?;
+        non_negative("mocap.position_noise_m", m.position_noise)?;
+        non_negative("mocap.attitude_noise_rad", m.attitude_noise)?;
+        Ok(m)
+    }
+}
+
+/// The sensors file's complete models, each key checked.
+fn sensors() -> Result<SensorsFile> {
+    let s: SensorsFile =
+        toml::from_str(SENSORS).map_err(|e| anyhow!("sensor models {SENSORS_ORIGIN}: {e}"))?;
+    let both = s
+        .imu
+        .model()
+        .and_then(|_| s.mocap.model(PoseMessage::Odometry));
+    both.map_err(|e| anyhow!("sensor models {SENSORS_ORIGIN}: {e}"))?;
+    Ok(s)
+}
+
+/// Reads the state the body starts from. `dir`: the folder of the scenario file, for a
+/// scenario file named relative to it (`None` for embedded text).
+fn initial(i: &InitialKeys, dir: Option<&Path>) -> Result<RigidBodyState, String> {
+    match (&i.scenario, i.position_m, i.euler_rad) {
+        (Some(name), None, None) => {
+            if name == "paper" {
+                Ok(Scenario::paper().initial_state())
+            } else if let Some(dir) = dir {
+                Scenario::load(&dir.join(name))
+                    .map(|s| s.initial_state())
+                    .map_err(|e| format!("initial.scenario: {e:#}"))
+            } else {
+                Err(format!(
+                    "initial.scenario: {name:?} is not \"paper\" (embedded scenarios name no file)"
+                ))
+            }
+        }
+        (Some(_), _, _) => Err(
+            "initial: give either `scenario` or `position_m` (and `euler_rad`), not both"
+                .to_string(),
+        ),
+        (None, Some(position), euler) => {
+            finite3("initial.position_m", position)?;
+            let attitude = match euler {
+                Some(e) => {
+                    finite3("initial.euler_rad", e)?;
+                    UnitQuaternion::from_euler_angles(e[0], e[1], e[2])
+                }
+                None => UnitQuaternion::identity(),
+            };
+            Ok(RigidBodyState {
+                position: Vector3::from(position),
+                velocity: Vector3::zeros(),
+                attitude,
+                angular_velocity: Vector3::zeros(),
+            })
+        }
+        (None, None, _) => Err("initial: missing `scenario` or `position_m`".to_string()),
+    }
+}
+
+/// The message of `commands[index]`.
+fn command(index: usize, c: &CommandKeys) -> Result<(f64, MavMessage), String> {
+    let key = |k: &str| format!("commands[{index}].{k}");
+    check(c.at_s.is_finite(), &key("at_s"), "must be finite", c.at_s)?;
+    let takes_height = c.command == CommandName::Takeoff;
+    let takes_target = c.command == CommandName::Setpoint;
+    let unexpected = [
+        ("height_m", c.height_m.is_some() && !takes_height),
+        ("position_m", c.position_m.is_some() && !takes_target),
+        ("yaw_rad", c.yaw_rad.is_some() && !takes_target),
+    ];
+    if let Some((k, _)) = unexpected.iter().find(|(_, bad)| *bad) {
+        return Err(format!("{}: not a parameter of {:?}", key(k), c.command));
+    }
+    let message = match c.command {
+        CommandName::Arm => ground_station::arm(false),
+        CommandName::ArmInverted => ground_station::arm(true),
+        CommandName::Takeoff => {
+            let h = require(c.height_m, &key("height_m"))?;
+            check(
+                h.is_finite() && h > 0.0,
+                &key("height_m"),
+                "must be finite and > 0",
+                h,
+            )?;
+            ground_station::takeoff(h)
+        }
+        CommandName::Land => ground_station::land(),
+        CommandName::MissionStart => ground_station::mission_start(),
+        CommandName::Kill => ground_station::kill(),
+        CommandName::Setpoint => {
+            let p = require(c.position_m, &key("position_m"))?;
+            let yaw = require(c.yaw_rad, &key("yaw_rad"))?;
+            finite3(&key("position_m"), p)?;
+            check(yaw.is_finite(), &key("yaw_rad"), "must be finite", yaw)?;
+            ground_station::setpoint_nwu(Vector3::from(p), yaw)
+        }
+    };
+    Ok((c.at_s, message))
+}
+
+/// Parses the SIL scenario `text` into the run called `name` with `seed`. `origin` names the
+/// text in errors; `dir` is the folder of the file it was read from (`None` for embedded
+/// text), against which `initial.scenario` paths resolve.
+///
+/// Errors: `"SIL scenario <origin>: <key>: <reason>"` for a syntax error, an unknown or missing
+/// key, a value of the wrong type or out of range; the shared sensor models' own errors name
+/// their file.
+pub fn parse(
+    text: &str,
+    origin: &str,
+    dir: Option<&Path>,
+    name: &str,
+    seed: u64,
+) -> Result<SilSetup> {
+    let file: ScenarioFile =
+        toml::from_str(text).map_err(|e| anyhow!("SIL scenario {origin}: {e}"))?;
+    let shared = sensors()?;
+    build(file, shared, dir, name, seed).map_err(|e| anyhow!("SIL scenario {origin}: {e}"))
+}
+
+fn build(
+    file: ScenarioFile,
+    shared: SensorsFile,
+    dir: Option<&Path>,
+    name: &str,
+    seed: u64,
+) -> Result<SilSetup, String> {
+    let flight = match file.flight {
+        FlightName::Paper => FlightConfig::paper(),
+    };
+    let message = match file.pose_message {
+        PoseMessageName::Odometry => PoseMessage::Odometry,
+        PoseMessageName::AttPosMocap => PoseMessage::AttPosMocap,
+    };
+    let imu = shared.imu.overlay(file.imu).model()?;
+    let mocap = shared.mocap.overlay(file.mocap).model(message)?;
+    positive("motor_time_constant_s", file.motor_time_constant_s)?;
+    non_negative("hold_s", file.hold_s)?;
+    positive("duration_s", file.duration_s)?;
+    if let Some(z) = file.ground_z_m {
+        check(z.is_finite(), "ground_z_m", "must be finite", z)?;
+    }
+    if let Some([a, b]) = file.pose_outage_s {
+        check(
+            a.is_finite() && !b.is_nan() && a <= b,
+            "pose_outage_s",
+            "must be [start, end) with a finite start <= end",
+            [a, b],
+        )?;
+    }
+    let initial = initial(&file.initial, dir)?;
+    let commands = file
+        .commands
+        .iter()
+        .enumerate()
+        .map(|(i, c)| command(i, c))
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok(SilSetup {
+        name: name.to_string(),
+        flight,
+        imu,
+        mocap,
+        motor_time_constant_s: file.motor_time_constant_s,
+        initial,
+        hold_s: file.hold_s,
+        duration_s: file.duration_s,
+        commands,
+        pose_outage: file.pose_outage_s.map(|[a, b]| (a, b)),
+        seed,
+        ground_z: file.ground_z_m,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TAKEOFF_LAND: &str = include_str!(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/sil/takeoff-land.toml"
+    ));
+
+    /// The error for `text` as file `bad.toml`, with every cause.
+    fn refused(text: &str) -> String {
+        format!(
+            "{:#}",
+            parse(text, "bad.toml", None, "bad", 1).expect_err("the file must be refused")
+        )
+    }
+
+    fn assert_names(e: &str, parts: &[&str]) {
+        for p in parts {
+            assert!(e.contains(p), "{p:?} missing from: {e}");
+        }
+    }
+
+    #[test]
+    fn the_file_parses() {
+        let s = parse(TAKEOFF_LAND, "t.toml", None, "t", 1).unwrap();
+        assert_eq!(s.commands.len(), 4);
+        assert_eq!(s.ground_z, Some(0.0));
+    }
+
+    #[test]
+    fn unknown_keys_are_named() {
+        let e = refused(&TAKEOFF_LAND.replace("hold_s", "hold_time_s"));
+        assert_names(&e, &["bad.toml", "hold_time_s"]);
+        let e = refused(&format!("{TAKEOFF_LAND}\n[imu]\ngyro_noise = 0.1\n"));
+        assert_names(&e, &["bad.toml", "gyro_noise"]);
+        let e = refused(&TAKEOFF_LAND.replace("yaw_rad = 1.0", "yaw_deg = 1.0"));
+        assert_names(&e, &["bad.toml", "yaw_deg"]);
+    }
+
+    #[test]
+    fn missing_and_wrong_values_are_named() {
+        let e = refused(&TAKEOFF_LAND.replace("duration_s = 20.0", ""));
+        assert_names(&e, &["bad.toml", "duration_s"]);
+        let e = refused(&TAKEOFF_LAND.replace("duration_s = 20.0", "duration_s = -1.0"));
+        assert_names(&e, &["bad.toml", "duration_s", "> 0", "-1"]);
+        let e = refused(&TAKEOFF_LAND.replace("hold_s = 1.5", "hold_s = \"long\""));
+        assert_names(&e, &["bad.toml", "hold_s"]);
+        let e = refused(&TAKEOFF_LAND.replace("\"att_pos_mocap\"", "\"vicon\""));
+        assert_names(&e, &["bad.toml", "pose_message", "vicon"]);
+        let e = refused(&TAKEOFF_LAND.replace("flight = \"paper\"", "flight = \"racer\""));
+        assert_names(&e, &["bad.toml", "flight", "racer"]);
+        let e = refused(&format!("{TAKEOFF_LAND}\n[mocap]\ndropout = 1.5\n"));
+        assert_names(&e, &["bad.toml", "mocap.dropout", "[0, 1]", "1.5"]);
+    }
+
+    #[test]
+    fn bad_commands_are_named_with_their_index() {
+        let e = refused(&TAKEOFF_LAND.replace("command = \"land\"", "command = \"flip\""));
+        assert_names(&e, &["bad.toml", "command", "flip"]);
+        let e = refused(&TAKEOFF_LAND.replace("height_m = 1.0", ""));
+        assert_names(&e, &["bad.toml", "commands[1].height_m", "missing"]);
+        let e = refused(&TAKEOFF_LAND.replace("height_m = 1.0", "height_m = -1.0"));
+        assert_names(&e, &["bad.toml", "commands[1].height_m", "> 0"]);
+        let e = refused(
+            &TAKEOFF_LAND.replace("command = \"land\"", "command = \"land\"\nheight_m = 1.0"),
+        );
+        assert_names(&e, &["bad.toml", "commands[3].height_m", "not a parameter"]);
+    }
+
+    #[test]
+    fn the_initial_state_is_one_of_two_kinds() {
+        let e = refused(&TAKEOFF_LAND.replace("position_m = [0.0, 0.0, 0.0]", ""));
+        assert_names(&e, &["bad.toml", "initial", "missing"]);
+        let e = refused(&TAKEOFF_LAND.replace(
+            "position_m = [0.0, 0.0, 0.0]",
+            "position_m = [0.0, 0.0, 0.0]\nscenario = \"paper\"",
+        ));
+        assert_names(&e, &["bad.toml", "initial", "not both"]);
+        let paper = include_str!(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/scenarios/sil/paper.toml"
+        ));
+        let e = refused(&paper.replace("scenario = \"paper\"", "scenario = \"other.toml\""));
+        assert_names(&e, &["bad.toml", "initial.scenario", "other.toml"]);
+    }
+
+    #[test]
+    fn overrides_replace_single_sensor_keys() {
+        let text = format!("{TAKEOFF_LAND}\n[imu]\nrate_hz = 500.0\n[mocap]\nlatency_s = 0.02\n");
+        let s = parse(&text, "o.toml", None, "o", 1).unwrap();
+        assert_eq!(s.imu.rate_hz, 500.0);
+        assert_eq!(s.imu.gyro_noise, 3e-3);
+        assert_eq!(s.mocap.latency_s, 0.02);
+        assert_eq!(s.mocap.rate_hz, 100.0);
+    }
+}
