@@ -1,7 +1,8 @@
 //! host-sim: the controller-core law against a desktop rigid-body model.
 //!
 //! [`scenario`] reads TOML scenarios (the paper's is embedded), [`plant`] integrates
-//! eq:FullDynamics, [`sim`] closes the loop, and [`output`] writes CSV, PNG plots and
+//! eq:FullDynamics, [`closed_loop`] closes the loop (and [`sim`] flies the paper law in it with
+//! its diagnostics), and [`output`] writes CSV, PNG plots and
 //! `summary.json`. [`campaign`], [`ablation`] and [`compare`] fly many runs; [`harness`] flies
 //! the firmware itself (software and processor in the loop, Cortex-M4F instruction counts).
 //!

@@ -148,8 +148,12 @@ impl Iterator for StepSequence {
         };
         put(&pose, &mut self.sequence, &mut link, &mut link_len);
         if phase == Phase::Arm {
-            // The explicit upside-down arm (param2 = 2989) and the helix mission.
-            let arm = command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 2989.0);
+            // The explicit upside-down arm and the helix mission.
+            let arm = command(
+                MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+                1.0,
+                crate::link::FORCE_ARM_PARAM2,
+            );
             put(&arm, &mut self.sequence, &mut link, &mut link_len);
             let start = command(MavCmd::MAV_CMD_MISSION_START, 0.0, 0.0);
             put(&start, &mut self.sequence, &mut link, &mut link_len);

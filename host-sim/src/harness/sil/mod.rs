@@ -18,6 +18,9 @@
 pub mod scenario_file;
 pub mod scenarios;
 pub mod sensors;
+mod setup;
+
+pub use setup::SilSetup;
 
 use std::collections::VecDeque;
 
@@ -30,40 +33,8 @@ use firmware::safety::FlightState;
 use nalgebra::{Matrix4, UnitQuaternion, Vector3, Vector4};
 use serde::Serialize;
 
-use crate::plant::{PlantInput, RigidBody, RigidBodyState};
-use sensors::{ImuModel, MocapModel, Rng};
-
-/// One software-in-the-loop run.
-#[derive(Clone, Debug)]
-pub struct SilSetup {
-    /// Name (output directory, summary).
-    pub name: String,
-    /// The firmware's configuration.
-    pub flight: FlightConfig,
-    /// IMU model.
-    pub imu: ImuModel,
-    /// Motion-capture model.
-    pub mocap: MocapModel,
-    /// Motor time constant \[s\] (first-order lag of each rotor's thrust).
-    pub motor_time_constant_s: f64,
-    /// The body's state while held and at release.
-    pub initial: RigidBodyState,
-    /// Time held still (on a stand, in a hand, on the ground) before release \[s\]; the gyro
-    /// calibrates and the estimator converges meanwhile.
-    pub hold_s: f64,
-    /// Time simulated after release \[s\].
-    pub duration_s: f64,
-    /// Ground-station messages: (time after release \[s\], message). Negative times fall in the
-    /// hold.
-    pub commands: Vec<(f64, MavMessage)>,
-    /// Scripted pose outage `[start, end)` after release \[s\]: no pose is sent.
-    pub pose_outage: Option<(f64, f64)>,
-    /// Random seed (noise, dropouts, chunking).
-    pub seed: u64,
-    /// Height of a flat ground \[m\] (z up), `None` for none (the paper's scenario falls about
-    /// 23 m during its recovery, as in the paper).
-    pub ground_z: Option<f64>,
-}
+use crate::plant::{PlantInput, RigidBody};
+use sensors::Rng;
 
 /// One control tick of the run (100 Hz). Units in the names; times after release.
 #[derive(Clone, Debug, Serialize, PartialEq)]

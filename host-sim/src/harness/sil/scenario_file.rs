@@ -29,7 +29,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use serde::Deserialize;
 
 use super::sensors::{ImuModel, MocapModel, PoseMessage};
-use super::SilSetup;
+use super::setup::SilSetup;
 use crate::plant::RigidBodyState;
 use crate::scenario::Scenario;
 

@@ -8,7 +8,7 @@ use std::path::Path;
 use anyhow::{anyhow, Context, Result};
 
 use super::scenario_file;
-use super::SilSetup;
+use super::setup::SilSetup;
 
 /// The scenario names the CLI accepts.
 pub const NAMES: [&str; 3] = ["paper", "pose-loss", "takeoff-land"];
@@ -107,7 +107,7 @@ mod tests {
     use nalgebra::{UnitQuaternion, Vector3};
 
     use super::super::sensors::{ImuModel, MocapModel, PoseMessage};
-    use super::super::SilSetup;
+    use super::super::setup::SilSetup;
     use super::*;
     use crate::plant::RigidBodyState;
     use crate::scenario::Scenario;
