@@ -2,38 +2,21 @@
 //! pipeline with realistic sensors (IMU noise and bias, mocap latency, noise and dropouts over
 //! MAVLink) and motors with lag and per-rotor limits: it converges and the rotor limits hold.
 
-use host_sim::harness::sil::{run, scenarios};
+use host_sim::harness::sil::{run, scenarios, FlightExtremes};
 
 #[test]
 fn paper_helix_from_upside_down_converges_within_rotor_limits() {
     for seed in [1, 2] {
         let setup = scenarios::paper(seed);
-        let mut max_tilt_early: f64 = 0.0;
-        let mut samples = 0u32;
-        let mut max_error_last_5s: f64 = 0.0;
-        let (mut thrust, mut torque) = ((f64::INFINITY, 0.0f64), [0.0f64; 3]);
-        let s = run(&setup, |r| {
-            samples += 1;
-            if r.t_s < 0.5 {
-                max_tilt_early = max_tilt_early.max(r.tilt_rad);
-            }
-            if r.t_s > 25.0 {
-                max_error_last_5s = max_error_last_5s.max(r.position_error_m);
-            }
-            if r.t_s > 0.0 {
-                thrust = (thrust.0.min(r.thrust_N), thrust.1.max(r.thrust_N));
-                for (m, t) in torque
-                    .iter_mut()
-                    .zip([r.torque_x_Nm, r.torque_y_Nm, r.torque_z_Nm])
-                {
-                    *m = m.max(t.abs());
-                }
-            }
-        })
-        .unwrap();
+        // The certificate the firmware computes at boot for the configuration it flies.
+        let bounds = setup
+            .a_priori_bounds()
+            .expect("the paper configuration boots");
+        let mut seen = FlightExtremes::new(25.0);
+        let s = run(&setup, |r| seen.observe(r)).unwrap();
         // It really started upside down (tilt near 180° at release).
-        assert!(max_tilt_early > 3.0, "{max_tilt_early}");
-        assert_eq!(samples, 3151);
+        assert!(seen.max_tilt_early_rad > 3.0, "{seen:?}");
+        assert_eq!(seen.samples, 3151);
         // Armed (explicit upside-down arm) and flew the helix to the end, never failsafe.
         assert_eq!(s.final_state, "armed", "{:#?}", s.events);
         assert!(s.failsafe_at_s.is_none());
@@ -42,15 +25,10 @@ fn paper_helix_from_upside_down_converges_within_rotor_limits() {
         // simulation reaches 1e-4 m; sensor noise and latency cost the rest).
         let settled = s.below_5cm_from_s.expect("never below 5 cm");
         assert!(settled < 25.0, "settled at {settled}");
-        assert!(max_error_last_5s < 0.02, "{max_error_last_5s}");
+        assert!(seen.max_error_late_m < 0.02, "{seen:?}");
         assert!(s.final_position_error_m < 0.02);
-        // The allocated (T, τ) stays inside the a-priori bounds of the certificate
-        // (T ∈ [3.512, 6.188] N, |τ| ≤ (0.379, 0.446, 0.664) N m).
-        assert!(thrust.0 > 3.5 && thrust.1 < 6.19, "{thrust:?}");
-        assert!(
-            torque[0] < 0.379 && torque[1] < 0.446 && torque[2] < 0.664,
-            "{torque:?}"
-        );
+        // The allocated (T, τ) stays inside the a-priori bounds of the certificate.
+        assert!(seen.inside(&bounds), "{seen:?} vs {bounds:?}");
         // Rotor limits held; no NaN, nothing spinning while disarmed.
         assert!(s.rotor_thrust_max_N <= s.rotor_range_N[1] + 1e-9);
         assert_eq!(s.throttle_violations, 0);

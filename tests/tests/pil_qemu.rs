@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use host_sim::harness::pil::{self, PilOptions};
-use host_sim::harness::sil::scenarios;
+use host_sim::harness::sil::{scenarios, FlightExtremes};
 
 #[test]
 #[ignore = "needs qemu-system-arm and the mps2-an386 firmware ELF; tests/run-all.sh builds both and runs it with --ignored"]
@@ -29,53 +29,33 @@ fn paper_helix_on_the_emulated_mcu_converges_within_rotor_limits() {
         timeout: Duration::from_secs_f64(pil::DEFAULT_TIMEOUT_S),
     };
     let setup = scenarios::paper(1);
-    let mut max_tilt_early: f64 = 0.0;
-    let mut samples = 0u32;
-    let mut max_error_last_5s: f64 = 0.0;
-    let (mut thrust, mut torque) = ((f64::INFINITY, 0.0f64), [0.0f64; 3]);
+    // The certificate the firmware computes at boot for the configuration it flies.
+    let bounds = setup
+        .a_priori_bounds()
+        .expect("the paper configuration boots");
+    let mut seen = FlightExtremes::new(25.0);
     // A crash, a stall (no answer within the timeout) or a lost lockstep is an error here.
-    let s = pil::run(&setup, &options, |r| {
-        samples += 1;
-        if r.t_s < 0.5 {
-            max_tilt_early = max_tilt_early.max(r.tilt_rad);
-        }
-        if r.t_s > 25.0 {
-            max_error_last_5s = max_error_last_5s.max(r.position_error_m);
-        }
-        if r.t_s > 0.0 {
-            thrust = (thrust.0.min(r.thrust_N), thrust.1.max(r.thrust_N));
-            for (m, t) in torque
-                .iter_mut()
-                .zip([r.torque_x_Nm, r.torque_y_Nm, r.torque_z_Nm])
-            {
-                *m = m.max(t.abs());
-            }
-        }
-    })
-    .unwrap_or_else(|e| panic!("PIL run failed: {e:#}"));
+    let s = pil::run(&setup, &options, |r| seen.observe(r))
+        .unwrap_or_else(|e| panic!("PIL run failed: {e:#}"));
     print!("{}", pil::human_summary(&s));
     let f = &s.flight;
     // It really started upside down, and every tick was answered.
-    assert!(max_tilt_early > 3.0, "{max_tilt_early}");
-    assert_eq!(samples, 3151);
+    assert!(seen.max_tilt_early_rad > 3.0, "{seen:?}");
+    assert_eq!(seen.samples, 3151);
     // Armed (explicit upside-down arm), flew the helix to the end, never failsafe.
     assert_eq!(f.final_state, "armed", "{:#?}", f.events);
     assert!(f.failsafe_at_s.is_none(), "{:#?}", f.events);
     // Converges: below 5 cm before 25 s, centimetres over the last 5 s.
     let settled = f.below_5cm_from_s.expect("never below 5 cm");
     assert!(settled < 25.0, "settled at {settled}");
-    assert!(max_error_last_5s < 0.02, "{max_error_last_5s}");
+    assert!(seen.max_error_late_m < 0.02, "{seen:?}");
     assert!(
         f.final_position_error_m < 0.02,
         "{}",
         f.final_position_error_m
     );
     // The (T, τ) rebuilt from the throttles stays inside the certificate's a-priori bounds.
-    assert!(thrust.0 > 3.5 && thrust.1 < 6.19, "{thrust:?}");
-    assert!(
-        torque[0] < 0.379 && torque[1] < 0.446 && torque[2] < 0.664,
-        "{torque:?}"
-    );
+    assert!(seen.inside(&bounds), "{seen:?} vs {bounds:?}");
     // Rotor limits held: throttles finite in [0, 1], nothing spinning while disarmed.
     assert!(f.rotor_thrust_max_N <= f.rotor_range_N[1] + 1e-9);
     assert_eq!(f.throttle_violations, 0);

@@ -1,8 +1,10 @@
 //! What one software-in-the-loop run flies: the firmware's configuration, the sensor and motor
 //! models, the start, the ground-station script. The scenarios build it; [`super::run`] flies it.
 
+use controller_core::Bounds;
 use firmware::config::FlightConfig;
 use firmware::link::mavlink::dialects::common::MavMessage;
+use firmware::pipeline::FlightPipeline;
 
 use super::sensors::{ImuModel, MocapModel};
 use crate::plant::RigidBodyState;
@@ -37,4 +39,17 @@ pub struct SilSetup {
     /// Height of a flat ground \[m\] (z up), `None` for none (the paper's scenario falls about
     /// 23 m during its recovery, as in the paper).
     pub ground_z: Option<f64>,
+}
+
+impl SilSetup {
+    /// The a-priori bounds of the certificate the firmware computes at boot for this set-up's
+    /// flight configuration and demo mission: `T ∈ [T_min, T_max]` \[N\] (Theorem 1), per-axis
+    /// torque bound \[N m\] (Theorem 2), Lemma 1's rates.
+    ///
+    /// Errors: the firmware refuses the configuration (its boot error, with the parameter).
+    pub fn a_priori_bounds(&self) -> anyhow::Result<Bounds<f32>> {
+        let pipeline = FlightPipeline::new(&self.flight)
+            .map_err(|e| anyhow::anyhow!("the firmware refuses this configuration: {e:?}"))?;
+        Ok(pipeline.boot_report().certificate.bounds)
+    }
 }
