@@ -151,8 +151,8 @@ pub struct LinkCounters {
 /// Result of looking at the head of the buffer.
 enum Step {
     NeedMore,
-    /// Drop `n` bytes from the front.
-    Consume(usize),
+    /// Drop `n` bytes from the front; `Some` when they were a frame accepted as this message.
+    Consume(usize, Option<Inbound>),
 }
 
 /// The MAVLink 2 stream decoder. Holds at most one partial frame ([`MAX_FRAME`] bytes).
@@ -185,29 +185,52 @@ impl Decoder {
         self.counters
     }
 
-    /// Feeds bytes (any chunking); calls `accept` for every message accepted, in order.
+    /// Feeds bytes (any chunking); calls `accept` for every message accepted, in order, as soon
+    /// as the byte that completes it is in. Nothing is buffered between messages, so a burst of
+    /// frames released at once (after a corrupted length byte held them back) loses none.
     pub fn push(&mut self, bytes: &[u8], mut accept: impl FnMut(Inbound)) {
         for &b in bytes {
-            // Invariant: len < MAX_FRAME here (a complete frame is always consumed).
-            self.buf[self.len] = b;
-            self.len += 1;
-            loop {
-                match self.step(&mut accept) {
-                    Step::NeedMore => break,
-                    Step::Consume(n) => {
-                        let n = n.min(self.len);
-                        self.buf.copy_within(n..self.len, 0);
-                        self.len -= n;
-                        if self.len == 0 {
-                            break;
-                        }
-                    }
-                }
+            self.push_byte(b);
+            while let Some(m) = self.poll() {
+                accept(m);
             }
         }
     }
 
-    fn step(&mut self, accept: &mut impl FnMut(Inbound)) -> Step {
+    /// Feeds one byte of the stream. Drain [`Decoder::poll`] (until `None`) before the next
+    /// byte: one byte can release several frames at once. A caller that does not drain loses
+    /// the oldest byte when the buffer is full ([`MAX_FRAME`]), counted in `bytes_discarded`,
+    /// rather than overflowing.
+    pub fn push_byte(&mut self, b: u8) {
+        if self.len == MAX_FRAME {
+            self.buf.copy_within(1.., 0);
+            self.len -= 1;
+            self.counters.bytes_discarded = self.counters.bytes_discarded.saturating_add(1);
+        }
+        self.buf[self.len] = b;
+        self.len += 1;
+    }
+
+    /// The next message the bytes fed so far complete, in stream order, or `None` when more
+    /// bytes are needed. Every frame looked at is counted (ok, dropped, malformed).
+    pub fn poll(&mut self) -> Option<Inbound> {
+        while self.len > 0 {
+            match self.step() {
+                Step::NeedMore => return None,
+                Step::Consume(n, message) => {
+                    let n = n.min(self.len);
+                    self.buf.copy_within(n..self.len, 0);
+                    self.len -= n;
+                    if message.is_some() {
+                        return message;
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    fn step(&mut self) -> Step {
         let buf = &self.buf[..self.len];
         if buf.is_empty() {
             return Step::NeedMore;
@@ -216,7 +239,7 @@ impl Decoder {
             let skip = buf.iter().position(|&b| b == STX).unwrap_or(buf.len());
             self.counters.bytes_discarded =
                 self.counters.bytes_discarded.saturating_add(skip as u32);
-            return Step::Consume(skip);
+            return Step::Consume(skip, None);
         }
         if buf.len() < 3 {
             return Step::NeedMore;
@@ -225,7 +248,7 @@ impl Decoder {
         if incompat & !0x01 != 0 {
             // Unknown incompatibility flag (e.g. 32-bit system ids): we must not parse it.
             self.counters.frames_malformed += 1;
-            return Step::Consume(1);
+            return Step::Consume(1, None);
         }
         let payload_len = buf[1] as usize;
         let signed = incompat & 0x01 != 0;
@@ -241,25 +264,31 @@ impl Decoder {
             // it (a real unknown frame is then rescanned, which costs at most a few spurious
             // malformed counts if its payload holds 0xFD).
             self.counters.frames_dropped += 1;
-            return Step::Consume(1);
+            return Step::Consume(1, None);
         }
         let crc_at = 1 + HEADER + payload_len;
         let crc = u16::from_le_bytes([buf[crc_at], buf[crc_at + 1]]);
         if calculate_crc(&buf[1..crc_at], extra) != crc {
             self.counters.frames_malformed += 1;
             // A false marker or a corrupted frame: look again from the next byte.
-            return Step::Consume(1);
+            return Step::Consume(1, None);
         }
         let payload = &buf[1 + HEADER..crc_at];
-        match self.interpret(msgid, payload) {
+        let message = match self.interpret(msgid, payload) {
             Interpretation::Accepted(m) => {
                 self.counters.frames_ok += 1;
-                accept(m);
+                Some(m)
             }
-            Interpretation::Ignored => self.counters.frames_dropped += 1,
-            Interpretation::Malformed => self.counters.frames_malformed += 1,
-        }
-        Step::Consume(total)
+            Interpretation::Ignored => {
+                self.counters.frames_dropped += 1;
+                None
+            }
+            Interpretation::Malformed => {
+                self.counters.frames_malformed += 1;
+                None
+            }
+        };
+        Step::Consume(total, message)
     }
 
     fn interpret(&self, msgid: u32, payload: &[u8]) -> Interpretation {
@@ -625,5 +654,23 @@ mod tests {
     fn encode_too_small() {
         let mut small = [0u8; 10];
         assert_eq!(encode(&mocap(0.0), 1, 1, 0, &mut small), 0);
+    }
+
+    /// A caller that feeds bytes without draining `poll` never overflows the buffer: the
+    /// oldest bytes go, counted; a frame pushed and drained afterwards still decodes.
+    #[test]
+    fn undrained_pushes_discard_the_oldest_bytes_counted() {
+        let mut d = Decoder::new(1);
+        let (f, n) = frame(&mocap(1.0), 0);
+        // A claimed 255-byte payload keeps the decoder waiting for MAX_FRAME bytes.
+        let mut junk = f;
+        junk[1] = 255;
+        for &b in junk[..n].iter().chain([0u8; MAX_FRAME].iter()) {
+            d.push_byte(b);
+        }
+        assert!(d.counters().bytes_discarded >= 1);
+        while d.poll().is_some() {}
+        let got = collect(&mut d, &f[..n]);
+        assert_eq!(got.len(), 1);
     }
 }

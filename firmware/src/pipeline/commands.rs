@@ -55,7 +55,9 @@ impl FlightPipeline {
                         MavResult::MAV_RESULT_DENIED
                     }
                 };
-                let _ = self.acks.push_back((mav_cmd, r));
+                if self.acks.push_back((mav_cmd, r)).is_err() {
+                    self.counters.replies_dropped = self.counters.replies_dropped.saturating_add(1);
+                }
             }
             Inbound::Setpoint { position, yaw } => {
                 if let Err(r) = self.setpoint(position, yaw, now_us) {

@@ -90,6 +90,9 @@ pub struct Counters {
     pub poses_used: u32,
     /// Telemetry frames not sent for lack of room.
     pub telemetry_dropped: u32,
+    /// `COMMAND_ACK`s and `STATUSTEXT`s lost because their queue was full (the command itself
+    /// was handled; a ground station retries an unacknowledged one).
+    pub replies_dropped: u32,
 }
 
 /// Snapshot for the logs.

@@ -40,7 +40,7 @@ use crate::config::FlightConfig;
 use crate::estimator::{Estimate, Estimator, EstimatorConfig};
 use crate::flight_reference::{FlightReference, SupTable};
 use crate::imu_attitude::Mahony;
-use crate::link::{Decoder, Inbound};
+use crate::link::Decoder;
 use crate::mixer::{BoxFit, MixOutput, Mixer, MixerError};
 use crate::safety::{FlightState, Supervisor, TickInputs, Transition};
 use events::EventQueue;
@@ -251,7 +251,13 @@ impl FlightPipeline {
             } else {
                 MavSeverity::MAV_SEVERITY_INFO
             };
-            let _ = self.texts.push_back((severity, t.to.name(), t.reason));
+            if self
+                .texts
+                .push_back((severity, t.to.name(), t.reason))
+                .is_err()
+            {
+                self.counters.replies_dropped = self.counters.replies_dropped.saturating_add(1);
+            }
             if t.to == FlightState::Disarmed {
                 self.controller = None;
                 self.set_mode(Mode::Idle);
@@ -300,13 +306,11 @@ impl FlightPipeline {
 
     /// MAVLink bytes from the UART, any chunking.
     pub fn on_link_bytes(&mut self, bytes: &[u8], now_us: u64) {
-        // A 32-byte slice holds at most two complete frames (12 bytes minimum, plus a tail).
-        for chunk in bytes.chunks(32) {
-            let mut got: heapless::Vec<Inbound, 4> = heapless::Vec::new();
-            self.decoder.push(chunk, |m| {
-                let _ = got.push(m);
-            });
-            for m in got {
+        // Each message is handled as soon as its last byte is in: one byte can release many
+        // frames at once (those a corrupted length byte held back), and none may be lost.
+        for &b in bytes {
+            self.decoder.push_byte(b);
+            while let Some(m) = self.decoder.poll() {
                 self.handle(m, now_us);
             }
         }
