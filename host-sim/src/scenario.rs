@@ -205,6 +205,14 @@ pub struct SimulationConfig {
     /// Clip the commands to the physical limits before applying them.
     #[serde(default)]
     pub clip_to_limits: bool,
+    /// Seed of the random draws of this run's `[perturbations]` (noise, sampled model errors,
+    /// gusts); unused without perturbations. Campaigns draw their own seed per run.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub seed: u64,
+}
+
+fn is_zero(seed: &u64) -> bool {
+    *seed == 0
 }
 
 fn default_plant_step() -> f64 {

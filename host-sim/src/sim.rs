@@ -12,7 +12,6 @@ use serde::Serialize;
 
 use crate::closed_loop::{self, Wrench};
 use crate::controllers::paper::PaperLaw;
-use crate::perturbation::PerturbationConfig;
 use crate::plant::RigidBodyState;
 use crate::scenario::{Precision, Scenario};
 
@@ -282,7 +281,8 @@ pub struct Sample<'a, T: Scalar> {
     pub k: u64,
     /// Time \[s\].
     pub t: f64,
-    /// The true plant state at the sample (the controller measured it exactly).
+    /// The true plant state at the sample (the controller measured it exactly unless the
+    /// scenario has measurement noise).
     pub state: &'a RigidBodyState,
     /// The reference sample the controller used.
     pub reference: &'a ReferenceSample<T>,
@@ -291,14 +291,15 @@ pub struct Sample<'a, T: Scalar> {
 }
 
 /// Flies `scenario` from `initial` with the paper's law in scalar `T` through the one closed
-/// loop ([`crate::closed_loop::fly_with`]) without perturbations (the scenario's
-/// `[perturbations]` are not applied): sample the state every `controller_period_s`, step the
-/// controller, hold `(T, τ)` (clipped to the limits if `simulation.clip_to_limits`), advance the
-/// RK4 plant; calls `observe` at every sample with the law's reference and whole output, and
-/// returns the plant state at the last one.
+/// loop ([`crate::closed_loop::fly_with`]) with the scenario's `[perturbations]`, every key
+/// applied (drawn from `simulation.seed`; with none the controller measures the true state):
+/// sample the state every `controller_period_s`, step the controller, hold `(T, τ)` (clipped to
+/// the limits if `simulation.clip_to_limits`), advance the RK4 plant; calls `observe` at every
+/// sample with the true state, the law's reference and whole output, and returns the plant
+/// state at the last one.
 ///
-/// Errors: the parameters are refused (named by scenario key), or the controller refused a
-/// sample (with its time and reason).
+/// Errors: the parameters or the perturbations are refused (named by scenario key), or the
+/// controller refused a sample (with its time and reason).
 pub fn fly<T: Scalar>(
     scenario: &Scenario,
     initial: RigidBodyState,
@@ -307,9 +308,9 @@ pub fn fly<T: Scalar>(
     let mut law = PaperLaw::<T>::new(scenario)?;
     closed_loop::fly_with(
         scenario,
-        &PerturbationConfig::default(),
+        &scenario.perturbations,
         &initial,
-        0,
+        scenario.simulation.seed,
         |step| {
             let (reference, output) = law.sample(step.measured, step.t, step.dt)?;
             observe(&Sample {

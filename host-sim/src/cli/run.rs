@@ -69,7 +69,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let (summary, records) = host_sim::sim::run(&scenario)?;
     let s = &scenario.simulation;
     let header = format!(
-        "Scenario: {title}; controller precision {:?}, {} s at {:.0} Hz, plant RK4 step {} s{}",
+        "Scenario: {title}; controller precision {:?}, {} s at {:.0} Hz, plant RK4 step {} s{}{}",
         s.precision,
         s.duration_s,
         1.0 / s.controller_period_s,
@@ -78,6 +78,11 @@ pub fn run(args: &RunArgs) -> Result<()> {
             ", commands clipped to the limits"
         } else {
             ""
+        },
+        if scenario.perturbations.is_nominal() {
+            String::new()
+        } else {
+            format!(", [perturbations] applied (seed {})", s.seed)
         }
     );
     print!("{}", human_summary(&header, &summary));
