@@ -12,9 +12,10 @@ use controller_core::{
     ControlOutput, Controller, ReferenceSample, StepError, Trajectory, VehicleState,
 };
 use criterion::{criterion_group, criterion_main, Criterion};
+use host_sim::controllers::measure;
 use host_sim::plant::PlantInput;
 use host_sim::scenario::{Precision, Scenario};
-use host_sim::sim::{measure, run_with};
+use host_sim::sim::run_with;
 use nalgebra::Vector3;
 
 /// The controller, the measured state and the reference of the paper scenario at

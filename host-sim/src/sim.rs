@@ -3,11 +3,11 @@
 //! plant, with the law's diagnostics in every [`Record`] and the [`Summary`].
 
 use anyhow::{anyhow, Result};
-use controller_core::scalar::{lit, to_f64, Scalar};
+use controller_core::scalar::{to_f64, Scalar};
 use controller_core::{
-    certify, Certificate, ControlOutput, FilterStart, ReferenceSample, Trajectory, VehicleState,
+    certify, Certificate, ControlOutput, FilterStart, ReferenceSample, Trajectory,
 };
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::Vector3;
 use serde::Serialize;
 
 use crate::closed_loop::{self, Wrench};
@@ -259,16 +259,6 @@ pub fn run(scenario: &Scenario) -> Result<(Summary, Vec<Record>)> {
     );
     let summary = run_with(scenario, |r| records.push(r.clone()))?;
     Ok((summary, records))
-}
-
-/// The exact (noise-free) measurement of the plant state in the controller's scalar `T`.
-pub fn measure<T: Scalar>(s: &RigidBodyState) -> VehicleState<T> {
-    VehicleState {
-        position: s.position.map(lit),
-        velocity: s.velocity.map(lit),
-        attitude: UnitQuaternion::new_normalize(s.attitude.quaternion().cast::<T>()),
-        angular_velocity: s.angular_velocity.map(lit),
-    }
 }
 
 fn back3<T: Scalar>(v: &Vector3<T>) -> Vector3<f64> {

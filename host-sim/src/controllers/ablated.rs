@@ -31,11 +31,11 @@ use controller_core::scalar::{lit, to_f64, Scalar};
 use controller_core::{Controller, Gains, ReferenceTrajectory, Trajectory, Vehicle};
 use nalgebra::{Quaternion, Vector3};
 
+use super::measure;
 use super::paper::back3;
 use super::{Command, FlightController, SwitchCounts};
 use crate::plant::RigidBodyState;
 use crate::scenario::Scenario;
-use crate::sim::measure;
 
 /// How the attitude error is lifted to an MRP.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -17,11 +17,25 @@ pub mod paper;
 pub mod px4_cascade;
 
 use anyhow::Result;
-use nalgebra::{Matrix3, Vector3};
+use controller_core::scalar::{lit, Scalar};
+use controller_core::VehicleState;
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::plant::RigidBodyState;
 use crate::scenario::Scenario;
+
+/// The plant state (true, or as measured with the scenario's noise) in the controller's
+/// scalar `T`: what `controller_core::Controller::step` takes. The attitude is renormalised
+/// after the cast.
+pub fn measure<T: Scalar>(s: &RigidBodyState) -> VehicleState<T> {
+    VehicleState {
+        position: s.position.map(lit),
+        velocity: s.velocity.map(lit),
+        attitude: UnitQuaternion::new_normalize(s.attitude.quaternion().cast::<T>()),
+        angular_velocity: s.angular_velocity.map(lit),
+    }
+}
 
 /// Discontinuities of the attitude-error representation since the start of the run.
 ///

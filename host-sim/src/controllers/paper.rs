@@ -7,10 +7,10 @@ use controller_core::{
 };
 use nalgebra::Vector3;
 
+use super::measure;
 use super::{Command, FlightController, SwitchCounts};
 use crate::plant::RigidBodyState;
 use crate::scenario::Scenario;
-use crate::sim::measure;
 
 /// `controller_core::Controller<T>` with the scenario's vehicle, gains and trajectory: samples
 /// the reference at `lit(t)` and measures the state through [`measure`].
