@@ -11,7 +11,7 @@ use nalgebra::Vector3;
 use serde::Serialize;
 
 use crate::closed_loop::{self, Wrench};
-use crate::controllers::paper::PaperLaw;
+use crate::controllers::paper::{back3, PaperLaw};
 use crate::plant::RigidBodyState;
 use crate::scenario::{Precision, Scenario};
 
@@ -259,10 +259,6 @@ pub fn run(scenario: &Scenario) -> Result<(Summary, Vec<Record>)> {
     );
     let summary = run_with(scenario, |r| records.push(r.clone()))?;
     Ok((summary, records))
-}
-
-fn back3<T: Scalar>(v: &Vector3<T>) -> Vector3<f64> {
-    Vector3::new(to_f64(v.x), to_f64(v.y), to_f64(v.z))
 }
 
 /// One controller sample of [`fly`].
