@@ -118,6 +118,16 @@ pub struct VehicleFile {
     pub drag: Option<DragTable>,
 }
 
+/// [`VehicleFile`]'s tables inside a larger file (other tables ignored; see
+/// [`VehicleFile::parse_embedded`]).
+#[derive(Deserialize)]
+struct EmbeddedVehicle {
+    vehicle: VehicleTable,
+    rotors: RotorsTable,
+    #[serde(default)]
+    drag: Option<DragTable>,
+}
+
 /// A refused vehicle file: which file, which key (dotted, e.g. `rotors.thrust_max_N`, with
 /// `[i]` for an array element), and why. Displays as `"<file>: <key>: <reason>"`.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -486,19 +496,37 @@ impl VehicleFile {
     /// syntax, an unknown or missing table or key, a wrong type, then
     /// [`VehicleFile::validate`]'s.
     pub fn parse(text: &str, origin: &str) -> Result<Self, VehicleFileError> {
+        Self::parse_embedded(text, origin, &[])
+    }
+
+    /// [`VehicleFile::parse`] of a file that carries the vehicle's tables among others (a
+    /// scenario or flight file): the tables named in `other_tables` are skipped (their own
+    /// parser checks them), any other unknown table is refused.
+    pub fn parse_embedded(
+        text: &str,
+        origin: &str,
+        other_tables: &[&str],
+    ) -> Result<Self, VehicleFileError> {
+        let keyed = |e: toml::de::Error| {
+            e.span()
+                .map_or_else(|| "(file)".to_string(), |s| key_at(text, s.start))
+        };
         let table: toml::Table = toml::from_str(text).map_err(|e| {
-            let key = e
-                .span()
-                .map_or_else(|| "(file)".to_string(), |s| key_at(text, s.start));
-            error(origin, key, format!("TOML syntax: {}", e.message()))
+            let reason = format!("TOML syntax: {}", e.message());
+            error(origin, keyed(e), reason)
         })?;
-        check_keys(&table, origin)?;
-        let file: VehicleFile = toml::from_str(text).map_err(|e| {
-            let key = e
-                .span()
-                .map_or_else(|| "(file)".to_string(), |s| key_at(text, s.start));
-            error(origin, key, e.message().to_string())
+        check_keys(&table, origin, other_tables)?;
+        // The top level does not deny unknown tables here: `check_keys` has refused every one
+        // not in `other_tables`. Parsing the text (not the table) keeps the spans for errors.
+        let file: EmbeddedVehicle = toml::from_str(text).map_err(|e| {
+            let reason = e.message().to_string();
+            error(origin, keyed(e), reason)
         })?;
+        let file = VehicleFile {
+            vehicle: file.vehicle,
+            rotors: file.rotors,
+            drag: file.drag,
+        };
         file.validate(origin)?;
         Ok(file)
     }
@@ -616,12 +644,21 @@ impl VehicleFile {
     }
 }
 
-/// Refuses unknown tables and keys and reports missing ones, naming them with their table
-/// (serde's own messages do not say which table).
-fn check_keys(table: &toml::Table, file: &str) -> Result<(), VehicleFileError> {
+/// Refuses unknown tables (other than `other_tables`, which are not looked into) and unknown
+/// keys, and reports missing ones, naming them with their table (serde's own messages do not
+/// say which table).
+fn check_keys(
+    table: &toml::Table,
+    file: &str,
+    other_tables: &[&str],
+) -> Result<(), VehicleFileError> {
     for (name, value) in table {
+        if other_tables.contains(&name.as_str()) {
+            continue;
+        }
         let Some((_, keys, _)) = TABLES.iter().find(|(t, _, _)| t == name) else {
-            let known: Vec<&str> = TABLES.iter().map(|(t, _, _)| *t).collect();
+            let mut known: Vec<&str> = TABLES.iter().map(|(t, _, _)| *t).collect();
+            known.extend(other_tables);
             return Err(error(
                 file,
                 name.as_str(),

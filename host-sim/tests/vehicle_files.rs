@@ -378,3 +378,32 @@ fn scenario_carries_vehicle_tables() {
         "{e}"
     );
 }
+
+/// A vehicle's tables inside a larger file (a flight or scenario file) parse when the other
+/// tables are named, and a table named nowhere is still refused.
+#[test]
+fn vehicle_tables_embedded_in_a_larger_file() {
+    let (text, file) = preset("crazyflie-2.1");
+    let larger = format!("{text}\n[limits]\nthrust_max_N = 0.5\n\n[design]\nseed = 3\n");
+    let embedded = VehicleFile::parse_embedded(&larger, "flight.toml", &["limits", "design"])
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(embedded, file);
+    let e = VehicleFile::parse_embedded(&larger, "flight.toml", &["limits"])
+        .map(|_| ())
+        .expect_err("[design] not named");
+    assert_eq!(
+        (e.file.as_str(), e.key.as_str()),
+        ("flight.toml", "design"),
+        "{e}"
+    );
+    assert!(e.reason.contains("unknown key"), "{e}");
+    let bad = larger.replacen(
+        "motor_time_constant_s = 0.072",
+        "motor_time_constant_s = \"slow\"",
+        1,
+    );
+    let e = VehicleFile::parse_embedded(&bad, "flight.toml", &["limits", "design"])
+        .map(|_| ())
+        .expect_err("wrong type");
+    assert_eq!(e.key, "rotors.motor_time_constant_s", "{e}");
+}
