@@ -227,7 +227,7 @@ fn error(file: &str, key: impl Into<String>, reason: impl Into<String>) -> Vehic
     }
 }
 
-/// A value that must be finite and `> 0` (`positive`) or `≥ 0` (not).
+/// A value that must be finite and `> 0` (`positive`) or `≥ 0` (not), in f32 too.
 fn check_sign(file: &str, key: &str, v: f64, positive: bool) -> Result<(), VehicleFileError> {
     if !v.is_finite() {
         return Err(error(file, key, format!("must be finite, got {v}")));
@@ -237,6 +237,15 @@ fn check_sign(file: &str, key: &str, v: f64, positive: bool) -> Result<(), Vehic
     }
     if positive && v == 0.0 {
         return Err(error(file, key, "must be > 0, got 0"));
+    }
+    // The firmware flies f32: the value must survive the conversion.
+    let single = v as f32;
+    if single.is_infinite() || (positive && single == 0.0) {
+        return Err(error(
+            file,
+            key,
+            format!("out of the firmware's f32 range, got {v}"),
+        ));
     }
     Ok(())
 }

@@ -198,6 +198,12 @@ fn bad_vehicle_files_are_refused_with_file_key_and_reason() {
         },
         Bad {
             from: "mass_kg = 2.0643076923076924",
+            to: "mass_kg = 1e300",
+            key: "vehicle.mass_kg",
+            reason: "f32 range",
+        },
+        Bad {
+            from: "mass_kg = 2.0643076923076924",
             to: "mass_kg = nan",
             key: "vehicle.mass_kg",
             reason: "finite",
