@@ -1,5 +1,9 @@
 //! Scenario files (TOML): vehicle, limits, gains, trajectory, initial state, simulation settings.
 //!
+//! A scenario file is a vehicle file (`[vehicle]`, and optionally `[rotors]` and `[drag]`: the
+//! same tables as `host-sim/vehicles/*.toml`, see [`crate::vehicle`]) plus `[limits]`,
+//! `[gains]`, `[trajectory]`, `[initial]`, `[simulation]` and `[perturbations]`.
+//!
 //! Every key carries its unit in its name. Unknown keys are refused. Errors name the file, the
 //! key and the reason. The paper's Section VI scenario is embedded ([`Scenario::paper`]).
 
@@ -14,6 +18,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 use crate::perturbation::PerturbationConfig;
 use crate::plant::{RigidBody, RigidBodyState};
+use crate::vehicle::{DragTable, RotorsTable, VehicleFile, VehicleTable};
 use serde::{Deserialize, Serialize};
 
 /// The embedded Section VI scenario, as TOML text.
@@ -23,8 +28,16 @@ pub const PAPER_SCENARIO: &str = include_str!("../scenarios/paper.toml");
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
-    /// Rigid-body parameters.
+    /// Rigid-body parameters (the vehicle files' `[vehicle]` table; name, source and
+    /// `real_propeller` are optional here).
     pub vehicle: VehicleConfig,
+    /// Optional `[rotors]`: the vehicle's rotors, as in a vehicle file (needed by the
+    /// rotor-level plant).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotors: Option<RotorsTable>,
+    /// Optional `[drag]`: quadratic body drag, as in a vehicle file (absent = none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub drag: Option<DragTable>,
     /// Actuator limits.
     pub limits: LimitsConfig,
     /// Controller gains (Table I).
@@ -41,17 +54,8 @@ pub struct Scenario {
     pub perturbations: PerturbationConfig,
 }
 
-/// `[vehicle]`.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct VehicleConfig {
-    /// Mass \[kg\].
-    pub mass_kg: f64,
-    /// Diagonal of the inertia [kg m²], body frame.
-    pub inertia_kg_m2: [f64; 3],
-    /// Gravity [m/s²].
-    pub gravity_m_s2: f64,
-}
+/// `[vehicle]`: the vehicle files' table ([`VehicleTable`]).
+pub type VehicleConfig = VehicleTable;
 
 /// `[limits]`.
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
@@ -291,6 +295,16 @@ impl Scenario {
     pub fn validate(&self) -> std::result::Result<(), String> {
         let vehicle = self.vehicle::<f64>();
         vehicle.validate().map_err(|e| describe(&e))?;
+        // The vehicle files' checks, with the file named by the caller: here only key and
+        // reason.
+        let keyed = |e: crate::vehicle::VehicleFileError| format!("{}: {}", e.key, e.reason);
+        self.vehicle.validate("", false).map_err(keyed)?;
+        if let Some(rotors) = &self.rotors {
+            rotors.validate("", &self.vehicle).map_err(keyed)?;
+        }
+        if let Some(drag) = &self.drag {
+            drag.validate("").map_err(keyed)?;
+        }
         self.limits::<f64>().validate().map_err(|e| describe(&e))?;
         self.gains::<f64>().validate().map_err(|e| describe(&e))?;
         let s = &self.simulation;
@@ -413,11 +427,18 @@ impl Scenario {
 
     /// The rigid-body model of the scenario's vehicle (f64).
     pub fn plant(&self) -> RigidBody {
-        let v = &self.vehicle;
-        RigidBody {
-            mass: v.mass_kg,
-            inertia: Vector3::from(v.inertia_kg_m2),
-            gravity: v.gravity_m_s2,
+        crate::vehicle::rigid_body(&self.vehicle)
+    }
+
+    /// This scenario flown with a vehicle file's vehicle: its `[vehicle]`, `[rotors]` and
+    /// `[drag]` replace the scenario's (no `[drag]` in the file = no body drag). Limits, gains
+    /// and the rest are kept: whether they suit the new vehicle is for the certificate to say.
+    pub fn with_vehicle(&self, file: &VehicleFile) -> Scenario {
+        Scenario {
+            vehicle: file.vehicle.clone(),
+            rotors: Some(file.rotors.clone()),
+            drag: file.drag.clone(),
+            ..self.clone()
         }
     }
 
