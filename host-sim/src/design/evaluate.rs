@@ -46,6 +46,8 @@ pub struct Trial {
     pub tail_attitude_error_max_deg: f64,
     /// `z(0) − min z` \[m\].
     pub altitude_loss_m: f64,
+    /// `|p − p_d|` at the last sample \[m\] (infinite when the run stopped early).
+    pub final_position_error_m: f64,
     /// `(t [s], attitude error [deg])` per sample when traced.
     #[serde(skip)]
     pub attitude_trace: Vec<(f64, f64)>,
@@ -84,12 +86,12 @@ pub fn fly_trial(
             points.push((s.t, deg));
         }
     });
-    let (settling, converged) = match outcome {
+    let (settling, converged, final_error) = match outcome {
         Ok(_) => {
             let m = acc.finish();
-            (m.settling_time_s, m.converged)
+            (m.settling_time_s, m.converged, m.final_position_error_m)
         }
-        Err(_) => (None, false),
+        Err(_) => (None, false, f64::INFINITY),
     };
     Ok(Trial {
         start: label.to_owned(),
@@ -97,6 +99,7 @@ pub fn fly_trial(
         converged: converged && tail < TAIL_ATTITUDE_DEG,
         tail_attitude_error_max_deg: tail,
         altitude_loss_m: (initial.position.z - z_min).max(0.0),
+        final_position_error_m: final_error,
         attitude_trace: points,
     })
 }
@@ -159,7 +162,8 @@ pub struct Evaluation {
 }
 
 /// Scores a design: `worst settling [s] + 1 s/m × altitude lost [m]` when every run
-/// converges, else `PENALTY + 100 × (runs not converged)`. `scenario` and `hover` fly the
+/// converges, else `PENALTY + 100 × (runs not converged) + 10 ln(1 + altitude lost [m]) +
+/// Σ ln(1 + final position error [m])` over the nominal 180° starts. `scenario` and `hover` fly the
 /// vehicle's motor time constant `tau_m` \[s\].
 pub fn evaluate(
     scenario: &Scenario,
@@ -191,7 +195,18 @@ pub fn evaluate(
     let feasible = failures == 0;
     let cost = match (feasible, worst) {
         (true, Some(w)) => w + ALTITUDE_WEIGHT_S_PER_M * upside.altitude_loss_m,
-        _ => PENALTY + 100.0 * failures as f64,
+        // Graded, so the optimiser can climb towards feasibility: fewer failures first, then
+        // less altitude lost and smaller final errors.
+        _ => {
+            let misses: f64 = nominal
+                .iter()
+                .map(|t| t.final_position_error_m.min(1e6).ln_1p())
+                .sum();
+            PENALTY
+                + 100.0 * failures as f64
+                + 10.0 * upside.altitude_loss_m.min(1e6).ln_1p()
+                + misses
+        }
     };
     Ok(Evaluation {
         feasible,

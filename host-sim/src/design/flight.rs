@@ -66,19 +66,8 @@ pub fn scenario_table(
     settings: FlightSettings,
 ) -> Result<toml::Table> {
     let mut t = toml::Table::new();
-    if ROTOR_PLANT {
-        for (k, v) in &vehicle.tables {
-            t.insert(k.clone(), v.clone());
-        }
-    } else {
-        let mut v = toml::Table::new();
-        v.insert("mass_kg".into(), vehicle.body.mass.into());
-        v.insert(
-            "inertia_kg_m2".into(),
-            table_of(&<[f64; 3]>::from(vehicle.body.inertia))?,
-        );
-        v.insert("gravity_m_s2".into(), vehicle.body.gravity.into());
-        t.insert("vehicle".into(), toml::Value::Table(v));
+    for (k, v) in &vehicle.tables {
+        t.insert(k.clone(), v.clone());
     }
     t.insert("limits".into(), table_of(&limits_config(limits))?);
     t.insert("gains".into(), table_of(&gains_config(gains))?);

@@ -17,7 +17,7 @@ use crate::campaign::sampler::seeded_rng;
 use super::variables::DIMENSION;
 
 /// Particles per swarm (capped by the budget).
-pub const PARTICLES: usize = 8;
+pub const PARTICLES: usize = 16;
 
 /// The cost function argmin sees: a closure over the unit box, remembering every point scored.
 struct Objective<'a, F: Fn(&[f64]) -> f64 + Sync> {

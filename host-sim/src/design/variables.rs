@@ -3,13 +3,13 @@
 //!
 //! | # | variable | maps to |
 //! |---|----------|---------|
-//! | 0 | `k_f` | log scale on `[0.3, 6]` 1/s |
+//! | 0 | `k_f` | log scale on `[0.1, 6]` 1/s |
 //! | 1 | `k_s / k_f` | log scale on `[1.5, 12]` (so `k_s > k_f`) |
 //! | 2 | `M_p / M_p,max(k_f, k_s)` | `[0.05, 0.95]` ([`super::authority::saturation_max`]) |
 //! | 3 | `ι / ι_max(M_p, k_f, k_s)` | `[0.2, 0.95]` ([`super::authority::iota_max`]) |
 //! | 4 | share of `ι` taken by the MRP term `(1 + (1+δ)²) M_ϑ/4` | `[0.2, 0.9]`; `M_ω` is the rest |
-//! | 5 | attitude natural frequency `ω_a` | log scale on `[4, 60]` rad/s |
-//! | 6 | attitude damping `ζ_a` | `[0.5, 1.5]` |
+//! | 5 | attitude natural frequency `ω_a` | log scale on `[0.5, 60]` rad/s |
+//! | 6 | attitude damping `ζ_a` | `[0.2, 1.5]` |
 //! | 7 | position natural frequency `ω_p` | log scale on `[0.5, 4]` rad/s |
 //! | 8 | position damping `ζ_p` | `[0.6, 1.5]` |
 //!
@@ -36,13 +36,13 @@ pub const DIMENSION: usize = 9;
 
 /// The interval of each variable: `(low, high, logarithmic)`.
 const RANGES: [(f64, f64, bool); DIMENSION] = [
-    (0.3, 6.0, true),
+    (0.1, 6.0, true),
     (1.5, 12.0, true),
     (0.05, 0.95, false),
     (0.2, 0.95, false),
     (0.2, 0.9, false),
-    (4.0, 60.0, true),
-    (0.5, 1.5, false),
+    (0.5, 60.0, true),
+    (0.2, 1.5, false),
     (0.5, 4.0, true),
     (0.6, 1.5, false),
 ];
@@ -135,9 +135,9 @@ impl Choices {
             ks: 1.5,
             saturation_fraction: 0.5,
             iota_fraction: 0.9,
-            mrp_share: 0.6,
+            mrp_share: 0.8,
             attitude_frequency_rad_s: 10.0,
-            attitude_damping: 0.9,
+            attitude_damping: 0.8,
             position_frequency_rad_s: 1.0,
             position_damping: 1.0,
         }
