@@ -219,15 +219,39 @@ mod tests {
         assert!((back.ks - c.ks).abs() < 1e-9 && (back.kf - c.kf).abs() < 1e-9);
     }
 
-    /// Table I's attitude gains are ω_a = 52.8 rad/s, ζ_a = 0.42 under this linearisation.
+    /// Certified by construction: points all over the unit box map to gains that pass
+    /// `certify` and `box_fit` with the margin.
     #[test]
-    fn table_one_attitude_gains_invert() {
-        let j = 2.24e-3f64;
-        let w = (100.0 / (16.0 * j)).sqrt();
-        let zeta = 0.1 / (2.0 * w * j);
-        assert!(
-            (w - 52.8).abs() < 0.1 && (zeta - 0.42).abs() < 0.01,
-            "{w} {zeta}"
-        );
+    fn every_point_of_the_box_is_certified() {
+        use crate::design::certificate::certify_design;
+        use crate::design::vehicle::DesignVehicle;
+        use crate::scenario::Scenario;
+        use controller_core::Trajectory;
+        let v = DesignVehicle::load(&crate::vehicle::preset_path("crazyflie-2.1")).unwrap();
+        let set = RotorSet::new(&v.rotors).unwrap();
+        let constants = Scenario::paper().trajectory::<f64>().constants();
+        let ctx = Context {
+            vehicle: &v.body,
+            constants: &constants,
+            rotors: &set,
+            margin: 0.05,
+        };
+        let mut rng = crate::campaign::sampler::seeded_rng(11);
+        for _ in 0..200 {
+            use rand::RngExt;
+            let x: Vec<f64> = (0..DIMENSION)
+                .map(|_| rng.random_range(0.0..=1.0))
+                .collect();
+            let m = map(&ctx, &Choices::from_unit(&x))
+                .expect("the paper helix is usable on the Crazyflie");
+            let c = certify_design(&v.body, &v.rotors, &m.gains, &constants, 0.05).unwrap();
+            assert!(
+                c.ok(),
+                "{x:?}: {:?} margin {}",
+                c.certificate.require_feasible(),
+                c.margin
+            );
+            assert!(c.margin >= 0.05 - 1e-6, "{}", c.margin);
+        }
     }
 }
