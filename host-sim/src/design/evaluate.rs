@@ -172,13 +172,21 @@ pub fn evaluate(
     trace: bool,
 ) -> Result<Evaluation> {
     let (nominal, upside) = rayon::join(
-        || half_turns(&super::flight::with_motor_lag(scenario, tau_m), trace),
-        || upside_down(&super::flight::with_motor_lag(hover, tau_m), trace),
+        || {
+            half_turns(
+                &super::flight::with_motor_lag(scenario, tau_m, tau_m),
+                trace,
+            )
+        },
+        || upside_down(&super::flight::with_motor_lag(hover, tau_m, tau_m), trace),
     );
     let (nominal, upside) = (nominal?, upside?);
     let nominal_failures = nominal.iter().filter(|t| !t.converged).count();
     let doubled = if nominal_failures == 0 {
-        half_turns(&super::flight::with_motor_lag(scenario, 2.0 * tau_m), trace)?
+        half_turns(
+            &super::flight::with_motor_lag(scenario, 2.0 * tau_m, tau_m),
+            trace,
+        )?
     } else {
         Vec::new()
     };
@@ -220,22 +228,27 @@ pub fn evaluate(
     })
 }
 
-/// Whether the seven 180° starts all converge with motor time constant `tau_m` \[s\].
-pub fn converges_with_lag(scenario: &Scenario, tau_m: f64) -> bool {
-    half_turns(&super::flight::with_motor_lag(scenario, tau_m), false)
-        .map(|runs| runs.iter().all(|t| t.converged))
-        .unwrap_or(false)
+/// Whether the seven 180° starts all converge with motor time constant `tau_m` \[s\]
+/// (`nominal`: the vehicle's own, see [`super::flight::with_motor_lag`]).
+pub fn converges_with_lag(scenario: &Scenario, tau_m: f64, nominal: f64) -> bool {
+    half_turns(
+        &super::flight::with_motor_lag(scenario, tau_m, nominal),
+        false,
+    )
+    .map(|runs| runs.iter().all(|t| t.converged))
+    .unwrap_or(false)
 }
 
 /// The largest motor time constant \[s\] with which the seven 180° starts still converge: the
 /// bracket `[lo, hi]` doubles from `known_good` until a failure (at most 64×), then 6
 /// bisection steps; the lower end is returned (it passed). `None` when `known_good` fails.
 pub fn largest_converging_lag(scenario: &Scenario, known_good: f64) -> Option<f64> {
-    if !converges_with_lag(scenario, known_good) {
+    let passes = |tau: f64| converges_with_lag(scenario, tau, known_good);
+    if !passes(known_good) {
         return None;
     }
     let (mut lo, mut hi) = (known_good, 2.0 * known_good);
-    while converges_with_lag(scenario, hi) {
+    while passes(hi) {
         lo = hi;
         hi *= 2.0;
         if hi > 64.0 * known_good {
@@ -244,7 +257,7 @@ pub fn largest_converging_lag(scenario: &Scenario, known_good: f64) -> Option<f6
     }
     for _ in 0..6 {
         let mid = 0.5 * (lo + hi);
-        if converges_with_lag(scenario, mid) {
+        if passes(mid) {
             lo = mid;
         } else {
             hi = mid;

@@ -134,9 +134,14 @@ pub fn scenarios(
 }
 
 /// `scenario` with the motor time constant `tau_m` \[s\] (the rotor plant's `[perturbations]
-/// motor_time_constant_s` replaces the vehicle's).
-pub fn with_motor_lag(scenario: &Scenario, tau_m: f64) -> Scenario {
+/// motor_time_constant_s` replaces the vehicle's). With the rotor plant, the vehicle's own
+/// value `nominal` \[s\] is flown as the scenario says (no perturbation).
+pub fn with_motor_lag(scenario: &Scenario, tau_m: f64, nominal: f64) -> Scenario {
     let mut s = scenario.clone();
-    s.perturbations.motor_time_constant_s = tau_m;
+    s.perturbations.motor_time_constant_s = if ROTOR_PLANT && tau_m == nominal {
+        0.0
+    } else {
+        tau_m
+    };
     s
 }

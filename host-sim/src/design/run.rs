@@ -21,7 +21,7 @@ use crate::scenario::Scenario;
 pub const SCORING_DURATION_S: f64 = 30.0;
 /// Default evaluation budget: sized so one preset finishes in well under 10 minutes on 2 cores
 /// (release build).
-pub const DEFAULT_EVALUATIONS: usize = 320;
+pub const DEFAULT_EVALUATIONS: usize = 960;
 
 /// What `design` is asked.
 #[derive(Clone, Debug)]
