@@ -14,6 +14,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 use crate::perturbation::PerturbationConfig;
 use crate::plant::{RigidBody, RigidBodyState};
+use crate::rotor_plant::RotorParameters;
 use serde::{Deserialize, Serialize};
 
 /// The embedded Section VI scenario, as TOML text.
@@ -209,6 +210,37 @@ pub struct SimulationConfig {
     /// gusts); unused without perturbations. Campaigns draw their own seed per run.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub seed: u64,
+    /// The plant flown: `"ideal"` (the command `(T, τ)` acts on the rigid body directly, the
+    /// paper's model; the default) or `"rotors"` (the firmware's mixer, four rotors with motor
+    /// dynamics and optional body drag: [`crate::rotor_plant`]; needs a `[rotors]` table).
+    #[serde(default, skip_serializing_if = "PlantKind::is_ideal")]
+    pub plant: PlantKind,
+}
+
+/// `simulation.plant`: which plant a run flies.
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum PlantKind {
+    /// `(T, τ)` applied to the rigid body directly (eq:FullDynamics).
+    #[default]
+    Ideal,
+    /// The rotor-level plant of [`crate::rotor_plant`].
+    Rotors,
+}
+
+impl PlantKind {
+    /// True for [`PlantKind::Ideal`] (the default, left out when a scenario is written).
+    pub fn is_ideal(&self) -> bool {
+        *self == Self::Ideal
+    }
+
+    /// The name used in scenario files and on the command line.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Ideal => "ideal",
+            Self::Rotors => "rotors",
+        }
+    }
 }
 
 fn is_zero(seed: &u64) -> bool {
@@ -419,6 +451,12 @@ impl Scenario {
             inertia: Vector3::from(v.inertia_kg_m2),
             gravity: v.gravity_m_s2,
         }
+    }
+
+    /// The scenario's rotors (geometry, thrust range, yaw torque per newton), motor time
+    /// constant and body drag, for `plant = "rotors"`; `None` without a `[rotors]` table.
+    pub fn rotor_config(&self) -> Option<RotorParameters> {
+        None
     }
 
     /// The initial state of the rigid body from `[initial]`.
