@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::{bail, Result};
 
 use crate::controllers::ControllerKind;
-use crate::scenario::{Precision, Scenario};
+use crate::scenario::{PlantKind, Precision, Scenario};
 
 /// Options shared by the campaign, the ablations and the comparison: the base scenario and the
 /// seed.
@@ -29,6 +29,9 @@ pub struct BaseOptions {
     pub clip: bool,
     /// Controller precision for the paper's law, overriding `simulation.precision`.
     pub precision: Option<Precision>,
+    /// Plant, overriding `simulation.plant` (`PlantKind::Rotors` flies every controller's
+    /// `(T, τ)` through the firmware's mixer and the rotors).
+    pub plant: Option<PlantKind>,
 }
 
 impl BaseOptions {
@@ -56,6 +59,9 @@ impl BaseOptions {
         s.simulation.clip_to_limits |= self.clip;
         if let Some(p) = self.precision {
             s.simulation.precision = p;
+        }
+        if let Some(p) = self.plant {
+            s.simulation.plant = p;
         }
         s.validate().map_err(|e| anyhow::anyhow!("{e}"))?;
         Ok(s)

@@ -7,7 +7,7 @@ use clap::Args;
 use host_sim::report::human_summary;
 use host_sim::scenario::Scenario;
 
-use super::common::PrecisionArg;
+use super::common::{PlantArgs, PrecisionArg};
 
 /// Options of a single run.
 #[derive(Debug, Args, Clone, Default)]
@@ -29,6 +29,9 @@ pub struct RunArgs {
     /// Write only summary.json and the CSV (skip the PNG plots).
     #[arg(long)]
     pub no_plots: bool,
+    /// Plant and vehicle.
+    #[command(flatten)]
+    pub plant: PlantArgs,
 }
 
 /// Runs one scenario: prints its summary and writes its time series, plots and summary.
@@ -53,6 +56,9 @@ pub fn run(args: &RunArgs) -> Result<()> {
         scenario.simulation.precision = p.into();
     }
     scenario.simulation.clip_to_limits |= args.clip;
+    if let Some(p) = args.plant.plant {
+        scenario.simulation.plant = p.into();
+    }
     let out: PathBuf = args
         .out
         .clone()
@@ -69,10 +75,15 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let (summary, records) = host_sim::sim::run(&scenario)?;
     let s = &scenario.simulation;
     let header = format!(
-        "Scenario: {title}; controller precision {:?}, {} s at {:.0} Hz, plant RK4 step {} s{}{}",
+        "Scenario: {title}; controller precision {:?}, {} s at {:.0} Hz, {}plant RK4 step {} s{}{}",
         s.precision,
         s.duration_s,
         1.0 / s.controller_period_s,
+        if s.plant.is_ideal() {
+            String::new()
+        } else {
+            format!("{} plant, ", s.plant.name())
+        },
         s.plant_step_s,
         if s.clip_to_limits {
             ", commands clipped to the limits"
