@@ -134,7 +134,7 @@ pub enum PlantModel {
     /// `(T, τ)` applied to the rigid body (with the perturbations' `(T, τ)` lag if any).
     Ideal,
     /// The rotor-level plant.
-    Rotors(RotorPlant),
+    Rotors(Box<RotorPlant>),
 }
 
 impl PlantModel {
@@ -153,7 +153,7 @@ impl PlantModel {
                 if perturbations.motor_time_constant_s > 0.0 {
                     p.motor_time_constant_s = perturbations.motor_time_constant_s;
                 }
-                Ok(Self::Rotors(RotorPlant::from_parameters(&p)?))
+                Ok(Self::Rotors(Box::new(RotorPlant::from_parameters(&p)?)))
             }
         }
     }
@@ -277,7 +277,7 @@ mod tests {
 
     fn paper_rotors(tau: f64) -> PlantModel {
         let rotors = firmware::config::FlightConfig::paper().rotors;
-        PlantModel::Rotors(RotorPlant::new(&rotors, tau, [0.0; 3]).unwrap())
+        PlantModel::Rotors(Box::new(RotorPlant::new(&rotors, tau, [0.0; 3]).unwrap()))
     }
 
     /// Flies the paper law on `plant`, returning the final state and every sample's rotor
@@ -329,7 +329,7 @@ mod tests {
         // asks for more collective than that, which the mixer gives up.
         let mut weak = firmware::config::FlightConfig::paper().rotors;
         weak.thrust_max = 1.3;
-        let weak = PlantModel::Rotors(RotorPlant::new(&weak, 0.0, [0.0; 3]).unwrap());
+        let weak = PlantModel::Rotors(Box::new(RotorPlant::new(&weak, 0.0, [0.0; 3]).unwrap()));
         let mut flipped = Scenario::paper();
         flipped.simulation.duration_s = 3.0;
         let (_, reports) = fly_paper(&flipped, weak);
