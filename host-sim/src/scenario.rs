@@ -354,6 +354,12 @@ impl Scenario {
             }
         }
         self.perturbations.validate()?;
+        if self.simulation.plant == PlantKind::Rotors && self.rotor_config().is_none() {
+            return Err(
+                "simulation.plant: plant = rotors needs a [rotors] table (or --vehicle FILE)"
+                    .into(),
+            );
+        }
         Ok(())
     }
 
