@@ -97,6 +97,13 @@ pub fn run(args: &RunArgs) -> Result<()> {
         }
     );
     print!("{}", human_summary(&header, &summary));
+    if let Some(m) = &summary.mixer {
+        println!(
+            "Mixer: gave something up in {} of {} samples (at most {:.3} N of thrust, {:.4} N m \
+             of torque in one sample)",
+            m.samples_given_up, m.samples, m.thrust_given_up_max_N, m.torque_given_up_max_Nm
+        );
+    }
     let files = if args.no_plots {
         std::fs::create_dir_all(&out)?;
         let csv = out.join("timeseries.csv");
