@@ -350,16 +350,16 @@ mod tests {
     fn rotors_without_a_rotor_table_are_refused() {
         let mut s = Scenario::paper();
         s.simulation.plant = PlantKind::Rotors;
-        if s.rotor_config().is_none() {
-            let e = fly_with(&s, &s.perturbations, &s.initial_state(), 0, |_| {
-                Ok(Wrench {
-                    thrust: 0.0,
-                    torque: Vector3::zeros(),
-                })
+        assert!(s.rotors.is_none());
+        let e = fly_with(&s, &s.perturbations, &s.initial_state(), 0, |_| {
+            Ok(Wrench {
+                thrust: 0.0,
+                torque: Vector3::zeros(),
             })
-            .unwrap_err()
-            .to_string();
-            assert!(e.contains("plant = rotors needs a [rotors] table"), "{e}");
-        }
+        })
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("plant = rotors needs a [rotors] table"), "{e}");
+        assert!(s.validate().unwrap_err().contains("simulation.plant"));
     }
 }

@@ -25,3 +25,4 @@ pub mod rotor_plant;
 pub mod scenario;
 pub mod sim;
 pub mod so3;
+pub mod vehicle;

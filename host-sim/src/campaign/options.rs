@@ -32,12 +32,16 @@ pub struct BaseOptions {
     /// Plant, overriding `simulation.plant` (`PlantKind::Rotors` flies every controller's
     /// `(T, τ)` through the firmware's mixer and the rotors).
     pub plant: Option<PlantKind>,
+    /// Vehicle file whose `[vehicle]`, `[rotors]` and `[drag]` replace the scenario's
+    /// ([`Scenario::with_vehicle`]).
+    pub vehicle: Option<PathBuf>,
 }
 
 impl BaseOptions {
     /// The scenario with the overrides applied.
     ///
-    /// Errors: the file cannot be read or is invalid; an override is not finite and > 0.
+    /// Errors: the scenario or vehicle file cannot be read or is invalid; an override is not
+    /// finite and > 0; `plant = rotors` without rotors.
     pub fn scenario(&self) -> Result<Scenario> {
         let mut s = match &self.scenario {
             Some(p) => Scenario::load(p)?,
@@ -59,6 +63,9 @@ impl BaseOptions {
         s.simulation.clip_to_limits |= self.clip;
         if let Some(p) = self.precision {
             s.simulation.precision = p;
+        }
+        if let Some(path) = &self.vehicle {
+            s = s.with_vehicle(&crate::vehicle::load(path)?);
         }
         if let Some(p) = self.plant {
             s.simulation.plant = p;

@@ -50,6 +50,10 @@ pub struct PlantArgs {
     /// Plant, overriding the scenario's `simulation.plant`.
     #[arg(long, value_enum)]
     pub plant: Option<PlantArg>,
+    /// Vehicle file (e.g. `host-sim/vehicles/x500.toml`): its `[vehicle]`, `[rotors]` and
+    /// `[drag]` replace the scenario's (limits, gains and the rest are kept).
+    #[arg(long, value_name = "FILE")]
+    pub vehicle: Option<PathBuf>,
 }
 
 /// Options shared by the three commands: the base scenario and the seed.
@@ -89,6 +93,7 @@ impl From<&BaseArgs> for BaseOptions {
             clip: a.clip,
             precision: a.precision.map(Precision::from),
             plant: a.plant.plant.map(PlantKind::from),
+            vehicle: a.plant.vehicle.clone(),
         }
     }
 }

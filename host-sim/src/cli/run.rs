@@ -56,9 +56,15 @@ pub fn run(args: &RunArgs) -> Result<()> {
         scenario.simulation.precision = p.into();
     }
     scenario.simulation.clip_to_limits |= args.clip;
+    if let Some(path) = &args.plant.vehicle {
+        scenario = scenario.with_vehicle(&host_sim::vehicle::load(path)?);
+    }
     if let Some(p) = args.plant.plant {
         scenario.simulation.plant = p.into();
     }
+    scenario
+        .validate()
+        .map_err(|e| anyhow::anyhow!("scenario {title}: {e}"))?;
     let out: PathBuf = args
         .out
         .clone()
