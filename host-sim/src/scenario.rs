@@ -18,6 +18,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 use crate::perturbation::PerturbationConfig;
 use crate::plant::{RigidBody, RigidBodyState};
+use crate::rotor_plant::RotorParameters;
 use crate::vehicle::{DragTable, RotorsTable, VehicleFile, VehicleTable};
 use serde::{Deserialize, Serialize};
 
@@ -213,6 +214,37 @@ pub struct SimulationConfig {
     /// gusts); unused without perturbations. Campaigns draw their own seed per run.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub seed: u64,
+    /// The plant flown: `"ideal"` (the command `(T, τ)` acts on the rigid body directly, the
+    /// paper's model; the default) or `"rotors"` (the firmware's mixer, four rotors with motor
+    /// dynamics and optional body drag: [`crate::rotor_plant`]; needs a `[rotors]` table).
+    #[serde(default, skip_serializing_if = "PlantKind::is_ideal")]
+    pub plant: PlantKind,
+}
+
+/// `simulation.plant`: which plant a run flies.
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum PlantKind {
+    /// `(T, τ)` applied to the rigid body directly (eq:FullDynamics).
+    #[default]
+    Ideal,
+    /// The rotor-level plant of [`crate::rotor_plant`].
+    Rotors,
+}
+
+impl PlantKind {
+    /// True for [`PlantKind::Ideal`] (the default, left out when a scenario is written).
+    pub fn is_ideal(&self) -> bool {
+        *self == Self::Ideal
+    }
+
+    /// The name used in scenario files and on the command line.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Ideal => "ideal",
+            Self::Rotors => "rotors",
+        }
+    }
 }
 
 fn is_zero(seed: &u64) -> bool {
@@ -336,6 +368,12 @@ impl Scenario {
             }
         }
         self.perturbations.validate()?;
+        if self.simulation.plant == PlantKind::Rotors && self.rotor_config().is_none() {
+            return Err(
+                "simulation.plant: plant = rotors needs a [rotors] table (or --vehicle FILE)"
+                    .into(),
+            );
+        }
         Ok(())
     }
 
@@ -440,6 +478,33 @@ impl Scenario {
             drag: file.drag.clone(),
             ..self.clone()
         }
+    }
+
+    /// The scenario's rotors (geometry, thrust range, yaw torque per newton), motor time
+    /// constant and body drag, for `plant = "rotors"`; `None` without a `[rotors]` table.
+    ///
+    /// The rotors are the firmware's f32 [`firmware::config::RotorConfig`] of the airframe the
+    /// tables describe ([`crate::vehicle::airframe`], the values a firmware build takes), so the
+    /// plant mixes with the flight code's numbers; the motor time constant and drag stay f64.
+    pub fn rotor_config(&self) -> Option<RotorParameters> {
+        let rotors = self.rotors.as_ref()?;
+        // Without name and source the airframe leaks nothing (empty strings do not allocate),
+        // so building the plant once per run costs no memory.
+        let vehicle = VehicleTable {
+            name: None,
+            source: None,
+            ..self.vehicle.clone()
+        };
+        let airframe = crate::vehicle::airframe(&VehicleFile {
+            vehicle,
+            rotors: rotors.clone(),
+            drag: self.drag.clone(),
+        });
+        Some(RotorParameters {
+            rotors: airframe.rotors,
+            motor_time_constant_s: rotors.motor_time_constant_s,
+            body_drag_N_s2_m2: self.drag.as_ref().map_or([0.0; 3], |d| d.body_drag_N_s2_m2),
+        })
     }
 
     /// The initial state of the rigid body from `[initial]`.

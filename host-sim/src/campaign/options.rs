@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::{bail, Result};
 
 use crate::controllers::ControllerKind;
-use crate::scenario::{Precision, Scenario};
+use crate::scenario::{PlantKind, Precision, Scenario};
 
 /// Options shared by the campaign, the ablations and the comparison: the base scenario and the
 /// seed.
@@ -29,12 +29,19 @@ pub struct BaseOptions {
     pub clip: bool,
     /// Controller precision for the paper's law, overriding `simulation.precision`.
     pub precision: Option<Precision>,
+    /// Plant, overriding `simulation.plant` (`PlantKind::Rotors` flies every controller's
+    /// `(T, τ)` through the firmware's mixer and the rotors).
+    pub plant: Option<PlantKind>,
+    /// Vehicle file whose `[vehicle]`, `[rotors]` and `[drag]` replace the scenario's
+    /// ([`Scenario::with_vehicle`]).
+    pub vehicle: Option<PathBuf>,
 }
 
 impl BaseOptions {
     /// The scenario with the overrides applied.
     ///
-    /// Errors: the file cannot be read or is invalid; an override is not finite and > 0.
+    /// Errors: the scenario or vehicle file cannot be read or is invalid; an override is not
+    /// finite and > 0; `plant = rotors` without rotors.
     pub fn scenario(&self) -> Result<Scenario> {
         let mut s = match &self.scenario {
             Some(p) => Scenario::load(p)?,
@@ -56,6 +63,12 @@ impl BaseOptions {
         s.simulation.clip_to_limits |= self.clip;
         if let Some(p) = self.precision {
             s.simulation.precision = p;
+        }
+        if let Some(path) = &self.vehicle {
+            s = s.with_vehicle(&crate::vehicle::load(path)?);
+        }
+        if let Some(p) = self.plant {
+            s.simulation.plant = p;
         }
         s.validate().map_err(|e| anyhow::anyhow!("{e}"))?;
         Ok(s)
