@@ -9,14 +9,9 @@ use serde::Serialize;
 use super::reference::Reference;
 use super::vehicle::DesignVehicle;
 use crate::scenario::{
-    GainsConfig, InitialConfig, LimitsConfig, Precision, Scenario, SimulationConfig,
+    GainsConfig, InitialConfig, LimitsConfig, PlantKind, Precision, Scenario, SimulationConfig,
     TrajectoryConfig,
 };
-
-/// Whether the merged rotor-level plant (`[simulation] plant = "rotors"`, `[rotors]` tables in
-/// scenario files) is available. TEMPORARY: until it is, the design flies the ideal plant with
-/// a first-order lag of the vehicle's motor time constant on `(T, τ)`.
-pub const ROTOR_PLANT: bool = false;
 
 /// Scenario `[gains]` of `gains`.
 pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
@@ -80,22 +75,9 @@ pub fn scenario_table(
         precision: Precision::F32,
         clip_to_limits: false,
         seed: 0,
+        plant: PlantKind::Rotors,
     };
-    let mut sim = match table_of(&sim)? {
-        toml::Value::Table(s) => s,
-        _ => toml::Table::new(),
-    };
-    if ROTOR_PLANT {
-        sim.insert("plant".into(), "rotors".into());
-    } else {
-        let mut p = toml::Table::new();
-        p.insert(
-            "motor_time_constant_s".into(),
-            vehicle.motor_time_constant_s.into(),
-        );
-        t.insert("perturbations".into(), toml::Value::Table(p));
-    }
-    t.insert("simulation".into(), toml::Value::Table(sim));
+    t.insert("simulation".into(), table_of(&sim)?);
     Ok(t)
 }
 
@@ -134,14 +116,10 @@ pub fn scenarios(
 }
 
 /// `scenario` with the motor time constant `tau_m` \[s\] (the rotor plant's `[perturbations]
-/// motor_time_constant_s` replaces the vehicle's). With the rotor plant, the vehicle's own
-/// value `nominal` \[s\] is flown as the scenario says (no perturbation).
+/// motor_time_constant_s` replaces the vehicle's); the vehicle's own value `nominal` \[s\] is
+/// flown as the scenario says (no perturbation).
 pub fn with_motor_lag(scenario: &Scenario, tau_m: f64, nominal: f64) -> Scenario {
     let mut s = scenario.clone();
-    s.perturbations.motor_time_constant_s = if ROTOR_PLANT && tau_m == nominal {
-        0.0
-    } else {
-        tau_m
-    };
+    s.perturbations.motor_time_constant_s = if tau_m == nominal { 0.0 } else { tau_m };
     s
 }
