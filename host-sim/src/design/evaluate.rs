@@ -30,6 +30,9 @@ pub const TAIL_S: f64 = 5.0;
 pub const TAIL_ATTITUDE_DEG: f64 = 1.0;
 /// Objective weight of the altitude lost from upside down [s/m].
 pub const ALTITUDE_WEIGHT_S_PER_M: f64 = 1.0;
+/// Objective weight of the worst settling time with the motor time constant doubled: a design
+/// that only just converges with the doubled lag has no margin left for the campaigns' offsets.
+pub const DOUBLED_LAG_WEIGHT: f64 = 0.5;
 /// Cost floor of a design that fails a convergence constraint.
 pub const PENALTY: f64 = 1000.0;
 
@@ -161,7 +164,8 @@ pub struct Evaluation {
     pub upside_down: Trial,
 }
 
-/// Scores a design: `worst settling [s] + 1 s/m × altitude lost [m]` when every run
+/// Scores a design: `worst settling [s] + 0.5 × worst settling with the motor time constant
+/// doubled [s] + 1 s/m × altitude lost [m]` when every run
 /// converges, else `PENALTY + 100 × (runs not converged) + 10 ln(1 + altitude lost [m]) +
 /// Σ ln(1 + final position error [m])` over the nominal 180° starts. `scenario` and `hover` fly the
 /// vehicle's motor time constant `tau_m` \[s\].
@@ -202,7 +206,14 @@ pub fn evaluate(
         .try_fold(0.0f64, |w, s| s.map(|s| w.max(s)));
     let feasible = failures == 0;
     let cost = match (feasible, worst) {
-        (true, Some(w)) => w + ALTITUDE_WEIGHT_S_PER_M * upside.altitude_loss_m,
+        (true, Some(w)) => {
+            let doubled_worst = doubled
+                .iter()
+                .filter_map(|t| t.settling_time_s)
+                .fold(0.0f64, f64::max);
+            w + DOUBLED_LAG_WEIGHT * doubled_worst
+                + ALTITUDE_WEIGHT_S_PER_M * upside.altitude_loss_m
+        }
         // Graded, so the optimiser can climb towards feasibility: fewer failures first, then
         // less altitude lost and smaller final errors.
         _ => {

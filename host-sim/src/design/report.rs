@@ -8,7 +8,9 @@ use anyhow::{anyhow, Context as _, Result};
 use plotters::style::RGBColor;
 use serde::Serialize;
 
-use super::evaluate::{Trial, ALTITUDE_WEIGHT_S_PER_M, TAIL_ATTITUDE_DEG, TAIL_S};
+use super::evaluate::{
+    Trial, ALTITUDE_WEIGHT_S_PER_M, DOUBLED_LAG_WEIGHT, TAIL_ATTITUDE_DEG, TAIL_S,
+};
 use super::flight::{gains_config, limits_config, scenario_table, FlightSettings};
 use super::reference::Reference;
 use super::run::{DesignOptions, Scored};
@@ -233,7 +235,8 @@ impl Report {
             a_priori: (b.thrust_min, b.thrust_max, b.torque_max.into()),
             objective: ObjectiveEntry {
                 definition: format!(
-                    "worst settling time over the seven 180 degree starts [s] + {ALTITUDE_WEIGHT_S_PER_M} s/m x \
+                    "worst settling time over the seven 180 degree starts [s] + {DOUBLED_LAG_WEIGHT} x the same \
+                     with the motor time constant doubled [s] + {ALTITUDE_WEIGHT_S_PER_M} s/m x \
                      altitude lost recovering from upside down at hover [m], on the scenario's plant \
                      with the vehicle's motor time constant and the controller's sample-and-hold; \
                      settled: |p - p_d| < 5 cm and attitude error < 2 deg until the end; constraint: \
