@@ -60,6 +60,11 @@ pub fn run(args: &DesignArgs) -> Result<()> {
             String::new()
         }
     );
+    if !r.objective.constraints_met {
+        println!(
+            "  NO DESIGN WITHIN THE BUDGET MET THE CONVERGENCE CONSTRAINTS (see design.md); the certificate holds"
+        );
+    }
     for f in &outcome.files {
         println!("  {}", f.display());
     }

@@ -100,6 +100,18 @@ pub struct ObjectiveEntry {
     pub settling_180_s: Vec<(String, Option<f64>)>,
     /// Every constraint met (all runs converge, nominal and doubled motor lag).
     pub constraints_met: bool,
+    /// The certified authority in flight terms: `[T_min, T_max] / (m g)` and the feedback
+    /// angular acceleration `ι / J_ii` [rad/s²] per axis.
+    pub authority: AuthorityEntry,
+}
+
+/// The certified authority in flight terms.
+#[derive(Clone, Debug, Serialize)]
+pub struct AuthorityEntry {
+    /// `[T_min, T_max]` of Theorem 1 over the weight `m g`.
+    pub thrust_interval_over_weight: [f64; 2],
+    /// `ι / J_ii` [rad/s²]: the angular acceleration the saturated feedback can command.
+    pub feedback_angular_acceleration_rad_s2: [f64; 3],
 }
 
 /// `margins`.
@@ -248,6 +260,13 @@ impl Report {
                 worst_settling_180_s: e.worst_settling_180_s,
                 settling_180_s: settling(&e.nominal),
                 constraints_met: e.feasible,
+                authority: AuthorityEntry {
+                    thrust_interval_over_weight: [b.thrust_min, b.thrust_max]
+                        .map(|t| t / (vehicle.body.mass * vehicle.body.gravity)),
+                    feedback_angular_acceleration_rad_s2: <[f64; 3]>::from(
+                        vehicle.body.inertia.map(|j| b.feedback_torque / j),
+                    ),
+                },
             },
             margins: MarginsEntry {
                 box_fit: c.margin,
@@ -500,6 +519,32 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
         c.position_damping
     );
     let o = &r.objective;
+    let a = &o.authority;
+    if !o.constraints_met {
+        let _ = writeln!(
+            s,
+            "**NO DESIGN WITHIN THE BUDGET MET THE CONVERGENCE CONSTRAINTS** (every 180 degree start and \
+             the upside-down start settled by 25 s, also with the motor time constant doubled). The \
+             certificate holds, but the certified authority is small: thrust interval [{:.3}, {:.3}] x \
+             the weight, feedback angular acceleration iota/J = [{:.2}, {:.2}, {:.2}] rad/s^2. The \
+             design below is the best found on the graded penalty.\n",
+            a.thrust_interval_over_weight[0],
+            a.thrust_interval_over_weight[1],
+            a.feedback_angular_acceleration_rad_s2[0],
+            a.feedback_angular_acceleration_rad_s2[1],
+            a.feedback_angular_acceleration_rad_s2[2]
+        );
+    }
+    let _ = writeln!(
+        s,
+        "Certified authority: thrust interval [{:.3}, {:.3}] x the weight; feedback angular acceleration \
+         iota/J = [{:.2}, {:.2}, {:.2}] rad/s^2.\n",
+        a.thrust_interval_over_weight[0],
+        a.thrust_interval_over_weight[1],
+        a.feedback_angular_acceleration_rad_s2[0],
+        a.feedback_angular_acceleration_rad_s2[1],
+        a.feedback_angular_acceleration_rad_s2[2]
+    );
     let _ = writeln!(
         s,
         "## Objective\n\n{}.\n\nValue {:.3}; constraints met: **{}**. Worst settling from 180 degrees: **{}**; \
