@@ -480,6 +480,34 @@ impl Scenario {
         }
     }
 
+    /// This scenario with the command line's plant overrides, in this order: the vehicle file's
+    /// `[vehicle]`, `[rotors]` and `[drag]` ([`Scenario::with_vehicle`]), the plant, and the motor
+    /// time constant \[s\] as `[perturbations] motor_time_constant_s` (on the rotor plant it
+    /// replaces the vehicle's; on the ideal plant it is a first-order lag on `(T, τ)`).
+    ///
+    /// Errors: the vehicle file cannot be read or is invalid (file, key, reason); the motor time
+    /// constant is not finite and `≥ 0`.
+    pub fn with_plant_overrides(
+        mut self,
+        vehicle: Option<&Path>,
+        plant: Option<PlantKind>,
+        motor_time_constant_s: Option<f64>,
+    ) -> Result<Scenario> {
+        if let Some(path) = vehicle {
+            self = self.with_vehicle(&crate::vehicle::load(path)?);
+        }
+        if let Some(p) = plant {
+            self.simulation.plant = p;
+        }
+        if let Some(t) = motor_time_constant_s {
+            if !(t.is_finite() && t >= 0.0) {
+                anyhow::bail!("--motor-time-constant-s must be finite and >= 0, got {t}");
+            }
+            self.perturbations.motor_time_constant_s = t;
+        }
+        Ok(self)
+    }
+
     /// The scenario's rotors (geometry, thrust range, yaw torque per newton), motor time
     /// constant and body drag, for `plant = "rotors"`; `None` without a `[rotors]` table.
     ///

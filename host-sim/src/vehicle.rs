@@ -47,37 +47,3 @@ pub fn rigid_body(vehicle: &VehicleTable) -> RigidBody {
         gravity: vehicle.gravity_m_s2,
     }
 }
-
-/// The rotors of a vehicle or scenario file in f64, for the rotor-level plant.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RotorPlantParameters {
-    /// Hub positions `(x, y)` \[m\], body FLU, in motor order.
-    pub positions: [[f64; 2]; ROTOR_COUNT],
-    /// `+1` counter-clockwise, `−1` clockwise seen from above (as `firmware::config::Rotor`):
-    /// the rotor's drag torque on the body is `−spin · c · f` about body z.
-    pub spins: [f64; ROTOR_COUNT],
-    /// Per-rotor thrust range \[N\].
-    pub thrust_min: f64,
-    /// Per-rotor thrust range \[N\].
-    pub thrust_max: f64,
-    /// Yaw torque per newton of thrust `c = k_Q / k_T` \[m\].
-    pub yaw_torque_per_thrust: f64,
-    /// First-order time constant of the rotor speed \[s\].
-    pub motor_time_constant: f64,
-    /// Quadratic body drag `c_i` [N s²/m²] per body axis (`F_i = −c_i |v_i| v_i`).
-    pub body_drag: [f64; 3],
-}
-
-/// [`RotorPlantParameters`] of validated `[rotors]` and optional `[drag]` tables (four rotors;
-/// a missing rotor would read as a zero one).
-pub fn plant_parameters(rotors: &RotorsTable, drag: Option<&DragTable>) -> RotorPlantParameters {
-    RotorPlantParameters {
-        positions: std::array::from_fn(|k| rotors.positions_m.get(k).copied().unwrap_or_default()),
-        spins: std::array::from_fn(|k| rotors.spin.get(k).map_or(0.0, |s| f64::from(s.sign()))),
-        thrust_min: rotors.thrust_min_N,
-        thrust_max: rotors.thrust_max_N,
-        yaw_torque_per_thrust: rotors.yaw_torque_per_thrust_m,
-        motor_time_constant: rotors.motor_time_constant_s,
-        body_drag: drag.map_or([0.0; 3], |d| d.body_drag_N_s2_m2),
-    }
-}

@@ -158,3 +158,84 @@ fn rotor_plant_without_rotors_is_refused() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("needs a [rotors] table"));
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// `--motor-time-constant-s` replaces the vehicle's motor time constant on the rotor plant: the
+/// main run changes, and a campaign counts its runs as perturbed.
+#[test]
+fn motor_time_constant_flag_replaces_the_vehicles() {
+    let dir = temp("lag");
+    let vehicle = preset_path("paper");
+    let vehicle = vehicle.to_str().unwrap();
+    let final_position = |extra: &[&str], name: &str| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "--vehicle",
+            vehicle,
+            "--plant",
+            "rotors",
+            "--no-plots",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = host_sim(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let csv = std::fs::read_to_string(out.join("timeseries.csv")).unwrap();
+        csv.lines().last().unwrap().to_string()
+    };
+    // paper.toml's own motor time constant is 0.02 s: passing it changes nothing, 0.05 s does.
+    let own = final_position(&[], "own");
+    assert_eq!(
+        final_position(&["--motor-time-constant-s", "0.02"], "same"),
+        own
+    );
+    assert_ne!(
+        final_position(&["--motor-time-constant-s", "0.05"], "slow"),
+        own
+    );
+    let o = host_sim(&[
+        "--motor-time-constant-s=-1",
+        "--no-plots",
+        "--out",
+        dir.join("bad").to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        String::from_utf8_lossy(&o.stderr)
+            .contains("--motor-time-constant-s must be finite and >= 0, got -1"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let out = dir.join("campaign");
+    let o = host_sim(&[
+        "campaign",
+        "--vehicle",
+        vehicle,
+        "--plant",
+        "rotors",
+        "--motor-time-constant-s",
+        "0.04",
+        "--runs",
+        "2",
+        "--duration-s",
+        "2",
+        "--converged-after-s",
+        "2",
+        "--no-plots",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("campaign.json")).unwrap()).unwrap();
+    assert_eq!(
+        json["results"]["mixer"]["nominal"]["samples"], 0,
+        "{json:#}"
+    );
+    assert_eq!(
+        json["results"]["mixer"]["perturbed"]["samples"],
+        2 * 201,
+        "{json:#}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -365,9 +365,12 @@ fn scenario_carries_vehicle_tables() {
     let text = toml::to_string(&s).unwrap_or_else(|e| panic!("{e}"));
     let back = Scenario::parse(&text, "swapped.toml").unwrap_or_else(|e| panic!("{e:#}"));
     assert_eq!(back, s);
-    let p = vehicle::plant_parameters(s.rotors.as_ref().unwrap_or(&hb.rotors), s.drag.as_ref());
-    assert_eq!(p.body_drag, [0.5e-2, 0.5e-2, 1e-2]);
-    assert_eq!(p.spins, [-1.0, 1.0, -1.0, 1.0]);
+    let p = s
+        .rotor_config()
+        .unwrap_or_else(|| panic!("the swapped scenario has [rotors]"));
+    assert_eq!(p.body_drag_N_s2_m2, [0.5e-2, 0.5e-2, 1e-2]);
+    assert_eq!(p.rotors.rotors.map(|r| r.spin), [-1.0, 1.0, -1.0, 1.0]);
+    assert_eq!(p.motor_time_constant_s, 0.005);
     assert_eq!(s.plant().mass, 0.5);
     let bad = text.replacen(
         "motor_time_constant_s = 0.005",

@@ -35,6 +35,9 @@ pub struct BaseOptions {
     /// Vehicle file whose `[vehicle]`, `[rotors]` and `[drag]` replace the scenario's
     /// ([`Scenario::with_vehicle`]).
     pub vehicle: Option<PathBuf>,
+    /// Motor time constant \[s\], overriding `[perturbations] motor_time_constant_s` (on the
+    /// rotor plant it replaces the vehicle's, e.g. twice it for a robustness campaign).
+    pub motor_time_constant_s: Option<f64>,
 }
 
 impl BaseOptions {
@@ -64,12 +67,11 @@ impl BaseOptions {
         if let Some(p) = self.precision {
             s.simulation.precision = p;
         }
-        if let Some(path) = &self.vehicle {
-            s = s.with_vehicle(&crate::vehicle::load(path)?);
-        }
-        if let Some(p) = self.plant {
-            s.simulation.plant = p;
-        }
+        let s = s.with_plant_overrides(
+            self.vehicle.as_deref(),
+            self.plant,
+            self.motor_time_constant_s,
+        )?;
         s.validate().map_err(|e| anyhow::anyhow!("{e}"))?;
         Ok(s)
     }

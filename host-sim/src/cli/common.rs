@@ -54,6 +54,11 @@ pub struct PlantArgs {
     /// `[drag]` replace the scenario's (limits, gains and the rest are kept).
     #[arg(long, value_name = "FILE")]
     pub vehicle: Option<PathBuf>,
+    /// Motor time constant (s), overriding `[perturbations] motor_time_constant_s`: on the
+    /// rotor plant it replaces the vehicle's (e.g. twice it, to test robustness to motor lag);
+    /// on the ideal plant it is a first-order lag on (T, tau).
+    #[arg(long, value_name = "S")]
+    pub motor_time_constant_s: Option<f64>,
 }
 
 /// Options shared by the three commands: the base scenario and the seed.
@@ -94,6 +99,7 @@ impl From<&BaseArgs> for BaseOptions {
             precision: a.precision.map(Precision::from),
             plant: a.plant.plant.map(PlantKind::from),
             vehicle: a.plant.vehicle.clone(),
+            motor_time_constant_s: a.plant.motor_time_constant_s,
         }
     }
 }

@@ -56,12 +56,11 @@ pub fn run(args: &RunArgs) -> Result<()> {
         scenario.simulation.precision = p.into();
     }
     scenario.simulation.clip_to_limits |= args.clip;
-    if let Some(path) = &args.plant.vehicle {
-        scenario = scenario.with_vehicle(&host_sim::vehicle::load(path)?);
-    }
-    if let Some(p) = args.plant.plant {
-        scenario.simulation.plant = p.into();
-    }
+    let scenario = scenario.with_plant_overrides(
+        args.plant.vehicle.as_deref(),
+        args.plant.plant.map(Into::into),
+        args.plant.motor_time_constant_s,
+    )?;
     scenario
         .validate()
         .map_err(|e| anyhow::anyhow!("scenario {title}: {e}"))?;
