@@ -81,6 +81,45 @@ pub fn scenario_table(
     Ok(t)
 }
 
+/// The order tables are written in: the vehicle's first, as in the vehicle files.
+const TABLE_ORDER: [&str; 10] = [
+    "vehicle",
+    "rotors",
+    "drag",
+    "limits",
+    "gains",
+    "trajectory",
+    "initial",
+    "simulation",
+    "perturbations",
+    "design",
+];
+
+/// `table` as TOML text with its tables in [`TABLE_ORDER`] (others after, by name).
+/// Errors: a value TOML cannot write (not expected).
+pub fn ordered_toml(table: &toml::Table) -> Result<String> {
+    let rank = |k: &str| {
+        TABLE_ORDER
+            .iter()
+            .position(|t| *t == k)
+            .unwrap_or(TABLE_ORDER.len())
+    };
+    let mut keys: Vec<&String> = table.keys().collect();
+    keys.sort_by_key(|k| (rank(k), (*k).clone()));
+    let mut out = String::new();
+    for k in keys {
+        let mut one = toml::Table::new();
+        one.insert(k.clone(), table[k].clone());
+        let text =
+            toml::to_string(&one).map_err(|e| anyhow!("cannot write TOML table [{k}]: {e}"))?;
+        if !out.is_empty() {
+            out.push('\n');
+        }
+        out.push_str(&text);
+    }
+    Ok(out)
+}
+
 /// Parses a scenario table the way `host-sim --scenario` parses the file.
 pub fn scenario_of(table: &toml::Table) -> Result<Scenario> {
     let text = toml::to_string(table).map_err(|e| anyhow!("cannot write scenario TOML: {e}"))?;

@@ -11,7 +11,7 @@ use serde::Serialize;
 use super::evaluate::{
     Trial, ALTITUDE_WEIGHT_S_PER_M, DOUBLED_LAG_WEIGHT, TAIL_ATTITUDE_DEG, TAIL_S,
 };
-use super::flight::{gains_config, limits_config, scenario_table, FlightSettings};
+use super::flight::{gains_config, limits_config, ordered_toml, scenario_table, FlightSettings};
 use super::reference::Reference;
 use super::run::{DesignOptions, Scored};
 use super::variables::Choices;
@@ -351,7 +351,7 @@ pub fn write_outputs(
          host-sim --scenario scenario.toml\n\n",
         report.vehicle, report.seed
     );
-    let text = toml::to_string(&table).map_err(|e| anyhow!("scenario.toml: {e}"))?;
+    let text = ordered_toml(&table)?;
     files.push(write_text(
         &dir.join("scenario.toml"),
         &format!("{header}{text}"),
@@ -377,7 +377,7 @@ pub fn write_outputs(
         format!("{}", report.box_fit.requested_margin).into(),
     );
     flight.insert("design".into(), toml::Value::Table(design));
-    let text = toml::to_string(&flight).map_err(|e| anyhow!("firmware.toml: {e}"))?;
+    let text = ordered_toml(&flight)?;
     let header = format!(
         "# Flight file for the firmware build (FIRMWARE_FLIGHT_FILE), written by `host-sim design` for {}.\n\n",
         report.vehicle
