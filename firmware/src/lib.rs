@@ -19,8 +19,15 @@
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
 
+// Vehicle files are read on the host only (host-sim, tests); the flight build stays no_std.
+#[cfg(feature = "vehicle-file")]
+extern crate std;
+
+pub mod airframe;
 #[cfg(target_os = "none")]
 pub mod app;
+pub mod built_flight;
+
 pub mod config;
 pub mod drivers;
 pub mod estimator;
@@ -36,3 +43,5 @@ pub mod safety;
 #[cfg(feature = "bench-fixtures")]
 pub mod step_inputs;
 pub mod timing;
+#[cfg(feature = "vehicle-file")]
+pub mod vehicle_file;
