@@ -109,6 +109,12 @@ struct FlightTables {
 /// The box-fit margin when `[design]` has none: 5 % of each rotor's thrust range.
 const DEFAULT_MARGIN: f64 = 0.05;
 
+/// The setpoint filter's bandwidth λ [1/s] when `[design]` has no `smoothing_rate_per_s`:
+/// the filter's Assumption 1 constants grow as λ³ (jerk) and λ⁴ (snap), and Theorem 2's
+/// torque bound with them, so a slow filter is what an unknown design can most likely certify
+/// for setpoints of a metre or so (the gate refuses what it cannot).
+const DEFAULT_SMOOTHING_RATE: f64 = 0.5;
+
 fn fail(file: &str, key: &str, reason: impl std::fmt::Display) -> ! {
     panic!("flight file {file}: {key}: {reason}")
 }
@@ -317,6 +323,17 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
             ),
         },
     };
+    let smoothing = match design.remove("smoothing_rate_per_s") {
+        None => DEFAULT_SMOOTHING_RATE,
+        Some(v) => match v.as_float().or_else(|| v.as_integer().map(|i| i as f64)) {
+            Some(x) if x.is_finite() && x > 0.0 => x,
+            _ => fail(
+                file,
+                "design.smoothing_rate_per_s",
+                format!("{v} is not a finite bandwidth > 0 [1/s]"),
+            ),
+        },
+    };
     let fields: Vec<String> = design
         .iter()
         .map(|(k, v)| {
@@ -374,6 +391,11 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         "/// `[design] margin`: required box-fit headroom, fraction of the rotor range.\n\
          pub(crate) const MARGIN: f32 = {};",
         lit(margin)
+    ));
+    put(format!(
+        "/// `[design] smoothing_rate_per_s`: the setpoint filter's bandwidth λ [1/s].\n\
+         pub(crate) const SMOOTHING_RATE: f32 = {};",
+        lit(smoothing)
     ));
     put(format!(
         "/// The other `[design]` fields, in key order.\n\

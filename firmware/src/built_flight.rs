@@ -4,10 +4,10 @@
 //! paper's tests and the bench fixtures.
 
 use crate::airframe::Airframe;
-use crate::config::{FlightConfig, FlightIdentity};
+use crate::config::{FlightConfig, FlightIdentity, ReferenceConfig};
 
 /// The generated items: `FILE`, `airframe()`, `limits()`, `gains()`, `mission()`, `MARGIN`,
-/// `DESIGN`.
+/// `SMOOTHING_RATE`, `DESIGN`.
 mod generated {
     include!(concat!(env!("OUT_DIR"), "/flight.rs"));
 }
@@ -17,11 +17,13 @@ pub const UNCERTIFIED_BUILD: bool = cfg!(feature = "uncertified-paper");
 
 impl FlightConfig {
     /// The build's flight file: its vehicle and rotors, `[limits]`, `[gains]`, the demo mission
-    /// (`[trajectory]`), the box-fit margin and the `[design]` fields; safety, telemetry,
-    /// estimator and reference-smoothing settings as [`FlightConfig::paper`].
+    /// (`[trajectory]`), the box-fit margin, the setpoint filter's bandwidth
+    /// (`[design] smoothing_rate_per_s`, 0.5/s if absent) and the `[design]` fields; safety,
+    /// telemetry, estimator and the other reference settings as [`FlightConfig::paper`].
     /// `allow_uncertified` is set only in the `uncertified-paper` build.
     pub fn built() -> Self {
         let a = generated::airframe();
+        let paper = Self::paper();
         Self {
             identity: FlightIdentity {
                 name: a.name,
@@ -36,7 +38,11 @@ impl FlightConfig {
             rotors: a.rotors,
             limits: generated::limits(),
             gains: generated::gains(),
-            ..Self::paper()
+            reference: ReferenceConfig {
+                smoothing_rate: generated::SMOOTHING_RATE,
+                ..paper.reference
+            },
+            ..paper
         }
     }
 
