@@ -275,16 +275,16 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         .parse()
         .unwrap_or_else(|e| fail(file, "(file)", format!("not valid TOML: {e}")));
 
-    // Split the flight file's own tables from the vehicle file tables.
+    // The vehicle file tables, checked by the shared parser (which skips the flight file's own
+    // tables and refuses any other); then the flight file's own tables.
+    const OWN: [&str; 4] = ["limits", "gains", "trajectory", "design"];
+    let vehicle = VehicleFile::parse_embedded(&text, file, &OWN).unwrap_or_else(|e| panic!("{e}"));
     let mut own = toml::Table::new();
-    for key in ["limits", "gains", "trajectory", "design"] {
+    for key in OWN {
         if let Some(v) = table.remove(key) {
             own.insert(key.to_string(), v);
         }
     }
-    let vehicle_text = toml::to_string(&table)
-        .unwrap_or_else(|e| fail(file, "(vehicle tables)", format!("cannot re-encode: {e}")));
-    let vehicle = VehicleFile::parse(&vehicle_text, file).unwrap_or_else(|e| panic!("{e}"));
     let tables: FlightTables = own.try_into().unwrap_or_else(|e: toml::de::Error| {
         fail(file, "[limits]/[gains]/[trajectory]/[design]", e.message())
     });

@@ -7,6 +7,8 @@
 use controller_core::scalar::sqrt_f32;
 use controller_core::{Gains, Limits, ReferenceTrajectory, Vehicle};
 
+use crate::airframe::Airframe;
+
 /// Position and spin of one rotor.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rotor {
@@ -22,10 +24,12 @@ pub struct Rotor {
 pub struct RotorConfig {
     /// The four rotors, in motor-output order (see [`crate::mixer`]).
     pub rotors: [Rotor; 4],
-    /// Arm length \[m\]: distance from the centre of mass to each hub (documentation of the
-    /// positions; [`FlightConfig::paper`] builds the positions from it).
+    /// Arm length \[m\]: the largest distance from the centre of mass to a hub (documentation
+    /// of the positions; [`Airframe::paper`] builds the positions from it).
     pub arm_length: f32,
-    /// Rotor thrust coefficient `k_T` [N/(rad/s)²]: `f = k_T ϖ²`.
+    /// Rotor thrust coefficient `k_T` [N/(rad/s)²]: `f = k_T ϖ²`. Only the ratio
+    /// `k_Q / k_T` is used; airframes from vehicle files (which give that ratio) and
+    /// [`Airframe::paper`] set `k_T = 1`, so `drag_coefficient` is the ratio itself.
     pub thrust_coefficient: f32,
     /// Rotor drag-torque coefficient `k_Q` [N m/(rad/s)²]: `q = k_Q ϖ²`; the yaw torque per
     /// newton of thrust is `k_Q / k_T` \[m\].
@@ -253,25 +257,17 @@ pub struct FlightConfig {
 }
 
 impl FlightConfig {
-    /// The paper's vehicle (Section VI: `m = 0.46 kg`, `J = diag(2.24, 2.9, 5.3)·10⁻³ kg m²`),
-    /// its limits (`T_max = 7 N`, `τ_max = 0.5 N m`) and Table I gains, on an X quad whose
-    /// rotors can produce those limits: arm 0.25 m, 0 to 3 N per rotor (12 N in all; roll and
-    /// pitch up to `√2 · 0.25 · 3 = 1.06 N m`), yaw torque 0.1 m per newton (`2 · 0.1 · 3 =
-    /// 0.6 N m`). That yaw ratio is about five times a real propeller's (0.01–0.02 m): it is
-    /// what the paper's `τ_max,3 = 0.5 N m` needs; real vehicles have far less yaw authority,
-    /// which the mixer's yaw-last priority absorbs.
-    ///
-    /// Motor order (Betaflight's quad X): 1 rear-right (CW), 2 front-right (CCW),
-    /// 3 rear-left (CCW), 4 front-left (CW), seen from above.
+    /// The paper's vehicle and rotors ([`Airframe::paper`]: Section VI's rigid body on an X
+    /// quad sized to the paper's limits, arm 0.25 m, 0 to 3 N per rotor, yaw torque 0.1 m per
+    /// newton, about five times a real propeller's), its limits (`T_max = 7 N`,
+    /// `τ_max = 0.5 N m`) and Table I gains.
     ///
     /// Its certificate fails (Theorem 2, yaw) and its `(T, τ)` box does not fit its rotors, so
     /// it arms only with [`FlightConfig::allow_uncertified`] set: it is kept for the paper's
     /// tests and the bench fixtures, not for flight ([`FlightConfig::built`] is what the boards
     /// fly).
     pub fn paper() -> Self {
-        let arm = 0.25f32;
-        let d = arm * core::f32::consts::FRAC_1_SQRT_2;
-        let k_t = 1.0e-5f32;
+        let airframe = Airframe::paper();
         Self {
             identity: FlightIdentity {
                 name: "paper",
@@ -282,36 +278,10 @@ impl FlightConfig {
             mission: ReferenceTrajectory::paper_helix(),
             box_margin: 0.05,
             allow_uncertified: false,
-            vehicle: Vehicle::paper(),
+            vehicle: airframe.vehicle,
             limits: Limits::paper(),
             gains: Gains::paper(),
-            rotors: RotorConfig {
-                rotors: [
-                    Rotor {
-                        position: [-d, -d],
-                        spin: -1.0,
-                    },
-                    Rotor {
-                        position: [d, -d],
-                        spin: 1.0,
-                    },
-                    Rotor {
-                        position: [-d, d],
-                        spin: 1.0,
-                    },
-                    Rotor {
-                        position: [d, d],
-                        spin: -1.0,
-                    },
-                ],
-                arm_length: arm,
-                thrust_coefficient: k_t,
-                drag_coefficient: 0.1 * k_t,
-                thrust_min: 0.0,
-                thrust_max: 3.0,
-                curve_factor: 0.3,
-                throttle_idle: 0.05,
-            },
+            rotors: airframe.rotors,
             safety: SafetyConfig {
                 arm_pose_max_age_us: 50_000,
                 failsafe_pose_age_us: 100_000,

@@ -9,6 +9,11 @@
 //! clocks, pins and drivers' hardware side: the STM32F405 (`src/bin/stm32f405/`) and QEMU's
 //! mps2-an386 (`src/bin/mps2_an386/`).
 //!
+//! [`airframe::Airframe`] is one vehicle (rigid body, rotors, motors, drag, name and source);
+//! with the `vehicle-file` feature (host only: it brings std, serde and toml), `vehicle_file`
+//! reads and checks the vehicle files that describe one (`host-sim/vehicles/*.toml`), and
+//! `build.rs` compiles the same source.
+//!
 //! With the `bench-fixtures` feature only (never in the flight build), `step_inputs` is the
 //! deterministic control-step sequence of the Cortex-M4F bench (`src/bin/step_bench/`), the
 //! criterion bench and host-sim's ARM-vs-host comparison.

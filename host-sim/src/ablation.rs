@@ -86,6 +86,8 @@ pub struct AblationReport {
     pub definitions: String,
     /// The a-priori bounds and limits.
     pub bounds: BoundSet,
+    /// The plant every run flies (`"ideal"` or `"rotors"`).
+    pub plant: crate::scenario::PlantKind,
     /// Hysteresis ablation.
     pub hysteresis: Vec<HysteresisRow>,
     /// Filter ablation.
@@ -238,6 +240,7 @@ pub fn run_ablation(
                 convergence.describe()
             ),
             bounds,
+            plant: scenario.simulation.plant,
             hysteresis,
             filters,
         },
@@ -249,6 +252,14 @@ pub fn run_ablation(
 pub fn markdown(report: &AblationReport, plots: &[(String, String)]) -> String {
     let mut md = String::new();
     let _ = writeln!(md, "# Ablations of the paper's design choices\n");
+    if !report.plant.is_ideal() {
+        let _ = writeln!(
+            md,
+            "Every run flies the {} plant: the commands go through the firmware's mixer and the \
+             rotors' motor dynamics.\n",
+            report.plant.name()
+        );
+    }
     let _ = writeln!(
         md,
         "## Hysteresis: hybrid path lifting vs memoryless `q0 >= 0` lifting\n"

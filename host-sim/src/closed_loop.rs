@@ -1,6 +1,8 @@
 //! The closed loop, one for every run: sample (measurement, noisy if the perturbations say
-//! so) → command of any [`FlightController`] → optional clipping → disturbances → plant (RK4,
-//! optional motor lag) held over the controller period.
+//! so) → command of any [`FlightController`] → optional clipping → disturbances → plant held
+//! over the controller period: the ideal plant (RK4 rigid body, `(T, τ)` applied directly,
+//! optional `(T, τ)` lag) or, with `simulation.plant = "rotors"`, the rotor-level plant of
+//! [`crate::rotor_plant`] (the firmware's mixer, motor dynamics, body drag).
 //!
 //! [`fly_with`] is the loop itself; the caller steps its controller in it, so a caller that
 //! knows the controller's type also sees its internals (the main run, [`crate::sim`], reports
@@ -8,14 +10,15 @@
 //! scenario's `[perturbations]` and a [`LoopSample`] of the errors at every sample, for
 //! campaigns, comparisons and ablations.
 
-use anyhow::{anyhow, Result};
-use controller_core::Trajectory;
+use anyhow::{anyhow, bail, Result};
+use controller_core::{Limits, Trajectory};
 use nalgebra::Vector3;
 
 use crate::controllers::{Command, FlightController};
 use crate::perturbation::{PerturbationConfig, Perturber};
 use crate::plant::{PlantInput, RigidBodyState};
-use crate::scenario::Scenario;
+use crate::rotor_plant::{RotorPlant, RotorSample};
+use crate::scenario::{PlantKind, Scenario};
 use crate::so3::rotation_angle;
 
 /// What the loop shows its observer at every controller sample.
@@ -35,6 +38,9 @@ pub struct LoopSample<'a> {
     pub position_error_m: f64,
     /// Angle of `R_dᵀR` \[rad\] (true attitude against the controller's own `R_d`), in `[0, π]`.
     pub attitude_error_rad: f64,
+    /// With the rotor plant: the rotor thrusts at the sample and what the mixer makes of the
+    /// command (after clipping); `None` with the ideal plant.
+    pub rotors: Option<RotorSample>,
 }
 
 /// One controller sample of [`fly_with`], as the loop hands it to the control function.
@@ -50,6 +56,18 @@ pub struct Step<'a> {
     pub state: &'a RigidBodyState,
     /// What the controller measures: the true state, plus noise if the perturbations say so.
     pub measured: &'a RigidBodyState,
+    rotors: Option<&'a RotorPlant>,
+    clip: Option<&'a Limits<f64>>,
+}
+
+impl Step<'_> {
+    /// With the rotor plant, what it will make of `command` (clipped as the loop will clip it):
+    /// the rotor thrusts now and the mixer's report; `None` with the ideal plant.
+    pub fn rotors(&self, command: &Wrench) -> Option<RotorSample> {
+        let applied = clipped(command, self.clip);
+        self.rotors
+            .map(|p| p.sample(applied.thrust, &applied.torque))
+    }
 }
 
 /// The command the loop holds over a controller period (not clipped).
@@ -77,6 +95,10 @@ pub fn fly(
     let trajectory = scenario.trajectory::<f64>();
     fly_with(scenario, &scenario.perturbations, initial, seed, |step| {
         let command = controller.step(step.measured, step.t, step.dt)?;
+        let wrench = Wrench {
+            thrust: command.thrust,
+            torque: command.torque,
+        };
         let state = step.state;
         let reference = trajectory.sample(step.t);
         let rotation = state.attitude.to_rotation_matrix().into_inner();
@@ -88,24 +110,85 @@ pub fn fly(
             command: &command,
             position_error_m: (state.position - reference.position).norm(),
             attitude_error_rad: rotation_angle(&(command.desired_rotation.transpose() * rotation)),
+            rotors: step.rotors(&wrench),
         });
-        Ok(Wrench {
-            thrust: command.thrust,
-            torque: command.torque,
-        })
+        Ok(wrench)
     })
 }
 
-/// The loop: flies `scenario` (its vehicle, limits and `[simulation]`) from `initial` with the
-/// given `perturbations` (drawn from `seed`; with none, the measurement is the true state and
-/// no random number is drawn): every `controller_period_s` it asks `control` for the wrench of
-/// the sample (the controller's step, and whatever the caller observes), holds it (clipped to
-/// the limits if `simulation.clip_to_limits`) over the period while the RK4 plant advances, and
-/// returns the plant state at the last sample.
+/// The command the plant receives: `command` clipped to `limits` (`T ∈ [0, T_max]`,
+/// `|τ_i| ≤ τ_max,i`) when given.
+fn clipped(command: &Wrench, limits: Option<&Limits<f64>>) -> Wrench {
+    match limits {
+        None => *command,
+        Some(l) => Wrench {
+            thrust: command.thrust.clamp(0.0, l.thrust_max),
+            torque: command.torque.zip_map(&l.torque_max, |t, m| t.clamp(-m, m)),
+        },
+    }
+}
+
+/// The plant a run flies, built from the scenario's `simulation.plant`.
+#[derive(Clone, Debug)]
+pub enum PlantModel {
+    /// `(T, τ)` applied to the rigid body (with the perturbations' `(T, τ)` lag if any).
+    Ideal,
+    /// The rotor-level plant.
+    Rotors(Box<RotorPlant>),
+}
+
+impl PlantModel {
+    /// The plant of `scenario` under `perturbations`: with `plant = "rotors"`, the scenario's
+    /// rotors, its motor time constant replaced by `perturbations.motor_time_constant_s` when
+    /// that is > 0.
+    ///
+    /// Errors: `plant = "rotors"` without a `[rotors]` table; rotors the mixer refuses.
+    pub fn of(scenario: &Scenario, perturbations: &PerturbationConfig) -> Result<Self> {
+        match scenario.simulation.plant {
+            PlantKind::Ideal => Ok(Self::Ideal),
+            PlantKind::Rotors => {
+                let Some(mut p) = scenario.rotor_config() else {
+                    bail!("plant = rotors needs a [rotors] table (or --vehicle FILE)");
+                };
+                if perturbations.motor_time_constant_s > 0.0 {
+                    p.motor_time_constant_s = perturbations.motor_time_constant_s;
+                }
+                Ok(Self::Rotors(Box::new(RotorPlant::from_parameters(&p)?)))
+            }
+        }
+    }
+}
+
+/// The loop: flies `scenario` (its vehicle, limits, `[simulation]` and plant, see
+/// [`PlantModel::of`]) from `initial` with the given `perturbations` (drawn from `seed`; with
+/// none, the measurement is the true state and no random number is drawn): every
+/// `controller_period_s` it asks `control` for the wrench of the sample (the controller's step,
+/// and whatever the caller observes), holds it (clipped to the limits if
+/// `simulation.clip_to_limits`) over the period while the plant advances, and returns the plant
+/// state at the last sample.
 ///
-/// Errors: `perturbations` are invalid, or `control`'s error (a refused sample).
+/// Errors: `perturbations` are invalid, the plant cannot be built (`plant = "rotors"` without
+/// rotors), or `control`'s error (a refused sample).
 pub fn fly_with(
     scenario: &Scenario,
+    perturbations: &PerturbationConfig,
+    initial: &RigidBodyState,
+    seed: u64,
+    control: impl FnMut(&Step<'_>) -> Result<Wrench>,
+) -> Result<RigidBodyState> {
+    perturbations.validate().map_err(|e| anyhow!("{e}"))?;
+    let plant = PlantModel::of(scenario, perturbations)?;
+    fly_on(scenario, plant, perturbations, initial, seed, control)
+}
+
+/// [`fly_with`] on a given plant (`plant` replaces the scenario's `simulation.plant`; a
+/// [`PlantModel::Rotors`] plant takes no motor time constant from `perturbations`, the
+/// [`PlantModel::Ideal`] plant the `(T, τ)` lag).
+///
+/// Errors: `perturbations` are invalid, or `control`'s error (a refused sample).
+pub fn fly_on(
+    scenario: &Scenario,
+    mut plant: PlantModel,
     perturbations: &PerturbationConfig,
     initial: &RigidBodyState,
     seed: u64,
@@ -114,8 +197,9 @@ pub fn fly_with(
     perturbations.validate().map_err(|e| anyhow!("{e}"))?;
     let sim = &scenario.simulation;
     let limits = scenario.limits::<f64>();
+    let clip = sim.clip_to_limits.then_some(&limits);
     let mut perturber = Perturber::new(perturbations, seed);
-    let plant = perturber.plant(&scenario.plant());
+    let body = perturber.plant(&scenario.plant());
     // Without perturbations the perturber's measurement, disturbances and actuator are the
     // identity (the same numbers, no random draw); skipping them keeps nominal runs as fast as
     // a loop without perturbations.
@@ -138,26 +222,28 @@ pub fn fly_with(
             dt,
             state: &state,
             measured,
+            rotors: match &plant {
+                PlantModel::Ideal => None,
+                PlantModel::Rotors(r) => Some(r),
+            },
+            clip,
         })?;
         if k == steps {
             break;
         }
+        let applied = clipped(&command, clip);
         let mut input = PlantInput {
-            thrust: command.thrust,
-            torque: command.torque,
+            thrust: applied.thrust,
+            torque: applied.torque,
             ..Default::default()
         };
-        if sim.clip_to_limits {
-            input.thrust = command.thrust.clamp(0.0, limits.thrust_max);
-            input.torque = command
-                .torque
-                .zip_map(&limits.torque_max, |t, m| t.clamp(-m, m));
-        }
-        state = if nominal {
-            plant.advance(&state, &input, dt, sim.plant_step_s)
-        } else {
+        if !nominal {
             perturber.disturb(&mut input, dt);
-            perturber.advance(&plant, &state, &input, dt, sim.plant_step_s)
+        }
+        state = match &mut plant {
+            PlantModel::Ideal if nominal => body.advance(&state, &input, dt, sim.plant_step_s),
+            PlantModel::Ideal => perturber.advance(&body, &state, &input, dt, sim.plant_step_s),
+            PlantModel::Rotors(r) => r.advance(&body, &state, &input, dt, sim.plant_step_s).0,
         };
     }
     Ok(state)
@@ -187,5 +273,93 @@ mod tests {
         })
         .unwrap();
         assert_eq!(k, records.len());
+    }
+
+    fn paper_rotors(tau: f64) -> PlantModel {
+        let rotors = firmware::config::FlightConfig::paper().rotors;
+        PlantModel::Rotors(Box::new(RotorPlant::new(&rotors, tau, [0.0; 3]).unwrap()))
+    }
+
+    /// Flies the paper law on `plant`, returning the final state and every sample's rotor
+    /// report.
+    fn fly_paper(
+        scenario: &Scenario,
+        plant: PlantModel,
+    ) -> (RigidBodyState, Vec<Option<RotorSample>>) {
+        let mut law = PaperLaw::<f32>::new(scenario).unwrap();
+        let mut rotors = Vec::new();
+        let end = fly_on(
+            scenario,
+            plant,
+            &scenario.perturbations,
+            &scenario.initial_state(),
+            0,
+            |step| {
+                let c = law.step(step.measured, step.t, step.dt)?;
+                let w = Wrench {
+                    thrust: c.thrust,
+                    torque: c.torque,
+                };
+                rotors.push(step.rotors(&w));
+                Ok(w)
+            },
+        )
+        .unwrap();
+        (end, rotors)
+    }
+
+    /// Near hover, where every command fits the rotors, the rotor plant without motor lag flies
+    /// the ideal plant's run up to the mixer's f32 rounding; with lag it departs from it; the
+    /// upside-down start of the paper makes the mixer give something up.
+    #[test]
+    fn rotor_plant_in_the_loop() {
+        let mut s = Scenario::paper();
+        s.simulation.duration_s = 3.0;
+        s.initial.position_m = [-2.0, 1.0, 5.5];
+        s.initial.euler_deg = [5.0, 0.0, 0.0];
+        let (ideal, none) = fly_paper(&s, PlantModel::Ideal);
+        assert!(none.iter().all(Option::is_none));
+        let (fast, reports) = fly_paper(&s, paper_rotors(0.0));
+        assert!(reports.iter().all(|r| r.is_some_and(|r| !r.mix.gave_up)));
+        assert!((fast.position - ideal.position).norm() < 1e-4);
+        let (slow, _) = fly_paper(&s, paper_rotors(0.05));
+        assert!((slow.position - ideal.position).norm() > 1e-3);
+
+        // Rotors of 1.3 N (5.2 N in all, hover 4.5 N): the paper's recovery from upside down
+        // asks for more collective than that, which the mixer gives up.
+        let mut weak = firmware::config::FlightConfig::paper().rotors;
+        weak.thrust_max = 1.3;
+        let weak = PlantModel::Rotors(Box::new(RotorPlant::new(&weak, 0.0, [0.0; 3]).unwrap()));
+        let mut flipped = Scenario::paper();
+        flipped.simulation.duration_s = 3.0;
+        let (_, reports) = fly_paper(&flipped, weak);
+        let given_up: Vec<_> = reports.iter().flatten().filter(|r| r.mix.gave_up).collect();
+        assert!(!given_up.is_empty());
+        assert!(given_up
+            .iter()
+            .all(|r| r.mix.thrust_given_up_N > 0.0 || r.mix.torque_given_up_Nm > 0.0));
+        // The rotors never leave their range, whatever the command.
+        assert!(reports
+            .iter()
+            .flatten()
+            .all(|r| r.rotor_thrust_N.iter().all(|f| (0.0..=1.3).contains(f))));
+    }
+
+    /// `plant = "rotors"` without rotors is refused, naming what is missing.
+    #[test]
+    fn rotors_without_a_rotor_table_are_refused() {
+        let mut s = Scenario::paper();
+        s.simulation.plant = PlantKind::Rotors;
+        assert!(s.rotors.is_none());
+        let e = fly_with(&s, &s.perturbations, &s.initial_state(), 0, |_| {
+            Ok(Wrench {
+                thrust: 0.0,
+                torque: Vector3::zeros(),
+            })
+        })
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("plant = rotors needs a [rotors] table"), "{e}");
+        assert!(s.validate().unwrap_err().contains("simulation.plant"));
     }
 }

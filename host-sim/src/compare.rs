@@ -99,6 +99,9 @@ pub struct CompareReport {
     pub seed: u64,
     /// Attitude noise of the chattering runs \[deg\].
     pub chattering_noise_deg: f64,
+    /// The plant every contestant flies (with `"rotors"`, every controller's `(T, τ)` goes
+    /// through the firmware's mixer and the rotors).
+    pub plant: crate::scenario::PlantKind,
     /// Definitions.
     pub definitions: String,
     /// Bounds and limits.
@@ -233,6 +236,7 @@ pub fn run_compare(
             runs,
             seed,
             chattering_noise_deg: CHATTER_NOISE_DEG,
+            plant: base.simulation.plant,
             definitions: Convergence::default().describe(),
             bounds,
             results,
@@ -357,6 +361,35 @@ pub fn markdown(r: &CompareReport, plots: &[(String, String)]) -> String {
             pct(counts.samples_beyond_limits, counts.samples),
             a_priori
         );
+    }
+    if !r.plant.is_ideal() {
+        let _ = writeln!(
+            md,
+            "\nOn the {} plant, what the firmware's mixer gave up in the campaign (commands the \
+             rotors cannot realise):\n",
+            r.plant.name()
+        );
+        let _ = writeln!(md, "| controller | samples given up | largest thrust given up [N] | largest torque given up [N m] |");
+        let _ = writeln!(md, "| --- | --- | --- | --- |");
+        for c in &r.results {
+            if let Some(m) = &c.campaign.mixer {
+                let m = if m.nominal.samples > 0 {
+                    &m.nominal
+                } else {
+                    &m.perturbed
+                };
+                let _ = writeln!(
+                    md,
+                    "| {} | {} of {} ({}) | {:.3} | {:.4} |",
+                    c.contestant.label,
+                    m.samples_given_up,
+                    m.samples,
+                    pct(m.samples_given_up, m.samples),
+                    m.thrust_given_up_max_N,
+                    m.torque_given_up_max_Nm
+                );
+            }
+        }
     }
     if !failures.is_empty() {
         let _ = writeln!(

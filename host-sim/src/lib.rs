@@ -21,6 +21,8 @@ pub mod output;
 pub mod perturbation;
 pub mod plant;
 pub mod report;
+pub mod rotor_plant;
 pub mod scenario;
 pub mod sim;
 pub mod so3;
+pub mod vehicle;

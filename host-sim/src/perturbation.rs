@@ -16,7 +16,10 @@
 //!   first-order Gauss–Markov process `ẋ = −x/τ_g + w` with stationary standard deviation `σ`,
 //!   sampled exactly at the controller period and held in between;
 //! - first-order motor lag on thrust and torque, `ȧ = (c − a)/τ_m`, integrated exactly at every
-//!   RK4 substep (the command `c` is held over the controller period).
+//!   RK4 substep (the command `c` is held over the controller period), on the ideal plant; on
+//!   the rotor plant (`simulation.plant = "rotors"`) `motor_time_constant_s > 0` replaces the
+//!   vehicle's own motor time constant of the rotor speeds instead
+//!   ([`crate::closed_loop::PlantModel::of`]), so a "doubled lag" run sets it to `2 τ_m`.
 
 use nalgebra::{UnitQuaternion, Vector3};
 use rand::{RngExt, SeedableRng};
@@ -54,7 +57,9 @@ pub struct PerturbationConfig {
     pub gust_torque_std_Nm: f64,
     /// Correlation time `τ_g` of the gusts \[s\] (used when a gust std is > 0).
     pub gust_time_constant_s: f64,
-    /// Motor time constant `τ_m` \[s\] of the first-order lag on thrust and torque; 0 = no lag.
+    /// Motor time constant `τ_m` \[s\]: on the ideal plant, of a first-order lag on thrust and
+    /// torque (0 = no lag); on the rotor plant, when > 0, it replaces the vehicle's time
+    /// constant of the rotor speeds (0 = the vehicle's own).
     pub motor_time_constant_s: f64,
 }
 

@@ -1,5 +1,9 @@
 //! Scenario files (TOML): vehicle, limits, gains, trajectory, initial state, simulation settings.
 //!
+//! A scenario file is a vehicle file (`[vehicle]`, and optionally `[rotors]` and `[drag]`: the
+//! same tables as `host-sim/vehicles/*.toml`, see [`crate::vehicle`]) plus `[limits]`,
+//! `[gains]`, `[trajectory]`, `[initial]`, `[simulation]` and `[perturbations]`.
+//!
 //! Every key carries its unit in its name. Unknown keys are refused. Errors name the file, the
 //! key and the reason. The paper's Section VI scenario is embedded ([`Scenario::paper`]).
 
@@ -14,6 +18,8 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 use crate::perturbation::PerturbationConfig;
 use crate::plant::{RigidBody, RigidBodyState};
+use crate::rotor_plant::RotorParameters;
+use crate::vehicle::{DragTable, RotorsTable, VehicleFile, VehicleTable};
 use serde::{Deserialize, Serialize};
 
 /// The embedded Section VI scenario, as TOML text.
@@ -23,8 +29,16 @@ pub const PAPER_SCENARIO: &str = include_str!("../scenarios/paper.toml");
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
-    /// Rigid-body parameters.
+    /// Rigid-body parameters (the vehicle files' `[vehicle]` table; name, source and
+    /// `real_propeller` are optional here).
     pub vehicle: VehicleConfig,
+    /// Optional `[rotors]`: the vehicle's rotors, as in a vehicle file (needed by the
+    /// rotor-level plant).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotors: Option<RotorsTable>,
+    /// Optional `[drag]`: quadratic body drag, as in a vehicle file (absent = none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub drag: Option<DragTable>,
     /// Actuator limits.
     pub limits: LimitsConfig,
     /// Controller gains (Table I).
@@ -41,17 +55,8 @@ pub struct Scenario {
     pub perturbations: PerturbationConfig,
 }
 
-/// `[vehicle]`.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct VehicleConfig {
-    /// Mass \[kg\].
-    pub mass_kg: f64,
-    /// Diagonal of the inertia [kg m²], body frame.
-    pub inertia_kg_m2: [f64; 3],
-    /// Gravity [m/s²].
-    pub gravity_m_s2: f64,
-}
+/// `[vehicle]`: the vehicle files' table ([`VehicleTable`]).
+pub type VehicleConfig = VehicleTable;
 
 /// `[limits]`.
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
@@ -209,6 +214,37 @@ pub struct SimulationConfig {
     /// gusts); unused without perturbations. Campaigns draw their own seed per run.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub seed: u64,
+    /// The plant flown: `"ideal"` (the command `(T, τ)` acts on the rigid body directly, the
+    /// paper's model; the default) or `"rotors"` (the firmware's mixer, four rotors with motor
+    /// dynamics and optional body drag: [`crate::rotor_plant`]; needs a `[rotors]` table).
+    #[serde(default, skip_serializing_if = "PlantKind::is_ideal")]
+    pub plant: PlantKind,
+}
+
+/// `simulation.plant`: which plant a run flies.
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum PlantKind {
+    /// `(T, τ)` applied to the rigid body directly (eq:FullDynamics).
+    #[default]
+    Ideal,
+    /// The rotor-level plant of [`crate::rotor_plant`].
+    Rotors,
+}
+
+impl PlantKind {
+    /// True for [`PlantKind::Ideal`] (the default, left out when a scenario is written).
+    pub fn is_ideal(&self) -> bool {
+        *self == Self::Ideal
+    }
+
+    /// The name used in scenario files and on the command line.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Ideal => "ideal",
+            Self::Rotors => "rotors",
+        }
+    }
 }
 
 fn is_zero(seed: &u64) -> bool {
@@ -291,6 +327,16 @@ impl Scenario {
     pub fn validate(&self) -> std::result::Result<(), String> {
         let vehicle = self.vehicle::<f64>();
         vehicle.validate().map_err(|e| describe(&e))?;
+        // The vehicle files' checks, with the file named by the caller: here only key and
+        // reason.
+        let keyed = |e: crate::vehicle::VehicleFileError| format!("{}: {}", e.key, e.reason);
+        self.vehicle.validate("", false).map_err(keyed)?;
+        if let Some(rotors) = &self.rotors {
+            rotors.validate("", &self.vehicle).map_err(keyed)?;
+        }
+        if let Some(drag) = &self.drag {
+            drag.validate("").map_err(keyed)?;
+        }
         self.limits::<f64>().validate().map_err(|e| describe(&e))?;
         self.gains::<f64>().validate().map_err(|e| describe(&e))?;
         let s = &self.simulation;
@@ -322,6 +368,12 @@ impl Scenario {
             }
         }
         self.perturbations.validate()?;
+        if self.simulation.plant == PlantKind::Rotors && self.rotor_config().is_none() {
+            return Err(
+                "simulation.plant: plant = rotors needs a [rotors] table (or --vehicle FILE)"
+                    .into(),
+            );
+        }
         Ok(())
     }
 
@@ -413,12 +465,74 @@ impl Scenario {
 
     /// The rigid-body model of the scenario's vehicle (f64).
     pub fn plant(&self) -> RigidBody {
-        let v = &self.vehicle;
-        RigidBody {
-            mass: v.mass_kg,
-            inertia: Vector3::from(v.inertia_kg_m2),
-            gravity: v.gravity_m_s2,
+        crate::vehicle::rigid_body(&self.vehicle)
+    }
+
+    /// This scenario flown with a vehicle file's vehicle: its `[vehicle]`, `[rotors]` and
+    /// `[drag]` replace the scenario's (no `[drag]` in the file = no body drag). Limits, gains
+    /// and the rest are kept: whether they suit the new vehicle is for the certificate to say.
+    pub fn with_vehicle(&self, file: &VehicleFile) -> Scenario {
+        Scenario {
+            vehicle: file.vehicle.clone(),
+            rotors: Some(file.rotors.clone()),
+            drag: file.drag.clone(),
+            ..self.clone()
         }
+    }
+
+    /// This scenario with the command line's plant overrides, in this order: the vehicle file's
+    /// `[vehicle]`, `[rotors]` and `[drag]` ([`Scenario::with_vehicle`]), the plant, and the motor
+    /// time constant \[s\] as `[perturbations] motor_time_constant_s` (on the rotor plant it
+    /// replaces the vehicle's; on the ideal plant it is a first-order lag on `(T, τ)`).
+    ///
+    /// Errors: the vehicle file cannot be read or is invalid (file, key, reason); the motor time
+    /// constant is not finite and `≥ 0`.
+    pub fn with_plant_overrides(
+        mut self,
+        vehicle: Option<&Path>,
+        plant: Option<PlantKind>,
+        motor_time_constant_s: Option<f64>,
+    ) -> Result<Scenario> {
+        if let Some(path) = vehicle {
+            self = self.with_vehicle(&crate::vehicle::load(path)?);
+        }
+        if let Some(p) = plant {
+            self.simulation.plant = p;
+        }
+        if let Some(t) = motor_time_constant_s {
+            if !(t.is_finite() && t >= 0.0) {
+                anyhow::bail!("--motor-time-constant-s must be finite and >= 0, got {t}");
+            }
+            self.perturbations.motor_time_constant_s = t;
+        }
+        Ok(self)
+    }
+
+    /// The scenario's rotors (geometry, thrust range, yaw torque per newton), motor time
+    /// constant and body drag, for `plant = "rotors"`; `None` without a `[rotors]` table.
+    ///
+    /// The rotors are the firmware's f32 [`firmware::config::RotorConfig`] of the airframe the
+    /// tables describe ([`crate::vehicle::airframe`], the values a firmware build takes), so the
+    /// plant mixes with the flight code's numbers; the motor time constant and drag stay f64.
+    pub fn rotor_config(&self) -> Option<RotorParameters> {
+        let rotors = self.rotors.as_ref()?;
+        // Without name and source the airframe leaks nothing (empty strings do not allocate),
+        // so building the plant once per run costs no memory.
+        let vehicle = VehicleTable {
+            name: None,
+            source: None,
+            ..self.vehicle.clone()
+        };
+        let airframe = crate::vehicle::airframe(&VehicleFile {
+            vehicle,
+            rotors: rotors.clone(),
+            drag: self.drag.clone(),
+        });
+        Some(RotorParameters {
+            rotors: airframe.rotors,
+            motor_time_constant_s: rotors.motor_time_constant_s,
+            body_drag_N_s2_m2: self.drag.as_ref().map_or([0.0; 3], |d| d.body_drag_N_s2_m2),
+        })
     }
 
     /// The initial state of the rigid body from `[initial]`.

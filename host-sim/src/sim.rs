@@ -13,7 +13,8 @@ use serde::Serialize;
 use crate::closed_loop::{self, Wrench};
 use crate::controllers::paper::{back3, PaperLaw};
 use crate::plant::RigidBodyState;
-use crate::scenario::{Precision, Scenario};
+use crate::rotor_plant::{MixerCounts, RotorSample};
+use crate::scenario::{PlantKind, Precision, Scenario};
 
 /// One controller sample: the state, the reference, the command and the law's internals.
 /// Column names carry units; angles are in rad unless named `_deg`.
@@ -74,6 +75,28 @@ pub struct Record {
     pub q_hat_resets: u32,
     /// MRP sign flips so far.
     pub m_flips: u32,
+    /// Rotor plant only (the columns are absent with the ideal plant): rotor 1 thrust at the
+    /// sample \[N\] (motor order of the vehicle's `[rotors]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotor_1_thrust_N: Option<f64>,
+    /// Rotor plant only: rotor 2 thrust \[N\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotor_2_thrust_N: Option<f64>,
+    /// Rotor plant only: rotor 3 thrust \[N\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotor_3_thrust_N: Option<f64>,
+    /// Rotor plant only: rotor 4 thrust \[N\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotor_4_thrust_N: Option<f64>,
+    /// Rotor plant only: collective thrust the mixer achieves for the command \[N\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mixer_thrust_N: Option<f64>,
+    /// Rotor plant only: thrust the mixer gave up \[N\] (0 when the command fits the rotors).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mixer_thrust_given_up_N: Option<f64>,
+    /// Rotor plant only: largest per-axis torque the mixer gave up [N m].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mixer_torque_given_up_Nm: Option<f64>,
 }
 
 /// A condition of the certificate, for `summary.json`.
@@ -180,6 +203,9 @@ pub struct Summary {
     pub path_lifting: PathLiftingReport,
     /// Settling times.
     pub settling: Settling,
+    /// Rotor plant only (absent with the ideal plant): what the mixer gave up.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mixer: Option<MixerCounts>,
 }
 
 /// Tracks "below threshold from time t on".
@@ -274,6 +300,9 @@ pub struct Sample<'a, T: Scalar> {
     pub reference: &'a ReferenceSample<T>,
     /// The controller's output (before any clipping).
     pub output: &'a ControlOutput<T>,
+    /// With the rotor plant, the rotor thrusts at the sample and the mixer's report on the
+    /// command; `None` with the ideal plant.
+    pub rotors: Option<RotorSample>,
 }
 
 /// Flies `scenario` from `initial` with the paper's law in scalar `T` through the one closed
@@ -299,17 +328,19 @@ pub fn fly<T: Scalar>(
         scenario.simulation.seed,
         |step| {
             let (reference, output) = law.sample(step.measured, step.t, step.dt)?;
+            let wrench = Wrench {
+                thrust: to_f64(output.thrust),
+                torque: back3(&output.torque),
+            };
             observe(&Sample {
                 k: step.k,
                 t: step.t,
                 state: step.state,
                 reference: &reference,
                 output: &output,
+                rotors: step.rotors(&wrench),
             });
-            Ok(Wrench {
-                thrust: to_f64(output.thrust),
-                torque: back3(&output.torque),
-            })
+            Ok(wrench)
         },
     )
 }
@@ -335,6 +366,7 @@ fn run_generic<T: Scalar>(
     let mut settle_p = SettleTracker::new(1e-3);
     let mut settle_m = SettleTracker::new(1e-4);
     let mut last = None;
+    let mut mixer = MixerCounts::default();
 
     fly::<T>(scenario, scenario.initial_state(), |sample| {
         let (t, state, d) = (sample.t, sample.state, &sample.output.diagnostics);
@@ -364,7 +396,7 @@ fn run_generic<T: Scalar>(
         settle_p.push(t, position_error);
         settle_m.push(t, mrp_error);
         let (roll, pitch, yaw) = state.attitude.euler_angles();
-        let record = Record {
+        let mut record = Record {
             t_s: t,
             x_m: state.position.x,
             y_m: state.position.y,
@@ -392,7 +424,19 @@ fn run_generic<T: Scalar>(
             omega_d_dot_norm_rad_s2: w_d_dot,
             q_hat_resets: d.jumps_total.q_hat_resets,
             m_flips: d.jumps_total.m_flips,
+            ..Record::default()
         };
+        if let Some(r) = &sample.rotors {
+            let f = r.rotor_thrust_N;
+            record.rotor_1_thrust_N = Some(f[0]);
+            record.rotor_2_thrust_N = Some(f[1]);
+            record.rotor_3_thrust_N = Some(f[2]);
+            record.rotor_4_thrust_N = Some(f[3]);
+            record.mixer_thrust_N = Some(r.mix.achieved_thrust_N);
+            record.mixer_thrust_given_up_N = Some(r.mix.thrust_given_up_N);
+            record.mixer_torque_given_up_Nm = Some(r.mix.torque_given_up_Nm);
+            mixer.push(&r.mix);
+        }
         observe(&record);
         last = Some(record);
     })?;
@@ -416,6 +460,7 @@ fn run_generic<T: Scalar>(
             position_error_below_1mm_from_s: settle_p.since,
             mrp_error_below_1e_4_from_s: settle_m.since,
         },
+        mixer: (scenario.simulation.plant == PlantKind::Rotors).then_some(mixer),
     })
 }
 

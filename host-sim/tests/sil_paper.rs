@@ -118,3 +118,23 @@ fn demo_helix_converges_inside_the_certified_bounds() {
         assert_eq!(s.non_finite, 0);
     }
 }
+
+/// One file describes one vehicle everywhere: the default build's airframe (what the firmware
+/// and the SIL plant fly) is the x500 preset host-sim reads (host-sim/vehicles/x500.toml),
+/// field for field, and the default flight is that preset's.
+#[test]
+fn the_default_build_flies_the_x500_preset() {
+    use firmware::config::FlightConfig;
+    let preset = host_sim::vehicle::load(&host_sim::vehicle::preset_path("x500")).unwrap();
+    let from_preset = host_sim::vehicle::airframe(&preset);
+    let built = FlightConfig::built_airframe();
+    assert_eq!(built, from_preset);
+    let flight = FlightConfig::built();
+    assert_eq!(flight.identity.name, "x500");
+    assert_eq!(flight.identity.file, "firmware/flights/x500.toml");
+    assert_eq!(
+        (flight.vehicle, flight.rotors),
+        (built.vehicle, built.rotors)
+    );
+    assert!(!flight.allow_uncertified);
+}

@@ -77,6 +77,18 @@ pub fn run_command(args: &CampaignOptions) -> Result<()> {
         wall,
         report.runs_per_s
     );
+    if let Some(m) = &r.mixer {
+        let m = if nominal { &m.nominal } else { &m.perturbed };
+        println!(
+            "{} plant: the mixer gave something up in {} of {} samples (at most {:.3} N of \
+             thrust, {:.4} N m of torque in one sample)",
+            report.plant.name(),
+            m.samples_given_up,
+            m.samples,
+            m.thrust_given_up_max_N,
+            m.torque_given_up_max_Nm
+        );
+    }
     println!("Wrote {} files to {}", files.len(), args.out.display());
     Ok(())
 }

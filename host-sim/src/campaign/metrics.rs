@@ -12,6 +12,9 @@
 //!   rounding, as in `summary.json`); commands are checked before any clipping;
 //! - **beyond the physical limits**: a sample with `T < 0`, `T > T_max` or `|τ_i| > τ_max,i`
 //!   (scenario `[limits]`), before clipping;
+//! - **given up by the mixer** (rotor plant only): a sample whose command (after any clipping)
+//!   the firmware's mixer could not realise on the rotors, with the thrust \[N\] and largest
+//!   per-axis torque [N m] it gave up ([`crate::rotor_plant::MixReport`]);
 //! - **switch rate**: the largest number of switches (or jumps) within any window of 1 s of
 //!   samples (`round(1 s / dt)` consecutive sample intervals).
 
@@ -21,6 +24,7 @@ use nalgebra::Vector3;
 use serde::Serialize;
 
 use crate::closed_loop::LoopSample;
+use crate::rotor_plant::MixerCounts;
 
 /// The convergence thresholds.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -140,6 +144,9 @@ pub struct RunMetrics {
     pub max_switches_per_1s: u32,
     /// Most jumps (switches + resets) within any 1 s.
     pub max_jumps_per_1s: u32,
+    /// Rotor plant only: what the mixer gave up over the run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mixer: Option<MixerCounts>,
 }
 
 /// Accumulates [`RunMetrics`] from samples.
@@ -188,6 +195,7 @@ impl MetricsAccumulator {
                 resets: 0,
                 max_switches_per_1s: 0,
                 max_jumps_per_1s: 0,
+                mixer: None,
             },
             settled_since: None,
             switches_window: WindowMax::new(window),
@@ -227,6 +235,12 @@ impl MetricsAccumulator {
         self.jumps_window.push(m.switches + m.resets);
         m.max_switches_per_1s = self.switches_window.max;
         m.max_jumps_per_1s = self.jumps_window.max;
+
+        if let Some(r) = &s.rotors {
+            m.mixer
+                .get_or_insert_with(MixerCounts::default)
+                .push(&r.mix);
+        }
 
         let attitude_deg = s.attitude_error_rad.to_degrees();
         if attitude_deg < 90.0 && m.attitude_below_90deg_s.is_none() {

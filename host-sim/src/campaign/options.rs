@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::{bail, Result};
 
 use crate::controllers::ControllerKind;
-use crate::scenario::{Precision, Scenario};
+use crate::scenario::{PlantKind, Precision, Scenario};
 
 /// Options shared by the campaign, the ablations and the comparison: the base scenario and the
 /// seed.
@@ -29,12 +29,22 @@ pub struct BaseOptions {
     pub clip: bool,
     /// Controller precision for the paper's law, overriding `simulation.precision`.
     pub precision: Option<Precision>,
+    /// Plant, overriding `simulation.plant` (`PlantKind::Rotors` flies every controller's
+    /// `(T, τ)` through the firmware's mixer and the rotors).
+    pub plant: Option<PlantKind>,
+    /// Vehicle file whose `[vehicle]`, `[rotors]` and `[drag]` replace the scenario's
+    /// ([`Scenario::with_vehicle`]).
+    pub vehicle: Option<PathBuf>,
+    /// Motor time constant \[s\], overriding `[perturbations] motor_time_constant_s` (on the
+    /// rotor plant it replaces the vehicle's, e.g. twice it for a robustness campaign).
+    pub motor_time_constant_s: Option<f64>,
 }
 
 impl BaseOptions {
     /// The scenario with the overrides applied.
     ///
-    /// Errors: the file cannot be read or is invalid; an override is not finite and > 0.
+    /// Errors: the scenario or vehicle file cannot be read or is invalid; an override is not
+    /// finite and > 0; `plant = rotors` without rotors.
     pub fn scenario(&self) -> Result<Scenario> {
         let mut s = match &self.scenario {
             Some(p) => Scenario::load(p)?,
@@ -57,6 +67,11 @@ impl BaseOptions {
         if let Some(p) = self.precision {
             s.simulation.precision = p;
         }
+        let s = s.with_plant_overrides(
+            self.vehicle.as_deref(),
+            self.plant,
+            self.motor_time_constant_s,
+        )?;
         s.validate().map_err(|e| anyhow::anyhow!("{e}"))?;
         Ok(s)
     }

@@ -27,6 +27,9 @@ pub struct Definitions {
     pub initial_conditions: String,
     /// Switch counting.
     pub switches: String,
+    /// What the mixer counts mean (rotor plant only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mixer: Option<String>,
 }
 
 /// `campaign.json`.
@@ -44,6 +47,8 @@ pub struct CampaignReport {
     pub controller_period_s: f64,
     /// Controller precision.
     pub precision: crate::scenario::Precision,
+    /// The plant flown (`"ideal"` or `"rotors"`).
+    pub plant: crate::scenario::PlantKind,
     /// Commands clipped to the physical limits before the plant.
     pub clip_to_limits: bool,
     /// The perturbations of every run.
@@ -78,6 +83,7 @@ impl CampaignReport {
             duration_s: s.simulation.duration_s,
             controller_period_s: s.simulation.controller_period_s,
             precision: s.simulation.precision,
+            plant: s.simulation.plant,
             clip_to_limits: s.simulation.clip_to_limits,
             perturbations: s.perturbations.clone(),
             sampler_radii: config.radii,
@@ -109,6 +115,14 @@ impl CampaignReport {
                     hemisphere between samples); resets: the paper's memory-quaternion resets \
                     (the fed-back MRP is continuous across them)."
                     .into(),
+                mixer: (!s.simulation.plant.is_ideal()).then(|| {
+                    "results.mixer: samples whose command (after any clipping) the firmware's \
+                    mixer could not realise on the rotors (it scaled roll/pitch, shifted the \
+                    collective or scaled yaw), and the largest thrust [N] and per-axis torque \
+                    [N m] it gave up in one sample; split like the bound counts. Nominal runs \
+                    must give up nothing for the certified box to be flyable."
+                        .into()
+                }),
             },
             bounds,
             results,
@@ -150,6 +164,9 @@ struct Row<'a> {
     resets: Option<u32>,
     max_switches_per_1s: Option<u32>,
     max_jumps_per_1s: Option<u32>,
+    mixer_samples_given_up: Option<u64>,
+    mixer_thrust_given_up_max_N: Option<f64>,
+    mixer_torque_given_up_max_Nm: Option<f64>,
     error: Option<&'a str>,
 }
 
@@ -186,6 +203,9 @@ pub fn write_runs_csv(path: &Path, results: &[RunResult]) -> Result<()> {
             resets: m.map(|m| m.resets),
             max_switches_per_1s: m.map(|m| m.max_switches_per_1s),
             max_jumps_per_1s: m.map(|m| m.max_jumps_per_1s),
+            mixer_samples_given_up: m.and_then(|m| m.mixer).map(|x| x.samples_given_up),
+            mixer_thrust_given_up_max_N: m.and_then(|m| m.mixer).map(|x| x.thrust_given_up_max_N),
+            mixer_torque_given_up_max_Nm: m.and_then(|m| m.mixer).map(|x| x.torque_given_up_max_Nm),
             error: r.error.as_deref(),
         })
         .with_context(ctx)?;

@@ -8,7 +8,7 @@ use serde::Serialize;
 
 use super::metrics::{BoundSet, Convergence, MetricsAccumulator, RunMetrics};
 use super::sampler::{run_seed, InitialCondition, Sampler, SamplerRadii};
-use crate::closed_loop::fly;
+use crate::closed_loop::{fly, PlantModel};
 use crate::controllers::ControllerKind;
 use crate::scenario::Scenario;
 
@@ -111,6 +111,8 @@ pub fn run_one(
 ///
 /// Errors: the scenario is invalid (bounds or `R_d(0)` undefined).
 pub fn run_campaign(config: &CampaignConfig) -> Result<Vec<RunResult>> {
+    // A plant that cannot be built would fail every run: refuse the campaign instead.
+    PlantModel::of(&config.scenario, &config.scenario.perturbations)?;
     let sampler = Sampler::new(&config.scenario, config.radii)?;
     let bounds = bound_set(&config.scenario)?;
     let bar = if config.progress {

@@ -4,6 +4,7 @@ use serde::Serialize;
 
 use super::metrics::RunMetrics;
 use super::runner::RunResult;
+use crate::rotor_plant::MixerCounts;
 
 /// Order statistics of a sample (nearest-rank percentiles); all `None` when empty.
 #[derive(Clone, Debug, Default, Serialize, PartialEq)]
@@ -59,6 +60,15 @@ pub struct BoundCounts {
     pub runs_outside_a_priori: u64,
     /// Samples beyond the physical limits (before clipping).
     pub samples_beyond_limits: u64,
+}
+
+/// What the mixer gave up (rotor plant only), split like the bound counts.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct MixerSplit {
+    /// Over the runs the theorems cover.
+    pub nominal: MixerCounts,
+    /// Over the runs with model errors, disturbances or motor lag.
+    pub perturbed: MixerCounts,
 }
 
 /// Worst cases over the campaign against the bounds.
@@ -130,6 +140,10 @@ pub struct CampaignStats {
     pub perturbed: BoundCounts,
     /// Switches.
     pub switching: SwitchStats,
+    /// Rotor plant only (absent with the ideal plant): samples where the firmware's mixer gave
+    /// something up, and the most it gave up.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mixer: Option<MixerSplit>,
 }
 
 /// Summarises `results`; `nominal` says whether these runs are ones the theorems cover.
@@ -163,6 +177,10 @@ pub fn summarise(results: &[RunResult], nominal: bool) -> CampaignStats {
         omega_d_dot_max_rad_s2: fold(|m| m.omega_d_dot_max_rad_s2, 0.0, f64::max),
     };
     let runs = results.len() as u64;
+    let mixer = ok.iter().filter_map(|m| m.mixer).reduce(|mut a, b| {
+        a.merge(&b);
+        a
+    });
     CampaignStats {
         runs,
         failed_runs: runs - ok.len() as u64,
@@ -211,6 +229,19 @@ pub fn summarise(results: &[RunResult], nominal: bool) -> CampaignStats {
             max_switches_in_1s: ok.iter().map(|m| m.max_switches_per_1s).max().unwrap_or(0),
             max_jumps_in_1s: ok.iter().map(|m| m.max_jumps_per_1s).max().unwrap_or(0),
         },
+        mixer: mixer.map(|counts| {
+            if nominal {
+                MixerSplit {
+                    nominal: counts,
+                    ..MixerSplit::default()
+                }
+            } else {
+                MixerSplit {
+                    perturbed: counts,
+                    ..MixerSplit::default()
+                }
+            }
+        }),
     }
 }
 

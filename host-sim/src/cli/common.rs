@@ -1,11 +1,11 @@
-//! Clap types shared by several subcommands: the precision, and the base scenario options of
-//! `campaign`, `ablation` and `compare`.
+//! Clap types shared by several subcommands: the precision, the plant, and the base scenario
+//! options of `campaign`, `ablation` and `compare`.
 
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use host_sim::campaign::BaseOptions;
-use host_sim::scenario::Precision;
+use host_sim::scenario::{PlantKind, Precision};
 
 /// Controller scalar type (the command line's spelling of [`Precision`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -23,6 +23,42 @@ impl From<PrecisionArg> for Precision {
             PrecisionArg::F64 => Precision::F64,
         }
     }
+}
+
+/// Which plant a run flies (the command line's spelling of [`PlantKind`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum PlantArg {
+    /// `(T, tau)` applied to the rigid body directly (the paper's model).
+    Ideal,
+    /// The firmware's mixer, four rotors with first-order speed dynamics, optional body drag
+    /// (needs the scenario's `[rotors]` table or `--vehicle FILE`).
+    Rotors,
+}
+
+impl From<PlantArg> for PlantKind {
+    fn from(p: PlantArg) -> Self {
+        match p {
+            PlantArg::Ideal => PlantKind::Ideal,
+            PlantArg::Rotors => PlantKind::Rotors,
+        }
+    }
+}
+
+/// The plant options every flying command takes: `--plant` and `--vehicle`.
+#[derive(Debug, Args, Clone, Default)]
+pub struct PlantArgs {
+    /// Plant, overriding the scenario's `simulation.plant`.
+    #[arg(long, value_enum)]
+    pub plant: Option<PlantArg>,
+    /// Vehicle file (e.g. `host-sim/vehicles/x500.toml`): its `[vehicle]`, `[rotors]` and
+    /// `[drag]` replace the scenario's (limits, gains and the rest are kept).
+    #[arg(long, value_name = "FILE")]
+    pub vehicle: Option<PathBuf>,
+    /// Motor time constant (s), overriding `[perturbations] motor_time_constant_s`: on the
+    /// rotor plant it replaces the vehicle's (e.g. twice it, to test robustness to motor lag);
+    /// on the ideal plant it is a first-order lag on (T, tau).
+    #[arg(long, value_name = "S")]
+    pub motor_time_constant_s: Option<f64>,
 }
 
 /// Options shared by the three commands: the base scenario and the seed.
@@ -47,6 +83,9 @@ pub struct BaseArgs {
     /// Controller precision for the paper's law, overriding `simulation.precision`.
     #[arg(long, value_enum)]
     pub precision: Option<PrecisionArg>,
+    /// Plant and vehicle.
+    #[command(flatten)]
+    pub plant: PlantArgs,
 }
 
 impl From<&BaseArgs> for BaseOptions {
@@ -58,6 +97,9 @@ impl From<&BaseArgs> for BaseOptions {
             controller_rate_hz: a.controller_rate_hz,
             clip: a.clip,
             precision: a.precision.map(Precision::from),
+            plant: a.plant.plant.map(PlantKind::from),
+            vehicle: a.plant.vehicle.clone(),
+            motor_time_constant_s: a.plant.motor_time_constant_s,
         }
     }
 }
@@ -73,6 +115,15 @@ mod tests {
             let name = v.to_possible_value().map(|p| p.get_name().to_string());
             let serde_name = serde_json::to_string(&Precision::from(*v)).ok();
             assert_eq!(name.map(|n| format!("\"{n}\"")), serde_name);
+        }
+    }
+
+    /// Every spelling of `--plant` is the scenario file's name of the same plant.
+    #[test]
+    fn plant_spellings_map_to_their_plants() {
+        for v in PlantArg::value_variants() {
+            let name = v.to_possible_value().map(|p| p.get_name().to_string());
+            assert_eq!(name.as_deref(), Some(PlantKind::from(*v).name()));
         }
     }
 }

@@ -7,7 +7,7 @@ use clap::Args;
 use host_sim::report::human_summary;
 use host_sim::scenario::Scenario;
 
-use super::common::PrecisionArg;
+use super::common::{PlantArgs, PrecisionArg};
 
 /// Options of a single run.
 #[derive(Debug, Args, Clone, Default)]
@@ -29,6 +29,9 @@ pub struct RunArgs {
     /// Write only summary.json and the CSV (skip the PNG plots).
     #[arg(long)]
     pub no_plots: bool,
+    /// Plant and vehicle.
+    #[command(flatten)]
+    pub plant: PlantArgs,
 }
 
 /// Runs one scenario: prints its summary and writes its time series, plots and summary.
@@ -53,6 +56,14 @@ pub fn run(args: &RunArgs) -> Result<()> {
         scenario.simulation.precision = p.into();
     }
     scenario.simulation.clip_to_limits |= args.clip;
+    let scenario = scenario.with_plant_overrides(
+        args.plant.vehicle.as_deref(),
+        args.plant.plant.map(Into::into),
+        args.plant.motor_time_constant_s,
+    )?;
+    scenario
+        .validate()
+        .map_err(|e| anyhow::anyhow!("scenario {title}: {e}"))?;
     let out: PathBuf = args
         .out
         .clone()
@@ -69,10 +80,15 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let (summary, records) = host_sim::sim::run(&scenario)?;
     let s = &scenario.simulation;
     let header = format!(
-        "Scenario: {title}; controller precision {:?}, {} s at {:.0} Hz, plant RK4 step {} s{}{}",
+        "Scenario: {title}; controller precision {:?}, {} s at {:.0} Hz, {}plant RK4 step {} s{}{}",
         s.precision,
         s.duration_s,
         1.0 / s.controller_period_s,
+        if s.plant.is_ideal() {
+            String::new()
+        } else {
+            format!("{} plant, ", s.plant.name())
+        },
         s.plant_step_s,
         if s.clip_to_limits {
             ", commands clipped to the limits"
@@ -86,6 +102,13 @@ pub fn run(args: &RunArgs) -> Result<()> {
         }
     );
     print!("{}", human_summary(&header, &summary));
+    if let Some(m) = &summary.mixer {
+        println!(
+            "Mixer: gave something up in {} of {} samples (at most {:.3} N of thrust, {:.4} N m \
+             of torque in one sample)",
+            m.samples_given_up, m.samples, m.thrust_given_up_max_N, m.torque_given_up_max_Nm
+        );
+    }
     let files = if args.no_plots {
         std::fs::create_dir_all(&out)?;
         let csv = out.join("timeseries.csv");

@@ -136,6 +136,7 @@ pub(crate) mod test_support {
                 position_error_below_1mm_from_s: Some(0.02),
                 mrp_error_below_1e_4_from_s: None,
             },
+            mixer: None,
         }
     }
 }
