@@ -119,9 +119,10 @@ fn fail(file: &str, key: &str, reason: impl std::fmt::Display) -> ! {
     panic!("flight file {file}: {key}: {reason}")
 }
 
-/// `{x:?}f32`: the shortest decimal giving the same f64, parsed by rustc straight to f32.
+/// The `f32` the firmware flies (`x as f32`, as host-sim converts the same file), printed as
+/// the shortest decimal that gives that `f32` back.
 fn lit(x: f64) -> String {
-    format!("{x:?}f32")
+    format!("{:?}f32", x as f32)
 }
 
 fn vec3(v: [f64; 3]) -> String {
