@@ -16,6 +16,7 @@ pub mod campaign;
 pub mod closed_loop;
 pub mod compare;
 pub mod controllers;
+pub mod design;
 pub mod harness;
 pub mod output;
 pub mod perturbation;

@@ -10,6 +10,7 @@ mod ablation;
 mod campaign;
 mod common;
 mod compare;
+mod design;
 mod pil;
 mod run;
 mod sil;
@@ -57,6 +58,10 @@ pub enum Command {
     /// The paper's law against the baselines (Lee et al. 2010, PX4-style cascade) on the same
     /// runs; writes compare.md (tables, embedded plots) and compare.json.
     Compare(compare::CompareArgs),
+    /// Certified gains for a vehicle file: every condition of the paper holds, the certified
+    /// (T, tau) box fits the rotors with a margin, best on a simulated objective; writes
+    /// design.json, design.md, scenario.toml and firmware.toml.
+    Design(design::DesignArgs),
 }
 
 impl Cli {
@@ -74,6 +79,7 @@ impl Cli {
             Some(Command::Campaign(args)) => campaign::run(&args),
             Some(Command::Ablation(args)) => ablation::run(&args),
             Some(Command::Compare(args)) => compare::run(&args),
+            Some(Command::Design(args)) => design::run(&args),
         }
     }
 }

@@ -1,0 +1,72 @@
+//! `host-sim design`: certified, optimised gains for a vehicle file.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+use host_sim::design::{run::DEFAULT_EVALUATIONS, run_design, DesignOptions};
+
+/// Options of `host-sim design`.
+#[derive(Debug, Args, Clone)]
+pub struct DesignArgs {
+    /// Vehicle file (`host-sim/vehicles/*.toml` format).
+    #[arg(long, value_name = "FILE")]
+    pub vehicle: PathBuf,
+    /// Scenario file whose `[trajectory]`, `[initial]` and controller period are the requested
+    /// reference (default: the paper's helix).
+    #[arg(long, value_name = "FILE")]
+    pub reference: Option<PathBuf>,
+    /// Seed of the optimiser (the design is reproducible from it).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Box-fit margin: fraction of each rotor's thrust range kept free at both ends.
+    #[arg(long, default_value_t = 0.05)]
+    pub margin: f64,
+    /// Optimiser budget (designs scored by simulation).
+    #[arg(long, default_value_t = DEFAULT_EVALUATIONS)]
+    pub evaluations: usize,
+    /// Output directory.
+    #[arg(long, value_name = "DIR", default_value = "out/design")]
+    pub out: PathBuf,
+}
+
+/// Runs the design and prints where its files went.
+pub fn run(args: &DesignArgs) -> Result<()> {
+    let outcome = run_design(&DesignOptions {
+        vehicle: args.vehicle.clone(),
+        reference: args.reference.clone(),
+        seed: args.seed,
+        margin: args.margin,
+        evaluations: args.evaluations,
+        out: args.out.clone(),
+    })?;
+    let r = &outcome.report;
+    println!(
+        "design for {}: certificate all_hold = {}, box_fit fits = {} (margin {:.2} %), worst settling from 180 deg {}, \
+         altitude lost upside down {:.3} m, {} evaluations in {:.1} s{}",
+        r.vehicle,
+        r.certificate.all_hold,
+        r.box_fit.fits,
+        100.0 * r.box_fit.margin,
+        r.objective
+            .worst_settling_180_s
+            .map_or("not settled".to_owned(), |s| format!("{s:.2} s")),
+        r.objective.altitude_loss_upside_down_m,
+        r.evaluations,
+        r.wall_time_s,
+        if r.reference.scaled {
+            format!("; REFERENCE SLOWED DOWN x {:.4}", r.reference.scale)
+        } else {
+            String::new()
+        }
+    );
+    if !r.objective.constraints_met {
+        println!(
+            "  NO DESIGN WITHIN THE BUDGET MET THE CONVERGENCE CONSTRAINTS (see design.md); the certificate holds"
+        );
+    }
+    for f in &outcome.files {
+        println!("  {}", f.display());
+    }
+    Ok(())
+}

@@ -1,0 +1,269 @@
+//! Certified authority in closed form: for fixed `(M_p, k_f, k_s)` and reference constants,
+//! Theorem 1 fixes the thrust interval `[T_min, T_max]` and Lemma 1 fixes `U_ωd`, `U_ω̇d`, so the
+//! per-axis torque bound of Theorem 2 is `ff_i + ι` with
+//! `ff_i = J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd²` and `ι = (1 + (1 + δ)²) M_ϑ/4 + M_ω`.
+//!
+//! The box fit (`firmware::mixer::Mixer::box_fit`): rotor `k` receives
+//! `f_k = w_k T + Σ_i M_k,i+1 τ_i` (`M = B⁻¹`, `w_k = M_k0 > 0`), so the box `T ∈ [T_min, T_max]`,
+//! `|τ_i| ≤ ff_i + ι` fits the range shrunk by the margin, `[lo', hi'] = [lo + m Δ, hi − m Δ]`
+//! (`Δ = hi − lo`), iff for every rotor
+//! `w_k T_max + Σ_i e_ki (ff_i + ι) ≤ hi'` and `w_k T_min − Σ_i e_ki (ff_i + ι) ≥ lo'`
+//! (`e_ki = |M_k,i+1|`): linear in `ι`, hence the largest `ι` in closed form ([`iota_max`]).
+//! This module only *proposes* numbers; the certificate of a design comes from
+//! `controller_core::bounds::certify` and `Mixer::box_fit` ([`super::certificate`]).
+
+use controller_core::{certify, Bounds, FilterStart, Gains, Limits, TrajectoryConstants, Vehicle};
+use firmware::config::RotorConfig;
+use firmware::mixer::Mixer;
+use nalgebra::{Matrix4, Vector3};
+
+/// The paper's hysteresis `δ` (Table I), kept by every design.
+pub const DELTA: f64 = 0.02;
+/// The paper's reset threshold `α` (Table I), kept by every design.
+pub const ALPHA: f64 = 0.25;
+
+/// `(1 + (1 + δ)²)/4`: the factor of `M_ϑ` in `ι`.
+pub fn mrp_factor() -> f64 {
+    (1.0 + (1.0 + DELTA).powi(2)) / 4.0
+}
+
+/// The rotor set in f64: mixing matrix `M = B⁻¹` (rows motors; columns `T, τx, τy, τz`) and the
+/// thrust range \[N\].
+#[derive(Clone, Copy, Debug)]
+pub struct RotorSet {
+    /// `M = B⁻¹` of the firmware mixer.
+    pub mix: Matrix4<f64>,
+    /// Per-rotor thrust range `(lo, hi)` \[N\].
+    pub range: (f64, f64),
+}
+
+impl RotorSet {
+    /// From the firmware's mixer for `rotors`. Errors: the mixer's (degenerate geometry, empty
+    /// range), as text.
+    pub fn new(rotors: &RotorConfig) -> Result<Self, String> {
+        let mixer = Mixer::new(rotors).map_err(|e| format!("{e:?}"))?;
+        let (lo, hi) = mixer.thrust_range();
+        Ok(Self {
+            mix: mixer.mixing().map(f64::from),
+            range: (f64::from(lo), f64::from(hi)),
+        })
+    }
+
+    /// The range shrunk by `margin` (fraction of the range) at both ends \[N\].
+    pub fn shrunk(&self, margin: f64) -> (f64, f64) {
+        let (lo, hi) = self.range;
+        let m = margin * (hi - lo);
+        (lo + m, hi - m)
+    }
+
+    /// Largest collective thrust the rotors give \[N\] (`Σ_k hi`).
+    pub fn thrust_total_max(&self) -> f64 {
+        4.0 * self.range.1
+    }
+}
+
+/// The thrust interval and the feedforward part of Theorem 2's torque bound for one
+/// `(M_p, k_f, k_s)`.
+#[derive(Clone, Copy, Debug)]
+pub struct Envelope {
+    /// `[T_min, T_max]` of Theorem 1 \[N\].
+    pub thrust: (f64, f64),
+    /// `ff_i = J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd²` [N m].
+    pub feedforward: Vector3<f64>,
+    /// All bounds (with the probe's `ι`, which [`Envelope::feedforward`] removes).
+    pub bounds: Bounds<f64>,
+}
+
+/// Probe gains: every value that does not enter the bounds of Theorem 1 / Lemma 1 is set to 1.
+pub fn probe_gains(mp: f64, kf: f64, ks: f64) -> Gains<f64> {
+    let mut g = Gains::<f64>::paper();
+    g.position.saturation = mp;
+    g.position.kf = kf;
+    g.position.ks = ks;
+    g.hysteresis = DELTA;
+    g.reset_threshold = ALPHA;
+    g
+}
+
+/// Theorem 1's thrust interval and Lemma 1's feedforward torque for `(M_p, k_f, k_s)`.
+/// `None` when `certify` refuses the set-up (e.g. `M_p ≥ g − K_a3`).
+pub fn envelope(
+    vehicle: &Vehicle<f64>,
+    constants: &TrajectoryConstants<f64>,
+    mp: f64,
+    kf: f64,
+    ks: f64,
+) -> Option<Envelope> {
+    // The bounds do not depend on the limits; any valid ones do.
+    let limits = Limits {
+        thrust_max: 1.0,
+        torque_max: Vector3::repeat(1.0),
+    };
+    let c = certify(
+        vehicle,
+        &limits,
+        &probe_gains(mp, kf, ks),
+        constants,
+        FilterStart::Zero,
+    )
+    .ok()?;
+    let b = c.bounds;
+    Some(Envelope {
+        thrust: (b.thrust_min, b.thrust_max),
+        feedforward: b.torque_max.add_scalar(-b.feedback_torque),
+        bounds: b,
+    })
+}
+
+/// The largest `ι` [N m] for which the box of `env` fits `rotors` with `margin` (fraction of
+/// the range at both ends); negative when even `ι = 0` does not fit.
+pub fn iota_max(rotors: &RotorSet, env: &Envelope, margin: f64) -> f64 {
+    let (lo, hi) = rotors.shrunk(margin);
+    let (t_lo, t_hi) = env.thrust;
+    let mut best = f64::INFINITY;
+    for k in 0..4 {
+        let w = rotors.mix[(k, 0)];
+        let e = Vector3::from_fn(|i, _| rotors.mix[(k, i + 1)].abs());
+        let (ff, s) = (e.dot(&env.feedforward), e.sum());
+        if w <= 0.0 || s <= 0.0 {
+            return f64::NEG_INFINITY;
+        }
+        best = best
+            .min((hi - w * t_hi - ff) / s)
+            .min((w * t_lo - lo - ff) / s);
+    }
+    best
+}
+
+/// `ι_max` for `(M_p, k_f, k_s)`; `-∞` when the bounds are undefined.
+pub fn iota_max_at(
+    vehicle: &Vehicle<f64>,
+    constants: &TrajectoryConstants<f64>,
+    rotors: &RotorSet,
+    margin: f64,
+    (mp, kf, ks): (f64, f64, f64),
+) -> f64 {
+    envelope(vehicle, constants, mp, kf, ks)
+        .map(|env| iota_max(rotors, &env, margin))
+        .unwrap_or(f64::NEG_INFINITY)
+}
+
+/// The largest `M_p` [m/s²] in `(0, g − K_a3)` with `ι_max > 0` for `(k_f, k_s)` (bisection:
+/// `ι_max` decreases with `M_p`, since `T_min` falls, `T_max` rises and `U_ωd`, `U_ω̇d` grow).
+/// `None` when even `M_p → 0` leaves no positive `ι`.
+pub fn saturation_max(
+    vehicle: &Vehicle<f64>,
+    constants: &TrajectoryConstants<f64>,
+    rotors: &RotorSet,
+    margin: f64,
+    kf: f64,
+    ks: f64,
+) -> Option<f64> {
+    let top = vehicle.gravity - constants.vertical_acceleration;
+    let positive = |mp: f64| iota_max_at(vehicle, constants, rotors, margin, (mp, kf, ks)) > 0.0;
+    let (mut lo, mut hi) = (top * 1e-6, top * (1.0 - 1e-9));
+    if !positive(lo) {
+        return None;
+    }
+    if positive(hi) {
+        return Some(hi);
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if positive(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some(lo)
+}
+
+/// Smallest headroom over rotors and the 16 corners of the box `T ∈ {t_lo, t_hi}`,
+/// `τ_i = ±tau_i`, as a fraction of the rotor range (negative: a corner leaves the range).
+/// Evaluated corner by corner through `M`, independently of `Mixer::box_fit`.
+pub fn box_margin(rotors: &RotorSet, thrust: (f64, f64), tau: &Vector3<f64>) -> f64 {
+    let (lo, hi) = rotors.range;
+    let mut worst = f64::INFINITY;
+    for corner in 0..16u32 {
+        let t = if corner & 1 == 0 { thrust.0 } else { thrust.1 };
+        let sign = |bit: u32| if corner & (1 << bit) == 0 { -1.0 } else { 1.0 };
+        let request = nalgebra::Vector4::new(t, sign(1) * tau.x, sign(2) * tau.y, sign(3) * tau.z);
+        let f = rotors.mix * request;
+        for k in 0..4 {
+            worst = worst.min((f[k] - lo).min(hi - f[k]) / (hi - lo));
+        }
+    }
+    worst
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use controller_core::{ReferenceTrajectory, Trajectory};
+    use firmware::config::FlightConfig;
+
+    /// `iota_max` agrees with a bisection on the firmware's own `Mixer::box_fit` over a rotor
+    /// set shrunk by the margin.
+    #[test]
+    fn closed_form_iota_matches_box_fit_bisection() {
+        let cfg = FlightConfig::paper();
+        let mut rotors = cfg.rotors;
+        rotors.thrust_max = 6.0;
+        rotors.drag_coefficient = 0.03 * rotors.thrust_coefficient;
+        let set = RotorSet::new(&rotors).unwrap();
+        let vehicle = Vehicle::<f64>::paper();
+        let k = ReferenceTrajectory::<f64>::paper_helix().constants();
+        let margin = 0.05;
+        let (lo, hi) = set.shrunk(margin);
+        let mut shrunk = rotors;
+        shrunk.thrust_min = lo as f32;
+        shrunk.thrust_max = hi as f32;
+        let mixer = Mixer::new(&shrunk).unwrap();
+        for (mp, kf, ks) in [(0.3, 0.3, 0.6), (0.5, 0.5, 1.5), (1.5, 0.3, 1.0)] {
+            let env = envelope(&vehicle, &k, mp, kf, ks).unwrap();
+            let closed = iota_max(&set, &env, margin);
+            let fits = |iota: f64| {
+                let tau = (env.feedforward.add_scalar(iota)).map(|x| x as f32);
+                mixer
+                    .box_fit(env.thrust.0 as f32, env.thrust.1 as f32, &tau)
+                    .fits
+            };
+            let (mut a, mut b) = (0.0, 10.0);
+            assert!(
+                closed > 0.0 && fits(a) && !fits(b),
+                "bracket at {mp} {kf} {ks}: {closed}"
+            );
+            for _ in 0..50 {
+                let m = 0.5 * (a + b);
+                if fits(m) {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            assert!(
+                (a - closed).abs() <= 1e-5 * closed.abs().max(1e-3),
+                "closed form {closed} vs bisection {a} at ({mp}, {kf}, {ks})"
+            );
+            // At ι_max the worst corner sits exactly at the margin.
+            let tau = env.feedforward.add_scalar(closed);
+            let m = box_margin(&set, env.thrust, &tau);
+            assert!((m - margin).abs() < 1e-9, "corner margin {m}");
+        }
+    }
+
+    /// `M_p` at `saturation_max` leaves `ι_max` at zero (from above).
+    #[test]
+    fn saturation_max_is_where_iota_vanishes() {
+        let mut rotors = FlightConfig::paper().rotors;
+        rotors.thrust_max = 4.0;
+        let set = RotorSet::new(&rotors).unwrap();
+        let vehicle = Vehicle::<f64>::paper();
+        let k = ReferenceTrajectory::<f64>::paper_helix().constants();
+        let mp = saturation_max(&vehicle, &k, &set, 0.05, 1.0, 4.0).unwrap();
+        let at = iota_max_at(&vehicle, &k, &set, 0.05, (mp, 1.0, 4.0));
+        let above = iota_max_at(&vehicle, &k, &set, 0.05, (mp * 1.001, 1.0, 4.0));
+        assert!((0.0..1e-6).contains(&at) && above < 0.0, "{at} {above}");
+    }
+}

@@ -1,0 +1,164 @@
+//! The scenario a design flies and writes: the vehicle file's tables, the certified limits, the
+//! gains, the reference and `[simulation]` on the rotor plant, as one TOML table that
+//! `host-sim --scenario` reads as is.
+
+use anyhow::{anyhow, Result};
+use controller_core::{Gains, Limits};
+use serde::Serialize;
+
+use super::reference::Reference;
+use super::vehicle::DesignVehicle;
+use crate::scenario::{
+    GainsConfig, InitialConfig, LimitsConfig, PlantKind, Precision, Scenario, SimulationConfig,
+    TrajectoryConfig,
+};
+
+/// Scenario `[gains]` of `gains`.
+pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
+    GainsConfig {
+        kp: g.position.kp,
+        kv: g.position.kv,
+        kf: g.position.kf,
+        ks: g.position.ks,
+        k_theta: g.attitude.k_mrp,
+        k_omega: g.attitude.k_omega,
+        M_p: g.position.saturation,
+        M_theta: g.attitude.mrp_saturation,
+        M_omega: g.attitude.omega_saturation,
+        delta: g.hysteresis,
+        alpha: g.reset_threshold,
+    }
+}
+
+/// Scenario `[limits]` of `limits`.
+pub fn limits_config(l: &Limits<f64>) -> LimitsConfig {
+    LimitsConfig {
+        thrust_max_N: l.thrust_max,
+        torque_max_Nm: l.torque_max.into(),
+    }
+}
+
+/// Simulation settings of the design's runs.
+#[derive(Clone, Copy, Debug)]
+pub struct FlightSettings {
+    /// Length of a run \[s\].
+    pub duration_s: f64,
+    /// Controller period \[s\] (sample and hold).
+    pub controller_period_s: f64,
+}
+
+fn table_of<T: Serialize>(value: &T) -> Result<toml::Value> {
+    toml::Value::try_from(value).map_err(|e| anyhow!("cannot write TOML table: {e}"))
+}
+
+/// The scenario as a TOML table (vehicle tables first).
+pub fn scenario_table(
+    vehicle: &DesignVehicle,
+    limits: &Limits<f64>,
+    gains: &Gains<f64>,
+    trajectory: &TrajectoryConfig,
+    initial: &InitialConfig,
+    settings: FlightSettings,
+) -> Result<toml::Table> {
+    let mut t = toml::Table::new();
+    for (k, v) in &vehicle.tables {
+        t.insert(k.clone(), v.clone());
+    }
+    t.insert("limits".into(), table_of(&limits_config(limits))?);
+    t.insert("gains".into(), table_of(&gains_config(gains))?);
+    t.insert("trajectory".into(), table_of(trajectory)?);
+    t.insert("initial".into(), table_of(initial)?);
+    let sim = SimulationConfig {
+        duration_s: settings.duration_s,
+        controller_period_s: settings.controller_period_s,
+        plant_step_s: 1e-3f64.min(settings.controller_period_s),
+        precision: Precision::F32,
+        clip_to_limits: false,
+        seed: 0,
+        plant: PlantKind::Rotors,
+    };
+    t.insert("simulation".into(), table_of(&sim)?);
+    Ok(t)
+}
+
+/// The order tables are written in: the vehicle's first, as in the vehicle files.
+const TABLE_ORDER: [&str; 10] = [
+    "vehicle",
+    "rotors",
+    "drag",
+    "limits",
+    "gains",
+    "trajectory",
+    "initial",
+    "simulation",
+    "perturbations",
+    "design",
+];
+
+/// `table` as TOML text with its tables in [`TABLE_ORDER`] (others after, by name).
+/// Errors: a value TOML cannot write (not expected).
+pub fn ordered_toml(table: &toml::Table) -> Result<String> {
+    let rank = |k: &str| {
+        TABLE_ORDER
+            .iter()
+            .position(|t| *t == k)
+            .unwrap_or(TABLE_ORDER.len())
+    };
+    let mut keys: Vec<&String> = table.keys().collect();
+    keys.sort_by_key(|k| (rank(k), (*k).clone()));
+    let mut out = String::new();
+    for k in keys {
+        let mut one = toml::Table::new();
+        one.insert(k.clone(), table[k].clone());
+        let text =
+            toml::to_string(&one).map_err(|e| anyhow!("cannot write TOML table [{k}]: {e}"))?;
+        if !out.is_empty() {
+            out.push('\n');
+        }
+        out.push_str(&text);
+    }
+    Ok(out)
+}
+
+/// Parses a scenario table the way `host-sim --scenario` parses the file.
+pub fn scenario_of(table: &toml::Table) -> Result<Scenario> {
+    let text = toml::to_string(table).map_err(|e| anyhow!("cannot write scenario TOML: {e}"))?;
+    Scenario::parse(&text, "<design scenario>")
+}
+
+/// The scenario of `reference` with `gains` and `limits`, and the hover scenario at the
+/// reference's start (for the upside-down test).
+pub fn scenarios(
+    vehicle: &DesignVehicle,
+    limits: &Limits<f64>,
+    gains: &Gains<f64>,
+    reference: &Reference,
+    settings: FlightSettings,
+) -> Result<(Scenario, Scenario)> {
+    let main = scenario_table(
+        vehicle,
+        limits,
+        gains,
+        &reference.trajectory,
+        &reference.initial,
+        settings,
+    )?;
+    let hover = scenario_table(
+        vehicle,
+        limits,
+        gains,
+        &reference.hover_at_start(),
+        &reference.initial,
+        settings,
+    )?;
+    Ok((scenario_of(&main)?, scenario_of(&hover)?))
+}
+
+/// `scenario` with the motor time constant `tau_m` \[s\] (the rotor plant's `[perturbations]
+/// motor_time_constant_s` replaces the vehicle's); the vehicle's own value `nominal` \[s\] is
+/// flown as the scenario says (no perturbation).
+pub fn with_motor_lag(scenario: &Scenario, tau_m: f64, nominal: f64) -> Scenario {
+    let mut s = scenario.clone();
+    s.perturbations.motor_time_constant_s = if tau_m == nominal { 0.0 } else { tau_m };
+    s
+}

@@ -1,0 +1,25 @@
+//! `host-sim design`: Table I gains and saturation levels certified for a real vehicle, best
+//! on a stated objective measured by simulation.
+//!
+//! Certified by construction: [`authority`] computes, for `(M_p, k_f, k_s)`, the largest
+//! feedback torque level `ι` whose certified `(T, τ)` box fits the rotor set with the margin
+//! (closed form); [`variables`] maps nine numbers in `[0, 1]` onto gains inside that envelope;
+//! [`certificate`] checks every design with the functions the firmware trusts
+//! (`controller_core::bounds::certify`, `Mixer::box_fit`); [`evaluate`] flies it (the seven
+//! 180° starts, upside down at hover, the doubled motor time constant); [`optimise`] runs
+//! argmin's particle swarm; [`reference`] scales the reference down when it cannot be
+//! certified; [`report`] writes `design.json`, `design.md`, the plots, `scenario.toml` and
+//! `firmware.toml`. [`vehicle`] reads the vehicle file, [`flight`] builds the scenarios.
+
+pub mod authority;
+pub mod certificate;
+pub mod evaluate;
+pub mod flight;
+pub mod optimise;
+pub mod reference;
+pub mod report;
+pub mod run;
+pub mod variables;
+pub mod vehicle;
+
+pub use run::{run_design, DesignOptions, DesignOutcome};

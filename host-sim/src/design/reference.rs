@@ -1,0 +1,168 @@
+//! The reference a design is certified for, and its scaled family.
+//!
+//! The requested reference is a scenario file's `[trajectory]` and `[initial]` (default: the
+//! paper's helix). Its *family* keeps the shape and scales time: the helix / figure-eight
+//! frequency and the heading sinusoid's frequency are multiplied by `s ∈ (0, 1]`, which scales
+//! every Assumption 1 constant down (`K_a ∝ s²`, `K_j ∝ s³`, `K_s ∝ s⁴`, `K_ν̇ ∝ s`,
+//! `K_ν̈ ∝ s²`). A hover has nothing to scale.
+
+use controller_core::{Trajectory, TrajectoryConstants};
+use serde::Serialize;
+
+use crate::scenario::{HeadingConfig, InitialConfig, TrajectoryConfig};
+
+/// A reference: trajectory and initial state (scenario syntax).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Reference {
+    /// `[trajectory]`.
+    pub trajectory: TrajectoryConfig,
+    /// `[initial]`.
+    pub initial: InitialConfig,
+}
+
+impl Reference {
+    /// The Assumption 1 constants of the trajectory.
+    pub fn constants(&self) -> TrajectoryConstants<f64> {
+        self.scenario_trajectory().constants()
+    }
+
+    fn scenario_trajectory(&self) -> controller_core::ReferenceTrajectory<f64> {
+        let mut s = crate::scenario::Scenario::paper();
+        s.trajectory = self.trajectory.clone();
+        s.trajectory::<f64>()
+    }
+
+    /// The reference position and heading at `t = 0` (`p_d(0)` \[m\], `ψ_d(0)` \[rad\]).
+    pub fn start(&self) -> ([f64; 3], f64) {
+        let r = self.scenario_trajectory().sample(0.0);
+        (r.position.into(), r.heading.y.atan2(r.heading.x))
+    }
+
+    /// The same shape with time scaled by `s` (frequencies times `s`).
+    pub fn scaled(&self, s: f64) -> Self {
+        let heading = |h: &HeadingConfig| match *h {
+            HeadingConfig::Sinusoidal {
+                amplitude_rad,
+                frequency_rad_s,
+                offset_rad,
+            } => HeadingConfig::Sinusoidal {
+                amplitude_rad,
+                frequency_rad_s: frequency_rad_s * s,
+                offset_rad,
+            },
+            ref c @ HeadingConfig::Constant { .. } => c.clone(),
+        };
+        let trajectory = match &self.trajectory {
+            TrajectoryConfig::Hover {
+                point_m,
+                heading: h,
+            } => TrajectoryConfig::Hover {
+                point_m: *point_m,
+                heading: heading(h),
+            },
+            TrajectoryConfig::Helix {
+                center_m,
+                radius_m,
+                vertical_amplitude_m,
+                frequency_rad_s,
+                heading: h,
+            } => TrajectoryConfig::Helix {
+                center_m: *center_m,
+                radius_m: *radius_m,
+                vertical_amplitude_m: *vertical_amplitude_m,
+                frequency_rad_s: frequency_rad_s * s,
+                heading: heading(h),
+            },
+            TrajectoryConfig::FigureEight {
+                center_m,
+                x_amplitude_m,
+                y_amplitude_m,
+                frequency_rad_s,
+                heading: h,
+            } => TrajectoryConfig::FigureEight {
+                center_m: *center_m,
+                x_amplitude_m: *x_amplitude_m,
+                y_amplitude_m: *y_amplitude_m,
+                frequency_rad_s: frequency_rad_s * s,
+                heading: heading(h),
+            },
+        };
+        Self {
+            trajectory,
+            initial: self.initial.clone(),
+        }
+    }
+
+    /// A hover at `p_d(0)` with the heading `ψ_d(0)`: the reference of the upside-down test.
+    pub fn hover_at_start(&self) -> TrajectoryConfig {
+        let (p, yaw) = self.start();
+        TrajectoryConfig::Hover {
+            point_m: p,
+            heading: HeadingConfig::Constant { yaw_rad: yaw },
+        }
+    }
+}
+
+/// Largest `s ∈ (0, 1]` for which `certifiable(reference.scaled(s))` holds (bisection, 30
+/// steps; `certifiable` must be monotone in `s`, as it is when the constants shrink with `s`).
+/// `None` when not even `s = 2⁻³⁰` is certifiable.
+pub fn largest_certifiable_scale(
+    reference: &Reference,
+    certifiable: impl Fn(&Reference) -> bool,
+) -> Option<f64> {
+    if certifiable(reference) {
+        return Some(1.0);
+    }
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    let tiny = 2f64.powi(-30);
+    if !certifiable(&reference.scaled(tiny)) {
+        return None;
+    }
+    lo = lo.max(tiny);
+    for _ in 0..30 {
+        let mid = 0.5 * (lo + hi);
+        if certifiable(&reference.scaled(mid)) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some(lo)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::Scenario;
+
+    /// Scaling time by `s` scales the constants by the powers of `s` the derivatives carry.
+    #[test]
+    fn scaling_scales_the_constants() {
+        let s = Scenario::paper();
+        let r = Reference {
+            trajectory: s.trajectory.clone(),
+            initial: s.initial.clone(),
+        };
+        let (a, b) = (r.constants(), r.scaled(0.5).constants());
+        let close = |x: f64, y: f64| (x - y).abs() <= 1e-9 * x.abs().max(1e-12);
+        assert!(close(
+            b.horizontal_acceleration,
+            a.horizontal_acceleration * 0.25
+        ));
+        assert!(close(b.jerk, a.jerk * 0.125));
+        assert!(close(b.snap, a.snap * 0.0625));
+        assert!(close(b.heading_rate, a.heading_rate * 0.5));
+    }
+
+    #[test]
+    fn bisection_finds_the_threshold() {
+        let s = Scenario::paper();
+        let r = Reference {
+            trajectory: s.trajectory.clone(),
+            initial: s.initial.clone(),
+        };
+        let limit = r.constants().heading_rate * 0.3;
+        let scale = largest_certifiable_scale(&r, |x| x.constants().heading_rate <= limit).unwrap();
+        assert!((scale - 0.3).abs() < 1e-6, "{scale}");
+    }
+}

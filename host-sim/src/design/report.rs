@@ -1,0 +1,588 @@
+//! The files of a design: `design.json`, `design.md` (with plots), `scenario.toml` (runs as is
+//! with `host-sim --scenario`) and `firmware.toml` (the flight file the firmware build takes).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, Context as _, Result};
+use plotters::style::RGBColor;
+use serde::Serialize;
+
+use super::evaluate::{
+    Trial, ALTITUDE_WEIGHT_S_PER_M, DOUBLED_LAG_WEIGHT, TAIL_ATTITUDE_DEG, TAIL_S,
+};
+use super::flight::{gains_config, limits_config, ordered_toml, scenario_table, FlightSettings};
+use super::reference::Reference;
+use super::run::{DesignOptions, Scored};
+use super::variables::Choices;
+use super::vehicle::DesignVehicle;
+use crate::output::chart::{LegendAt, Panel, Scale, Series};
+use crate::scenario::{GainsConfig, LimitsConfig, TrajectoryConfig};
+
+/// Duration of the written scenario \[s\] (the campaigns' 30 s, converged by 25 s).
+pub const SCENARIO_DURATION_S: f64 = 30.0;
+
+/// One condition of the certificate.
+#[derive(Clone, Debug, Serialize)]
+pub struct ConditionEntry {
+    /// Identifier.
+    pub name: String,
+    /// The inequality with the paper's label.
+    pub statement: String,
+    /// Whether it holds.
+    pub holds: bool,
+    /// Left-hand side.
+    pub lhs: f64,
+    /// Right-hand side.
+    pub rhs: f64,
+    /// `lhs − rhs` (positive when it holds).
+    pub slack: f64,
+}
+
+/// `certificate`.
+#[derive(Clone, Debug, Serialize)]
+pub struct CertificateEntry {
+    /// Every condition holds.
+    pub all_hold: bool,
+    /// Every condition, in the paper's order (from `controller_core::bounds::certify`).
+    pub conditions: Vec<ConditionEntry>,
+}
+
+/// `box_fit` (from `firmware::mixer::Mixer::box_fit`).
+#[derive(Clone, Debug, Serialize)]
+#[allow(non_snake_case)]
+pub struct BoxFitEntry {
+    /// The certified box fits the rotor range.
+    pub fits: bool,
+    /// It fits the range shrunk by the requested margin at both ends.
+    pub fits_with_margin: bool,
+    /// Smallest headroom over rotors and box corners, fraction of the rotor range.
+    pub margin: f64,
+    /// The requested margin.
+    pub requested_margin: f64,
+    /// Certified thrust interval \[N\].
+    pub thrust_needed_N: [f32; 2],
+    /// Thrust interval the rotors realise with every torque at its bound \[N\].
+    pub thrust_capacity_N: [f32; 2],
+    /// Certified per-axis torque bounds [N m].
+    pub torque_needed_Nm: [f32; 3],
+    /// Per-axis torque capacity over the certified thrust interval [N m] (the `τ_max` limits).
+    pub torque_capacity_Nm: [f32; 3],
+}
+
+/// `reference`.
+#[derive(Clone, Debug, Serialize)]
+pub struct ReferenceEntry {
+    /// The requested `[trajectory]`.
+    pub requested: TrajectoryConfig,
+    /// The `[trajectory]` the design is certified for.
+    pub certified: TrajectoryConfig,
+    /// The requested reference could not be certified and was slowed down.
+    pub scaled: bool,
+    /// Time scale applied (frequencies times this).
+    pub scale: f64,
+    /// Why the requested reference could not be certified (binding condition with numbers).
+    pub binding: Option<String>,
+}
+
+/// `objective`.
+#[derive(Clone, Debug, Serialize)]
+pub struct ObjectiveEntry {
+    /// The objective in words.
+    pub definition: String,
+    /// Its value (lower is better).
+    pub value: f64,
+    /// Altitude lost recovering from upside down at hover \[m\].
+    pub altitude_loss_upside_down_m: f64,
+    /// Worst settling time over the seven 180° starts \[s\].
+    pub worst_settling_180_s: Option<f64>,
+    /// Settling time per 180° start \[s\].
+    pub settling_180_s: Vec<(String, Option<f64>)>,
+    /// Every constraint met (all runs converge, nominal and doubled motor lag).
+    pub constraints_met: bool,
+    /// The certified authority in flight terms: `[T_min, T_max] / (m g)` and the feedback
+    /// angular acceleration `ι / J_ii` [rad/s²] per axis.
+    pub authority: AuthorityEntry,
+}
+
+/// The certified authority in flight terms.
+#[derive(Clone, Debug, Serialize)]
+pub struct AuthorityEntry {
+    /// `[T_min, T_max]` of Theorem 1 over the weight `m g`.
+    pub thrust_interval_over_weight: [f64; 2],
+    /// `ι / J_ii` [rad/s²]: the angular acceleration the saturated feedback can command.
+    pub feedback_angular_acceleration_rad_s2: [f64; 3],
+}
+
+/// `margins`.
+#[derive(Clone, Debug, Serialize)]
+pub struct MarginsEntry {
+    /// Box-fit margin (fraction of the rotor range).
+    pub box_fit: f64,
+    /// Smallest relative slack over the conditions, `(lhs − rhs)/|rhs|`, and its condition.
+    pub tightest_condition: (String, f64),
+    /// The vehicle's motor time constant \[s\].
+    pub motor_time_constant_s: f64,
+    /// Largest motor time constant with which the seven 180° starts still converge \[s\].
+    pub motor_time_constant_max_converging_s: Option<f64>,
+    /// All seven 180° starts converge with the motor time constant doubled (no limit cycle).
+    pub doubled_lag_converges: bool,
+    /// Settling per 180° start with the motor time constant doubled \[s\].
+    pub doubled_lag_settling_180_s: Vec<(String, Option<f64>)>,
+}
+
+/// `design.json`.
+#[derive(Clone, Debug, Serialize)]
+#[allow(non_snake_case)]
+pub struct Report {
+    /// Vehicle name.
+    pub vehicle: String,
+    /// Vehicle source.
+    pub vehicle_source: String,
+    /// Vehicle file.
+    pub vehicle_file: String,
+    /// Optimiser seed.
+    pub seed: u64,
+    /// Evaluations spent.
+    pub evaluations: usize,
+    /// Wall time of the design \[s\].
+    pub wall_time_s: f64,
+    /// The certificate.
+    pub certificate: CertificateEntry,
+    /// The box fit.
+    pub box_fit: BoxFitEntry,
+    /// Gains (scenario `[gains]`).
+    pub gains: GainsConfig,
+    /// Limits (scenario `[limits]`): what the rotors deliver.
+    pub limits: LimitsConfig,
+    /// The physical choices behind the gains.
+    pub choices: Choices,
+    /// `M_p,max(k_f, k_s)` [m/s²].
+    pub saturation_max_m_s2: f64,
+    /// `ι_max` [N m] and the chosen `ι` [N m].
+    pub feedback_torque_Nm: (f64, f64),
+    /// A-priori bounds: thrust interval \[N\], per-axis torque [N m].
+    pub a_priori: (f64, f64, [f64; 3]),
+    /// The objective.
+    pub objective: ObjectiveEntry,
+    /// Margins.
+    pub margins: MarginsEntry,
+    /// The reference.
+    pub reference: ReferenceEntry,
+}
+
+fn settling(trials: &[Trial]) -> Vec<(String, Option<f64>)> {
+    trials
+        .iter()
+        .map(|t| (t.start.clone(), t.settling_time_s))
+        .collect()
+}
+
+impl Report {
+    /// Assembles the report.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        vehicle: &DesignVehicle,
+        o: &DesignOptions,
+        (requested, certified, scale, binding): (&Reference, &Reference, f64, Option<&str>),
+        choices: Choices,
+        best: &Scored,
+        lag_max: Option<f64>,
+        evaluations: usize,
+        wall_time_s: f64,
+    ) -> Self {
+        let c = &best.certified;
+        let conditions: Vec<ConditionEntry> = c
+            .certificate
+            .conditions
+            .iter()
+            .map(|k| ConditionEntry {
+                name: k.name.into(),
+                statement: k.statement.into(),
+                holds: k.holds,
+                lhs: k.lhs,
+                rhs: k.rhs,
+                slack: k.lhs - k.rhs,
+            })
+            .collect();
+        let tightest = conditions
+            .iter()
+            .map(|k| (k.name.clone(), k.slack / k.rhs.abs().max(1e-12)))
+            .fold((String::new(), f64::INFINITY), |a, b| {
+                if b.1 < a.1 {
+                    b
+                } else {
+                    a
+                }
+            });
+        let e = &best.evaluation;
+        let b = &c.certificate.bounds;
+        let g = &best.mapped.gains;
+        Self {
+            vehicle: vehicle.name.clone(),
+            vehicle_source: vehicle.source.clone(),
+            vehicle_file: vehicle.origin.clone(),
+            seed: o.seed,
+            evaluations,
+            wall_time_s,
+            certificate: CertificateEntry {
+                all_hold: c.certificate.require_feasible().is_ok(),
+                conditions,
+            },
+            box_fit: BoxFitEntry {
+                fits: c.box_fit.fits,
+                fits_with_margin: c.fits_with_margin,
+                margin: c.margin,
+                requested_margin: o.margin,
+                thrust_needed_N: c.box_fit.thrust_needed,
+                thrust_capacity_N: c.box_fit.thrust_capacity,
+                torque_needed_Nm: c.box_fit.torque_needed,
+                torque_capacity_Nm: c.box_fit.torque_capacity,
+            },
+            gains: gains_config(g),
+            limits: limits_config(&c.limits),
+            choices,
+            saturation_max_m_s2: best.mapped.saturation_max,
+            feedback_torque_Nm: (best.mapped.iota_max, b.feedback_torque),
+            a_priori: (b.thrust_min, b.thrust_max, b.torque_max.into()),
+            objective: ObjectiveEntry {
+                definition: format!(
+                    "worst settling time over the seven 180 degree starts [s] + {DOUBLED_LAG_WEIGHT} x the same \
+                     with the motor time constant doubled [s] + {ALTITUDE_WEIGHT_S_PER_M} s/m x \
+                     altitude lost recovering from upside down at hover [m], on the scenario's plant \
+                     with the vehicle's motor time constant and the controller's sample-and-hold; \
+                     settled: |p - p_d| < 5 cm and attitude error < 2 deg until the end; constraint: \
+                     every run (also with the motor time constant doubled) settles by the end - {TAIL_S} s \
+                     with the attitude error < {TAIL_ATTITUDE_DEG} deg over the last {TAIL_S} s"
+                ),
+                value: e.cost,
+                altitude_loss_upside_down_m: e.altitude_loss_upside_down_m,
+                worst_settling_180_s: e.worst_settling_180_s,
+                settling_180_s: settling(&e.nominal),
+                constraints_met: e.feasible,
+                authority: AuthorityEntry {
+                    thrust_interval_over_weight: [b.thrust_min, b.thrust_max]
+                        .map(|t| t / (vehicle.body.mass * vehicle.body.gravity)),
+                    feedback_angular_acceleration_rad_s2: <[f64; 3]>::from(
+                        vehicle.body.inertia.map(|j| b.feedback_torque / j),
+                    ),
+                },
+            },
+            margins: MarginsEntry {
+                box_fit: c.margin,
+                tightest_condition: tightest,
+                motor_time_constant_s: vehicle.motor_time_constant_s,
+                motor_time_constant_max_converging_s: lag_max,
+                doubled_lag_converges: !e.doubled_lag.is_empty()
+                    && e.doubled_lag.iter().all(|t| t.converged),
+                doubled_lag_settling_180_s: settling(&e.doubled_lag),
+            },
+            reference: ReferenceEntry {
+                requested: requested.trajectory.clone(),
+                certified: certified.trajectory.clone(),
+                scaled: scale < 1.0,
+                scale,
+                binding: binding.map(str::to_owned),
+            },
+        }
+    }
+}
+
+const COLORS: [RGBColor; 7] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+];
+
+fn attitude_panel(file: &'static str, title: String, trials: &[Trial]) -> Panel {
+    Panel {
+        file,
+        title,
+        y_label: "attitude error [deg]".into(),
+        scale: Scale::Linear,
+        series: trials
+            .iter()
+            .zip(COLORS.iter().cycle())
+            .map(|(t, c)| Series::line(&t.start, *c, t.attitude_trace.clone()))
+            .collect(),
+        legend_at: LegendAt::UpperRight,
+    }
+}
+
+fn write_text(path: &Path, text: &str) -> Result<PathBuf> {
+    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(path.to_path_buf())
+}
+
+/// Writes every file of the design into `dir` (created if missing); returns their paths.
+///
+/// Errors: a file cannot be written (named).
+pub fn write_outputs(
+    dir: &Path,
+    report: &Report,
+    vehicle: &DesignVehicle,
+    best: &Scored,
+    reference: &Reference,
+    controller_period_s: f64,
+) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let mut files = Vec::new();
+    let json = serde_json::to_string_pretty(report).map_err(|e| anyhow!("design.json: {e}"))?;
+    files.push(write_text(&dir.join("design.json"), &json)?);
+
+    let settings = FlightSettings {
+        duration_s: SCENARIO_DURATION_S,
+        controller_period_s,
+    };
+    let table = scenario_table(
+        vehicle,
+        &best.certified.limits,
+        &best.mapped.gains,
+        &reference.trajectory,
+        &reference.initial,
+        settings,
+    )?;
+    let header = format!(
+        "# Certified design for {} by `host-sim design` (seed {}).\n# Runs as is: \
+         host-sim --scenario scenario.toml\n\n",
+        report.vehicle, report.seed
+    );
+    let text = ordered_toml(&table)?;
+    files.push(write_text(
+        &dir.join("scenario.toml"),
+        &format!("{header}{text}"),
+    )?);
+
+    let mut flight = toml::Table::new();
+    for (k, v) in &vehicle.tables {
+        flight.insert(k.clone(), v.clone());
+    }
+    for key in ["limits", "gains", "trajectory"] {
+        if let Some(v) = table.get(key) {
+            flight.insert(key.into(), v.clone());
+        }
+    }
+    let mut design = toml::Table::new();
+    design.insert("seed".into(), report.seed.to_string().into());
+    design.insert(
+        "objective".into(),
+        report.objective.definition.clone().into(),
+    );
+    design.insert(
+        "margin".into(),
+        format!("{}", report.box_fit.requested_margin).into(),
+    );
+    flight.insert("design".into(), toml::Value::Table(design));
+    let text = ordered_toml(&flight)?;
+    let header = format!(
+        "# Flight file for the firmware build (FIRMWARE_FLIGHT_FILE), written by `host-sim design` for {}.\n\n",
+        report.vehicle
+    );
+    files.push(write_text(
+        &dir.join("firmware.toml"),
+        &format!("{header}{text}"),
+    )?);
+
+    let e = &best.evaluation;
+    let plots = [
+        attitude_panel(
+            "attitude_180.png",
+            format!(
+                "{}: 180 degree starts, motor time constant {} s",
+                report.vehicle, vehicle.motor_time_constant_s
+            ),
+            &e.nominal,
+        ),
+        attitude_panel(
+            "attitude_180_doubled_lag.png",
+            format!(
+                "{}: 180 degree starts, motor time constant doubled",
+                report.vehicle
+            ),
+            &e.doubled_lag,
+        ),
+        attitude_panel(
+            "attitude_upside_down.png",
+            format!("{}: upside down at hover", report.vehicle),
+            std::slice::from_ref(&e.upside_down),
+        ),
+    ];
+    let mut drawn = Vec::new();
+    for p in &plots {
+        if p.series.is_empty() {
+            continue;
+        }
+        let path = dir.join(p.file);
+        crate::campaign::figures::time_series_png(&path, p)?;
+        drawn.push(p.file);
+        files.push(path);
+    }
+    files.push(write_text(
+        &dir.join("design.md"),
+        &markdown(report, &drawn),
+    )?);
+    Ok(files)
+}
+
+fn opt(v: Option<f64>, unit: &str) -> String {
+    v.map_or_else(|| "not settled".to_owned(), |v| format!("{v:.3} {unit}"))
+}
+
+/// `design.md`.
+pub fn markdown(r: &Report, plots: &[&str]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# Certified design: {}\n", r.vehicle);
+    let _ = writeln!(
+        s,
+        "Vehicle file `{}` ({}).\n",
+        r.vehicle_file, r.vehicle_source
+    );
+    let _ = writeln!(
+        s,
+        "Seed {}, {} evaluations, {:.1} s wall time.\n",
+        r.seed, r.evaluations, r.wall_time_s
+    );
+    if r.reference.scaled {
+        let _ = writeln!(
+            s,
+            "**THE REQUESTED REFERENCE CANNOT BE CERTIFIED ON THIS VEHICLE.** Binding: {}.\n\n\
+             **This design is certified for the same reference slowed down: every frequency x {:.4}.**\n",
+            r.reference.binding.as_deref().unwrap_or("?"),
+            r.reference.scale
+        );
+    } else {
+        let _ = writeln!(s, "The requested reference is certified as is.\n");
+    }
+    let _ = writeln!(
+        s,
+        "## Certificate\n\nEvery condition holds: **{}**. Box fit: **{}** (with the {:.0} % margin: **{}**; \
+         smallest headroom {:.2} % of the rotor range).\n",
+        r.certificate.all_hold,
+        r.box_fit.fits,
+        100.0 * r.box_fit.requested_margin,
+        r.box_fit.fits_with_margin,
+        100.0 * r.box_fit.margin
+    );
+    let _ = writeln!(
+        s,
+        "| condition | holds | lhs | rhs | slack |\n|---|---|---|---|---|"
+    );
+    for c in &r.certificate.conditions {
+        let _ = writeln!(
+            s,
+            "| `{}` | {} | {:.6} | {:.6} | {:.3e} |",
+            c.name, c.holds, c.lhs, c.rhs, c.slack
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nTightest condition: `{}` (relative slack {:.3}).\n\nA-priori bounds: T in [{:.4}, {:.4}] N, \
+         |tau| <= [{:.4e}, {:.4e}, {:.4e}] N m. Rotor capacity over that interval (the limits): \
+         T_max = {:.4} N, tau_max = [{:.4e}, {:.4e}, {:.4e}] N m.\n",
+        r.margins.tightest_condition.0,
+        r.margins.tightest_condition.1,
+        r.a_priori.0,
+        r.a_priori.1,
+        r.a_priori.2[0],
+        r.a_priori.2[1],
+        r.a_priori.2[2],
+        r.limits.thrust_max_N,
+        r.limits.torque_max_Nm[0],
+        r.limits.torque_max_Nm[1],
+        r.limits.torque_max_Nm[2],
+    );
+    let g = &r.gains;
+    let _ = writeln!(
+        s,
+        "## Gains\n\n| k_p | k_v | k_f | k_s | M_p | k_theta | k_omega | M_theta | M_omega | delta | alpha |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n| {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4e} | {:.4e} | {:.4e} | {:.4e} | {} | {} |\n",
+        g.kp, g.kv, g.kf, g.ks, g.M_p, g.k_theta, g.k_omega, g.M_theta, g.M_omega, g.delta, g.alpha
+    );
+    let c = &r.choices;
+    let _ = writeln!(
+        s,
+        "Chosen: M_p = {:.3} of its largest certifiable value {:.4} m/s^2; iota = {:.4e} N m = {:.3} of \
+         iota_max = {:.4e} N m; attitude natural frequency {:.2} rad/s (smallest-inertia axis), damping {:.2}; \
+         position natural frequency {:.2} rad/s, damping {:.2}.\n",
+        c.saturation_fraction,
+        r.saturation_max_m_s2,
+        r.feedback_torque_Nm.1,
+        c.iota_fraction,
+        r.feedback_torque_Nm.0,
+        c.attitude_frequency_rad_s,
+        c.attitude_damping,
+        c.position_frequency_rad_s,
+        c.position_damping
+    );
+    let o = &r.objective;
+    let a = &o.authority;
+    if !o.constraints_met {
+        let _ = writeln!(
+            s,
+            "**NO DESIGN WITHIN THE BUDGET MET THE CONVERGENCE CONSTRAINTS** (every 180 degree start and \
+             the upside-down start settled by 25 s, also with the motor time constant doubled). The \
+             certificate holds, but the certified authority is small: thrust interval [{:.3}, {:.3}] x \
+             the weight, feedback angular acceleration iota/J = [{:.2}, {:.2}, {:.2}] rad/s^2. The \
+             design below is the best found on the graded penalty.\n",
+            a.thrust_interval_over_weight[0],
+            a.thrust_interval_over_weight[1],
+            a.feedback_angular_acceleration_rad_s2[0],
+            a.feedback_angular_acceleration_rad_s2[1],
+            a.feedback_angular_acceleration_rad_s2[2]
+        );
+    }
+    let _ = writeln!(
+        s,
+        "Certified authority: thrust interval [{:.3}, {:.3}] x the weight; feedback angular acceleration \
+         iota/J = [{:.2}, {:.2}, {:.2}] rad/s^2.\n",
+        a.thrust_interval_over_weight[0],
+        a.thrust_interval_over_weight[1],
+        a.feedback_angular_acceleration_rad_s2[0],
+        a.feedback_angular_acceleration_rad_s2[1],
+        a.feedback_angular_acceleration_rad_s2[2]
+    );
+    let _ = writeln!(
+        s,
+        "## Objective\n\n{}.\n\nValue {:.3}; constraints met: **{}**. Worst settling from 180 degrees: **{}**; \
+         altitude lost from upside down at hover: **{:.3} m**.\n",
+        o.definition,
+        o.value,
+        o.constraints_met,
+        opt(o.worst_settling_180_s, "s"),
+        o.altitude_loss_upside_down_m
+    );
+    let _ = writeln!(
+        s,
+        "| start | settling (nominal) | settling (motor lag doubled) |\n|---|---|---|"
+    );
+    for (i, (name, t)) in o.settling_180_s.iter().enumerate() {
+        let d = r
+            .margins
+            .doubled_lag_settling_180_s
+            .get(i)
+            .and_then(|x| x.1);
+        let _ = writeln!(s, "| {name} | {} | {} |", opt(*t, "s"), opt(d, "s"));
+    }
+    let m = &r.margins;
+    let _ = writeln!(
+        s,
+        "\n## Margins\n\n- box fit: {:.2} % of the rotor range (requested {:.0} %)\n- motor time constant: {} s; \
+         doubled converges: {}; largest that still converges (seven 180 degree starts, bisection): {}\n",
+        100.0 * m.box_fit,
+        100.0 * r.box_fit.requested_margin,
+        m.motor_time_constant_s,
+        m.doubled_lag_converges,
+        opt(m.motor_time_constant_max_converging_s, "s")
+    );
+    if !plots.is_empty() {
+        let _ = writeln!(s, "## Plots\n");
+        for p in plots {
+            let _ = writeln!(s, "![{p}]({p})\n");
+        }
+    }
+    s
+}

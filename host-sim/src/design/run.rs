@@ -1,0 +1,352 @@
+//! The `design` job: vehicle and reference in, certified and optimised design out.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{bail, Context as _, Result};
+use controller_core::Gains;
+
+use super::authority::RotorSet;
+use super::certificate::{certify_design, Certified};
+use super::evaluate::{evaluate, largest_converging_lag, Evaluation, PENALTY};
+use super::flight::{scenarios, FlightSettings};
+use super::optimise::minimise;
+use super::reference::{largest_certifiable_scale, Reference};
+use super::report::{write_outputs, Report};
+use super::variables::{map, Choices, Context, Mapped};
+use super::vehicle::DesignVehicle;
+use crate::scenario::Scenario;
+
+/// Length of each scoring run \[s\] (the last 5 s are the limit-cycle window).
+pub const SCORING_DURATION_S: f64 = 30.0;
+/// Default evaluation budget: sized so one preset finishes in well under 10 minutes on 2 cores
+/// (release build).
+pub const DEFAULT_EVALUATIONS: usize = 960;
+
+/// What `design` is asked.
+#[derive(Clone, Debug)]
+pub struct DesignOptions {
+    /// Vehicle file.
+    pub vehicle: PathBuf,
+    /// Scenario file whose `[trajectory]`, `[initial]` and controller period are the requested
+    /// reference; `None`: the paper's helix.
+    pub reference: Option<PathBuf>,
+    /// Seed of the optimiser.
+    pub seed: u64,
+    /// Box-fit margin, fraction of each rotor's range at both ends.
+    pub margin: f64,
+    /// Evaluation budget of the optimiser.
+    pub evaluations: usize,
+    /// Output directory.
+    pub out: PathBuf,
+}
+
+/// What `design` produced.
+#[derive(Clone, Debug)]
+pub struct DesignOutcome {
+    /// The report (also written as `design.json`).
+    pub report: Report,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+}
+
+/// The probe design used to decide whether a reference can be certified at all: slow filters,
+/// half the largest `M_p` and half of `ι_max`.
+fn probe_choices() -> Choices {
+    Choices {
+        kf: 0.3,
+        ks: 0.45,
+        saturation_fraction: 0.5,
+        iota_fraction: 0.5,
+        ..Choices::initial_guess()
+    }
+}
+
+/// Share of the vehicle's hover feedback authority a reference may take: the reference is
+/// usable when, as `M_p → 0`, the largest feedback torque level `ι_max` left by its feedforward
+/// is at least this share of `ι_max` at hover (without it, a "certified" design has too little
+/// torque left to recover from 180 degrees).
+pub const AUTHORITY_SHARE: f64 = 0.75;
+
+/// `ι_max` as `M_p → 0` [N m] for `constants` (independent of `k_f`, `k_s` there).
+fn iota_floor(
+    vehicle: &DesignVehicle,
+    set: &RotorSet,
+    margin: f64,
+    constants: &controller_core::TrajectoryConstants<f64>,
+) -> f64 {
+    super::authority::iota_max_at(&vehicle.body, constants, set, margin, (1e-6, 0.3, 0.45))
+}
+
+/// Why a reference cannot be used (the binding condition with its numbers), or `None`.
+fn binding_condition(
+    vehicle: &DesignVehicle,
+    set: &RotorSet,
+    margin: f64,
+    r: &Reference,
+) -> Option<String> {
+    let constants = r.constants();
+    let hover = iota_floor(
+        vehicle,
+        set,
+        margin,
+        &controller_core::TrajectoryConstants::zero(),
+    );
+    let floor = iota_floor(vehicle, set, margin, &constants);
+    if floor < AUTHORITY_SHARE * hover {
+        let env = super::authority::envelope(&vehicle.body, &constants, 1e-6, 0.3, 0.45);
+        let detail = env.map_or_else(String::new, |env| {
+            format!(
+                " (thrust interval [{:.4}, {:.4}] N; reference feedforward torque bound \
+                 [{:.4e}, {:.4e}, {:.4e}] N m; rotor range [{}, {}] N)",
+                env.thrust.0,
+                env.thrust.1,
+                env.feedforward.x,
+                env.feedforward.y,
+                env.feedforward.z,
+                set.range.0,
+                set.range.1
+            )
+        });
+        return Some(if floor <= 0.0 {
+            format!(
+                "theorem2 + box fit: no feedback torque level iota > 0 fits the rotors with margin {margin} even as \
+                 M_p -> 0: iota_max = {floor:.4e} N m{detail}"
+            )
+        } else {
+            format!(
+                "authority: the reference's feedforward leaves iota_max = {floor:.4e} N m as M_p -> 0, less than \
+                 {AUTHORITY_SHARE} x the hover value {hover:.4e} N m{detail}"
+            )
+        });
+    }
+    let probe = probe_choices();
+    let ctx = Context {
+        vehicle: &vehicle.body,
+        constants: &constants,
+        rotors: set,
+        margin,
+    };
+    let Some(m) = map(&ctx, &probe) else {
+        return Some(
+            "theorem2 + box fit: no M_p > 0 leaves a positive feedback torque level".to_owned(),
+        );
+    };
+    match certify_design(&vehicle.body, &vehicle.rotors, &m.gains, &constants, margin) {
+        Err(e) => Some(format!("{e:#}")),
+        Ok(c) if c.ok() => None,
+        Ok(c) => {
+            let mut why: Vec<String> = c
+                .certificate
+                .violations()
+                .map(|v| {
+                    format!(
+                        "{} ({}): lhs = {:.6e}, rhs = {:.6e}",
+                        v.name, v.statement, v.lhs, v.rhs
+                    )
+                })
+                .collect();
+            if !c.fits_with_margin {
+                why.push(format!(
+                    "box fit with margin {margin}: smallest headroom {:.4}",
+                    c.margin
+                ));
+            }
+            Some(why.join("; "))
+        }
+    }
+}
+
+/// Refuses a vehicle that cannot fly at all, with the reason.
+fn refuse_impossible(vehicle: &DesignVehicle) -> Result<RotorSet> {
+    let r = &vehicle.rotors;
+    if !(r.thrust_min.is_finite()
+        && r.thrust_max.is_finite()
+        && r.thrust_max > r.thrust_min
+        && r.thrust_min >= 0.0)
+    {
+        bail!(
+            "{}: rotors: thrust range empty or invalid: thrust_min_N = {}, thrust_max_N = {}",
+            vehicle.origin,
+            r.thrust_min,
+            r.thrust_max
+        );
+    }
+    let set = RotorSet::new(r).map_err(|e| anyhow::anyhow!("{}: rotors: {e}", vehicle.origin))?;
+    let weight = vehicle.body.mass * vehicle.body.gravity;
+    if set.thrust_total_max() <= weight {
+        bail!(
+            "{}: the vehicle cannot hover: 4 x thrust_max_N = {:.4} N <= weight m g = {:.4} N",
+            vehicle.origin,
+            set.thrust_total_max(),
+            weight
+        );
+    }
+    if 4.0 * set.range.0 >= weight {
+        bail!(
+            "{}: the vehicle cannot hover: 4 x thrust_min_N = {:.4} N >= weight m g = {:.4} N (it cannot descend)",
+            vehicle.origin,
+            4.0 * set.range.0,
+            weight
+        );
+    }
+    let hover = iota_floor(
+        vehicle,
+        &set,
+        0.0,
+        &controller_core::TrajectoryConstants::zero(),
+    );
+    if hover <= 0.0 {
+        bail!(
+            "{}: the rotors cannot hold the vehicle's hover thrust and any torque at once \
+             (largest feedback torque at hover iota_max = {hover:.4e} N m)",
+            vehicle.origin
+        );
+    }
+    Ok(set)
+}
+
+/// Loads the requested reference and its controller period \[s\].
+fn load_reference(path: Option<&PathBuf>) -> Result<(Reference, f64)> {
+    let s = match path {
+        Some(p) => Scenario::load(p).with_context(|| format!("reference {}", p.display()))?,
+        None => Scenario::paper(),
+    };
+    Ok((
+        Reference {
+            trajectory: s.trajectory.clone(),
+            initial: s.initial.clone(),
+        },
+        s.simulation.controller_period_s,
+    ))
+}
+
+/// A scored candidate.
+pub struct Scored {
+    /// Its mapped gains.
+    pub mapped: Mapped,
+    /// Its certificate.
+    pub certified: Certified,
+    /// Its simulations.
+    pub evaluation: Evaluation,
+}
+
+/// Maps, certifies and flies one point of the unit box. `Err` carries the cost of a refusal.
+fn score(
+    vehicle: &DesignVehicle,
+    ctx: &Context<'_>,
+    reference: &Reference,
+    settings: FlightSettings,
+    x: &[f64],
+    trace: bool,
+) -> std::result::Result<Scored, f64> {
+    let mapped = map(ctx, &Choices::from_unit(x)).ok_or(10.0 * PENALTY)?;
+    let certified = certify_design(
+        ctx.vehicle,
+        &vehicle.rotors,
+        &mapped.gains,
+        ctx.constants,
+        ctx.margin,
+    )
+    .map_err(|_| 10.0 * PENALTY)?;
+    if !certified.ok() {
+        return Err(10.0 * PENALTY);
+    }
+    let (scenario, hover) = scenarios(
+        vehicle,
+        &certified.limits,
+        &mapped.gains,
+        reference,
+        settings,
+    )
+    .map_err(|_| 10.0 * PENALTY)?;
+    let evaluation = evaluate(&scenario, &hover, vehicle.motor_time_constant_s, trace)
+        .map_err(|_| 10.0 * PENALTY)?;
+    Ok(Scored {
+        mapped,
+        certified,
+        evaluation,
+    })
+}
+
+/// Runs `design`. Errors: unreadable or invalid inputs, an impossible vehicle (with the
+/// reason), a reference no scaling makes certifiable, or an output that cannot be written.
+pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
+    let started = Instant::now();
+    if !(o.margin.is_finite() && (0.0..0.5).contains(&o.margin)) {
+        bail!("--margin: must lie in [0, 0.5), got {}", o.margin);
+    }
+    if o.evaluations == 0 {
+        bail!("--evaluations: must be > 0");
+    }
+    let vehicle = DesignVehicle::load(&o.vehicle)?;
+    let set = refuse_impossible(&vehicle)?;
+    let (requested, period) = load_reference(o.reference.as_ref())?;
+    let binding = binding_condition(&vehicle, &set, o.margin, &requested);
+    let (reference, scale) = match &binding {
+        None => (requested.clone(), 1.0),
+        Some(why) => {
+            eprintln!(
+                "design: the requested reference cannot be certified on {}: {why}",
+                vehicle.name
+            );
+            let s = largest_certifiable_scale(&requested, |r| {
+                binding_condition(&vehicle, &set, o.margin, r).is_none()
+            })
+            .with_context(|| {
+                format!(
+                    "{}: no design can be certified for {} even with the reference slowed down \
+                         (frequencies x 2^-30): {why}",
+                    vehicle.origin, vehicle.name
+                )
+            })?;
+            eprintln!("design: designing for the same reference slowed down by {s:.4} (frequencies x {s:.4})");
+            (requested.scaled(s), s)
+        }
+    };
+    let constants = reference.constants();
+    let ctx = Context {
+        vehicle: &vehicle.body,
+        constants: &constants,
+        rotors: &set,
+        margin: o.margin,
+    };
+    let settings = FlightSettings {
+        duration_s: SCORING_DURATION_S,
+        controller_period_s: period,
+    };
+    let cost = |x: &[f64]| match score(&vehicle, &ctx, &reference, settings, x, false) {
+        Ok(s) => s.evaluation.cost,
+        Err(c) => c,
+    };
+    let guess = Choices::initial_guess().to_unit();
+    let optimum = minimise(&cost, &guess, o.evaluations, o.seed)?;
+    let best = score(&vehicle, &ctx, &reference, settings, &optimum.x, true).map_err(|_| {
+        anyhow::anyhow!("the best design found could not be certified and flown (bug)")
+    })?;
+    let (scenario, _) = scenarios(
+        &vehicle,
+        &best.certified.limits,
+        &best.mapped.gains,
+        &reference,
+        settings,
+    )?;
+    let lag_max = largest_converging_lag(&scenario, vehicle.motor_time_constant_s);
+    let report = Report::new(
+        &vehicle,
+        o,
+        (&requested, &reference, scale, binding.as_deref()),
+        Choices::from_unit(&optimum.x),
+        &best,
+        lag_max,
+        optimum.evaluations,
+        started.elapsed().as_secs_f64(),
+    );
+    let files = write_outputs(&o.out, &report, &vehicle, &best, &reference, period)?;
+    Ok(DesignOutcome { report, files })
+}
+
+/// The gains of a report, for tests and callers.
+pub fn gains_of(s: &Scored) -> Gains<f64> {
+    s.mapped.gains
+}

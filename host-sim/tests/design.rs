@@ -1,0 +1,180 @@
+//! `host-sim design` end to end: the written scenario is re-certified independently (the
+//! core's `certify` and the firmware mixer's `box_fit` on the file as read back), it flies, and
+//! impossible vehicles are refused with the reason.
+
+use std::path::PathBuf;
+
+use controller_core::{certify, FilterStart, Trajectory};
+use firmware::mixer::Mixer;
+use host_sim::design::{run_design, DesignOptions};
+use host_sim::scenario::Scenario;
+use host_sim::vehicle::{airframe, preset_path, VehicleFile};
+
+fn out_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "host-sim-design-test-{name}-{}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOptions {
+    DesignOptions {
+        vehicle,
+        reference: None,
+        seed: 3,
+        margin: 0.05,
+        evaluations,
+        out,
+    }
+}
+
+/// The rotor set of a scenario file, through the firmware's own conversion.
+fn rotors_of(s: &Scenario) -> firmware::config::RotorConfig {
+    let file = VehicleFile {
+        vehicle: s.vehicle.clone(),
+        rotors: s
+            .rotors
+            .clone()
+            .expect("the design's scenario carries [rotors]"),
+        drag: s.drag.clone(),
+    };
+    airframe(&file).rotors
+}
+
+/// A small-budget design of the Crazyflie: `all_hold` and `fits`, and the written
+/// scenario.toml, read back, passes `certify` and `box_fit` (with the 5 % margin) on its own.
+#[test]
+fn design_certifies_and_the_written_scenario_recertifies() {
+    let out = out_dir("cf");
+    let outcome = run_design(&options(preset_path("crazyflie-2.1"), out.clone(), 16)).unwrap();
+    let r = &outcome.report;
+    assert!(r.certificate.all_hold && r.box_fit.fits && r.box_fit.fits_with_margin);
+    assert!(r.evaluations <= 16 && r.evaluations > 0);
+
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    let cert = certify(
+        &s.vehicle::<f64>(),
+        &s.limits::<f64>(),
+        &s.gains::<f64>(),
+        &s.trajectory::<f64>().constants(),
+        FilterStart::Zero,
+    )
+    .unwrap();
+    assert!(
+        cert.require_feasible().is_ok(),
+        "{:?}",
+        cert.require_feasible()
+    );
+    let b = cert.bounds;
+    let tau = b.torque_max.map(|x| x as f32);
+    let mut rotors = rotors_of(&s);
+    let mixer = Mixer::new(&rotors).unwrap();
+    let fit = mixer.box_fit(b.thrust_min as f32, b.thrust_max as f32, &tau);
+    assert!(fit.fits);
+    // The limits written are what the rotors deliver over the certified interval.
+    for i in 0..3 {
+        assert!((f64::from(fit.torque_capacity[i]) - s.limits.torque_max_Nm[i]).abs() < 1e-6);
+    }
+    // The margin: the same box fits the range shrunk by 5 % at both ends.
+    let span = rotors.thrust_max - rotors.thrust_min;
+    rotors.thrust_min += 0.05 * span;
+    rotors.thrust_max -= 0.05 * span;
+    let shrunk = Mixer::new(&rotors).unwrap();
+    assert!(
+        shrunk
+            .box_fit(b.thrust_min as f32, b.thrust_max as f32, &tau)
+            .fits
+    );
+
+    // design.json says the same.
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
+    assert_eq!(json["certificate"]["all_hold"], true);
+    assert_eq!(json["box_fit"]["fits"], true);
+    assert_eq!(
+        json["certificate"]["conditions"].as_array().unwrap().len(),
+        10
+    );
+    assert!(json["objective"]["altitude_loss_upside_down_m"].is_number());
+    for f in ["design.md", "firmware.toml", "attitude_180.png"] {
+        assert!(out.join(f).exists(), "{f} missing");
+    }
+    // The flight file carries the vehicle file's tables: the firmware's parser reads them.
+    let flight = std::fs::read_to_string(out.join("firmware.toml")).unwrap();
+    VehicleFile::parse_embedded(
+        &flight,
+        "firmware.toml",
+        &["limits", "gains", "trajectory", "design"],
+    )
+    .unwrap();
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// The written scenario loads and flies as is (the main run's loop), its commands inside the
+/// a-priori thrust interval.
+#[test]
+fn written_scenario_flies() {
+    let out = out_dir("fly");
+    run_design(&options(preset_path("crazyflie-2.1"), out.clone(), 1)).unwrap();
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    let (summary, records) = host_sim::sim::run(&s).unwrap();
+    let steps = (s.simulation.duration_s / s.simulation.controller_period_s).round() as usize;
+    assert_eq!(records.len(), steps + 1);
+    let a = &summary.a_priori;
+    for r in &records {
+        assert!(
+            r.thrust_N >= a.thrust_min_N * (1.0 - 1e-5)
+                && r.thrust_N <= a.thrust_max_N * (1.0 + 1e-5)
+        );
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// A vehicle whose rotors cannot lift it is refused at once, naming the file, key and reason.
+#[test]
+fn vehicle_that_cannot_hover_is_refused() {
+    let text = std::fs::read_to_string(preset_path("x500"))
+        .unwrap()
+        .replace("thrust_max_N = 8.54858", "thrust_max_N = 4.0");
+    assert!(
+        text.contains("thrust_max_N = 4.0"),
+        "preset changed; update the test"
+    );
+    let dir = out_dir("heavy");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("heavy.toml");
+    std::fs::write(&file, text).unwrap();
+    let e = run_design(&options(file, dir.join("out"), 8)).unwrap_err();
+    let msg = format!("{e:#}");
+    assert!(
+        msg.contains("heavy.toml") && msg.contains("cannot hover"),
+        "{msg}"
+    );
+    assert!(!dir.join("out").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// When the requested reference cannot be certified, the design says which condition binds
+/// and certifies the same reference slowed down: its constants are those of the scaled
+/// reference, below the requested ones.
+#[test]
+fn uncertifiable_reference_is_slowed_down_and_said() {
+    let out = out_dir("x500");
+    let outcome = run_design(&options(preset_path("x500"), out.clone(), 1)).unwrap();
+    let r = &outcome.report.reference;
+    assert!(r.scaled && r.scale > 0.0 && r.scale < 1.0, "{r:?}");
+    assert!(
+        r.binding.as_deref().is_some_and(|b| b.contains("iota")),
+        "{r:?}"
+    );
+    let md = std::fs::read_to_string(out.join("design.md")).unwrap();
+    assert!(md.contains("CANNOT BE CERTIFIED"));
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    let paper = Scenario::paper().trajectory::<f64>().constants();
+    let k = s.trajectory::<f64>().constants();
+    assert!(k.heading_rate < paper.heading_rate && k.jerk < paper.jerk);
+    assert!(outcome.report.certificate.all_hold && outcome.report.box_fit.fits);
+    let _ = std::fs::remove_dir_all(&out);
+}
