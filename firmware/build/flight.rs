@@ -229,6 +229,17 @@ fn trajectory_source(file: &str, t: &TrajectoryTable) -> String {
     }
 }
 
+/// A `[design]` number, given as a TOML number or as a string holding one (`host-sim design`
+/// writes the `[design]` fields as text).
+fn design_number(v: &toml::Value) -> Option<f64> {
+    match v {
+        toml::Value::Float(x) => Some(*x),
+        toml::Value::Integer(i) => Some(*i as f64),
+        toml::Value::String(s) => s.trim().parse().ok(),
+        _ => None,
+    }
+}
+
 /// A `[design]` value as banner text (strings unquoted).
 fn design_text(v: &toml::Value) -> String {
     match v {
@@ -315,7 +326,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
     let mut design = tables.design;
     let margin = match design.remove("margin") {
         None => DEFAULT_MARGIN,
-        Some(v) => match v.as_float().or_else(|| v.as_integer().map(|i| i as f64)) {
+        Some(v) => match design_number(&v) {
             Some(m) if m.is_finite() && (0.0..1.0).contains(&m) => m,
             _ => fail(
                 file,
@@ -326,7 +337,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
     };
     let smoothing = match design.remove("smoothing_rate_per_s") {
         None => DEFAULT_SMOOTHING_RATE,
-        Some(v) => match v.as_float().or_else(|| v.as_integer().map(|i| i as f64)) {
+        Some(v) => match design_number(&v) {
             Some(x) if x.is_finite() && x > 0.0 => x,
             _ => fail(
                 file,

@@ -387,22 +387,29 @@ fn built_config_is_certified_and_arms() {
 }
 
 /// A configuration whose certificate fails refuses to arm and says which condition, with its
-/// numbers: a yaw limit below Theorem 2's feedback torque alone,
-/// `ι = (1 + (1 + δ)²) M_ϑ / 4 + M_ω`, computed here by hand.
+/// numbers: a yaw limit between Assumption 1's yaw requirement and Theorem 2's yaw bound, which is
+/// at least the feedback torque `ι = (1 + (1 + δ)²) M_ϑ / 4 + M_ω`, computed here by hand.
 #[test]
 #[cfg(not(feature = "uncertified-paper"))] // the default flight file's x500
 fn failing_certificate_refuses_to_arm() {
     let mut c = FlightConfig::built();
     let (g, a) = (c.gains, c.gains.attitude);
     let iota = (1.0 + (1.0 + g.hysteresis).powi(2)) * a.mrp_saturation / 4.0 + a.omega_saturation;
-    c.limits.torque_max.z = 0.5 * iota;
+    let cert = FlightPipeline::new(&c).unwrap().boot_report().certificate;
+    let rhs_of = |name: &str| cert.conditions.iter().find(|k| k.name == name).unwrap().rhs;
+    let (assumption, theorem2) = (
+        rhs_of("assumption1.torque_max_yaw"),
+        rhs_of("theorem2.torque_max_yaw"),
+    );
+    assert!(theorem2 > iota && theorem2 > assumption);
+    c.limits.torque_max.z = 0.5 * (assumption.max(iota) + theorem2);
     let (mut p, _) = arm_attempt(c);
     assert_eq!(p.status().state, crate::safety::FlightState::Disarmed);
     let (condition, lhs, rhs) = arm_refusal(&drain_events(&mut p));
     assert_eq!(condition, "theorem2.torque_max_yaw");
-    assert_eq!(lhs, 0.5 * iota);
-    // Theorem 2's yaw bound is ι plus a non-negative feedforward part.
-    assert!(rhs > iota && rhs < iota + 0.1, "{rhs} vs iota {iota}");
+    assert_eq!(lhs, c.limits.torque_max.z);
+    assert_eq!(rhs, theorem2);
+    assert!(rhs > iota, "{rhs} vs iota {iota}");
 }
 
 /// A configuration whose certified box does not fit its rotors refuses to arm, and so does one
