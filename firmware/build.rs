@@ -1,4 +1,11 @@
-//! Two build-time jobs of the firmware crate.
+//! Three build-time jobs of the firmware crate.
+//!
+//! **The flight file** (every build). The firmware flies one flight file chosen at build time:
+//! env `FIRMWARE_FLIGHT_FILE` (default `firmware/flights/x500.toml`): a vehicle file (read by
+//! the shared `src/vehicle_file.rs`) plus `[limits]`, `[gains]`, `[trajectory]` and `[design]`.
+//! `build/flight.rs` writes it to `OUT_DIR/flight.rs`, which `src/built_flight.rs` includes
+//! (`FlightConfig::built()`). The paper's set-up (`[vehicle] real_propeller = false`) is refused
+//! unless the `uncertified-paper` feature is on.
 //!
 //! **The board's memory map** (bare-metal builds only). cortex-m-rt's `link.x` does
 //! `INCLUDE memory.x`; the linker looks for it in the current directory first, which for cargo
@@ -19,6 +26,14 @@ use std::env;
 use std::fs;
 use std::path::{Path, PathBuf};
 
+// The vehicle file format, shared with the firmware library (`firmware::vehicle_file`).
+#[allow(dead_code)]
+#[path = "src/vehicle_file.rs"]
+mod vehicle_file;
+
+#[path = "build/flight.rs"]
+mod flight;
+
 fn main() {
     let manifest_dir = PathBuf::from(
         env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR for build scripts"),
@@ -27,6 +42,7 @@ fn main() {
         PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR for build scripts"));
     println!("cargo:rerun-if-changed=build.rs");
     memory_map(&manifest_dir, &out_dir);
+    flight::write(&manifest_dir, &out_dir);
     // The `toml` build-dependency comes with the feature.
     #[cfg(feature = "bench-fixtures")]
     bench_fixtures::scenario_constants(&manifest_dir, &out_dir);

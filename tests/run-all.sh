@@ -32,6 +32,17 @@ step "firmware with the HIL messages (host tests and clippy, --features hil)"
 cargo test -p firmware --lib --features hil
 cargo clippy -p firmware --all-targets --features hil -- -D warnings
 
+step "firmware built with the paper's flight file (--features uncertified-paper only; it arms loudly)"
+paper_flight=(env FIRMWARE_FLIGHT_FILE=firmware/flights/paper.toml)
+"${paper_flight[@]}" cargo test -p firmware --lib --features uncertified-paper
+"${paper_flight[@]}" cargo clippy -p firmware --target thumbv7em-none-eabihf --release \
+  --features uncertified-paper -- -D warnings
+# Without the feature the build refuses that file.
+if "${paper_flight[@]}" cargo check -p firmware --lib 2>/dev/null; then
+  echo "the paper's flight file built without --features uncertified-paper" >&2
+  exit 1
+fi
+
 step "clippy, warnings denied (host, all targets)"
 cargo clippy --workspace --all-targets -- -D warnings
 

@@ -5,7 +5,7 @@
 //! z up), inertial NWU (z up); see [`crate::frames`].
 
 use controller_core::scalar::sqrt_f32;
-use controller_core::{Gains, Limits, Vehicle};
+use controller_core::{Gains, Limits, ReferenceTrajectory, Vehicle};
 
 use crate::airframe::Airframe;
 
@@ -115,9 +115,6 @@ pub struct SafetyConfig {
     pub failsafe_tilt_cos_min: f32,
     /// Failsafe: thrust is kept in `[lo, hi] · m g` \[dimensionless\].
     pub failsafe_thrust_ratio: [f32; 2],
-    /// Refuse references whose Theorem 2 conditions fail too (default false: Theorem 2's bounds
-    /// are sufficient conditions, violated by the paper's own set-up; they are then reported).
-    pub require_theorem2: bool,
 }
 
 /// Reference smoothing and missions (takeoff and landing targets).
@@ -176,9 +173,46 @@ pub struct TelemetryConfig {
     pub state_period_us: u64,
 }
 
+/// One free-text field of a flight file's `[design]` table (who designed the gains, with
+/// which seed and objective), shown in the boot banner.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DesignField {
+    /// The key, e.g. `"seed"`.
+    pub key: &'static str,
+    /// The value as written in the file (strings unquoted).
+    pub value: &'static str,
+}
+
+/// Where the flown set-up comes from, for the boot banner.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FlightIdentity {
+    /// Vehicle name (`[vehicle] name` of the flight file).
+    pub name: &'static str,
+    /// Where the vehicle's values are published (`[vehicle] source`).
+    pub source: &'static str,
+    /// The flight file the firmware was built with (path as given to the build), or a
+    /// description for configurations built in code.
+    pub file: &'static str,
+    /// The `[design]` fields other than `margin`, in file order.
+    pub design: &'static [DesignField],
+}
+
 /// Everything [`crate::pipeline::FlightPipeline::new`] needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FlightConfig {
+    /// Which vehicle and design this is (boot banner).
+    pub identity: FlightIdentity,
+    /// The demo mission flown on `MAV_CMD_MISSION_START` (the flight file's `[trajectory]`;
+    /// the paper's helix for [`FlightConfig::paper`]). It is part of what is certified at boot.
+    pub mission: ReferenceTrajectory<f32>,
+    /// Smallest headroom the certified `(T, τ)` box must leave inside every rotor's thrust
+    /// range, as a fraction of that range \[dimensionless\] (the flight file's
+    /// `[design] margin`; see [`crate::mixer::Mixer::box_margin`]).
+    pub box_margin: f32,
+    /// Whether a set-up whose certificate fails or whose box does not fit may still arm (with a
+    /// loud warning event). Only the `uncertified-paper` build of the paper's set-up sets it:
+    /// everything else flies only what is certified.
+    pub allow_uncertified: bool,
     /// Rigid-body parameters (mass \[kg\], inertia diagonal [kg m²], gravity [m/s²]).
     pub vehicle: Vehicle<f32>,
     /// Actuator limits the certificate assumes (`T_max` \[N\], `τ_max` [N m]).
@@ -227,9 +261,23 @@ impl FlightConfig {
     /// quad sized to the paper's limits, arm 0.25 m, 0 to 3 N per rotor, yaw torque 0.1 m per
     /// newton, about five times a real propeller's), its limits (`T_max = 7 N`,
     /// `τ_max = 0.5 N m`) and Table I gains.
+    ///
+    /// Its certificate fails (Theorem 2, yaw) and its `(T, τ)` box does not fit its rotors, so
+    /// it arms only with [`FlightConfig::allow_uncertified`] set: it is kept for the paper's
+    /// tests and the bench fixtures, not for flight ([`FlightConfig::built`] is what the boards
+    /// fly).
     pub fn paper() -> Self {
         let airframe = Airframe::paper();
         Self {
+            identity: FlightIdentity {
+                name: "paper",
+                source: "Martins, Cardeira, Oliveira, Section VI and Table I (FlightConfig::paper)",
+                file: "built in code: FlightConfig::paper()",
+                design: &[],
+            },
+            mission: ReferenceTrajectory::paper_helix(),
+            box_margin: 0.05,
+            allow_uncertified: false,
             vehicle: airframe.vehicle,
             limits: Limits::paper(),
             gains: Gains::paper(),
@@ -244,7 +292,6 @@ impl FlightConfig {
                 failsafe_descent_gain: 2.0,
                 failsafe_tilt_cos_min: 0.5,
                 failsafe_thrust_ratio: [0.6, 1.2],
-                require_theorem2: false,
             },
             reference: ReferenceConfig {
                 smoothing_rate: 2.0,

@@ -1,5 +1,5 @@
 //! References flown on board: smoothed hover setpoints (also used by takeoff and land) and the
-//! paper's helix as a demo mission, each with guaranteed Assumption 1 constants.
+//! demo mission (the flight file's trajectory, e.g. a helix), each with guaranteed Assumption 1 constants.
 //!
 //! **Setpoint filter.** Each position axis and the yaw angle go through four identical first
 //! order lags `ẋ₁ = λ(r − x₁)`, `ẋᵢ = λ(xᵢ₋₁ − xᵢ)`, output `p = x₄`: a critically damped
@@ -280,14 +280,14 @@ impl SetpointFilter {
 pub enum ReferenceMode {
     /// The setpoint filter (hover, takeoff, land).
     Setpoint,
-    /// The paper's helix, started at `start_us`.
+    /// The demo mission (the configured trajectory), started at `start_us`.
     Helix {
         /// Start time \[µs\].
         start_us: u64,
     },
 }
 
-/// The on-board reference: a setpoint filter or the helix.
+/// The on-board reference: a setpoint filter or the demo mission.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FlightReference {
     filter: SetpointFilter,
@@ -297,12 +297,20 @@ pub struct FlightReference {
 }
 
 impl FlightReference {
-    /// At rest at `position` \[m\] NWU, `yaw` \[rad\], smoothing rate λ [1/s].
-    pub fn new(rate: f32, position: Vector3<f32>, yaw: f32, table: SupTable) -> Self {
+    /// At rest at `position` \[m\] NWU, `yaw` \[rad\], smoothing rate λ [1/s]; `mission` is
+    /// the demo trajectory flown by [`FlightReference::start_helix`] (the flight file's
+    /// `[trajectory]`, [`crate::config::FlightConfig::mission`]).
+    pub fn new(
+        rate: f32,
+        position: Vector3<f32>,
+        yaw: f32,
+        table: SupTable,
+        mission: ReferenceTrajectory<f32>,
+    ) -> Self {
         Self {
             filter: SetpointFilter::new(rate, position, yaw, table),
             mode: ReferenceMode::Setpoint,
-            helix: ReferenceTrajectory::paper_helix(),
+            helix: mission,
             last_us: None,
         }
     }
@@ -345,12 +353,12 @@ impl FlightReference {
         self.mode = ReferenceMode::Setpoint;
     }
 
-    /// The helix's constants (closed form, controller-core).
+    /// The demo mission's constants (closed form, controller-core).
     pub fn helix_constants(&self) -> TrajectoryConstants<f32> {
         self.helix.constants()
     }
 
-    /// Starts the helix at `now_us`.
+    /// Starts the demo mission at `now_us`.
     pub fn start_helix(&mut self, now_us: u64) {
         self.mode = ReferenceMode::Helix { start_us: now_us };
     }
@@ -500,7 +508,13 @@ mod tests {
     /// The helix mode samples controller-core's helix from its start time.
     #[test]
     fn helix_mode() {
-        let mut r = FlightReference::new(2.0, Vector3::zeros(), 0.0, table());
+        let mut r = FlightReference::new(
+            2.0,
+            Vector3::zeros(),
+            0.0,
+            table(),
+            ReferenceTrajectory::paper_helix(),
+        );
         r.start_helix(1_000_000);
         let s = r.sample(1_000_000);
         assert!((s.position - Vector3::new(-2.0, 1.0, 5.5)).norm() < 1e-5);

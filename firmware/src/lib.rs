@@ -31,6 +31,8 @@ extern crate std;
 pub mod airframe;
 #[cfg(target_os = "none")]
 pub mod app;
+pub mod built_flight;
+
 pub mod config;
 pub mod drivers;
 pub mod estimator;

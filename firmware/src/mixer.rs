@@ -204,6 +204,28 @@ impl Mixer {
         }
     }
 
+    /// The smallest headroom the box `T ∈ [t_lo, t_hi]`, `|τ_i| ≤ tau_i` leaves inside the rotor
+    /// range, over the four rotors and the box's corners, as a fraction of the range
+    /// `f_max − f_min` \[dimensionless\]: `min_k min(f_max − max f_k, min f_k − f_min)/(f_max −
+    /// f_min)`, where rotor `k`'s extremes over the box are `w_k T_hi + Σ_i |M_ki| τ_i` and
+    /// `w_k T_lo − Σ_i |M_ki| τ_i` (the map `M` is linear, so a corner decides). Negative when
+    /// the box does not fit; `−∞` when a rotor's thrust column entry is not positive (it cannot
+    /// carry collective).
+    pub fn box_margin(&self, t_lo: f32, t_hi: f32, tau: &Vector3<f32>) -> f32 {
+        let (lo, hi) = (self.f_min, self.f_max);
+        let m = &self.mix;
+        let mut margin = f32::INFINITY;
+        for k in 0..4 {
+            let w = m[(k, 0)];
+            if w <= 0.0 {
+                return f32::NEG_INFINITY;
+            }
+            let a: f32 = (0..3).map(|i| m[(k, i + 1)].abs() * tau[i]).sum();
+            margin = margin.min(hi - (w * t_hi + a)).min(w * t_lo - a - lo);
+        }
+        margin / (hi - lo)
+    }
+
     /// Whether the box `T ∈ [t_lo, t_hi]`, `|τ_i| ≤ tau_i` maps inside the rotor range, and by
     /// how much each axis falls short. Every corner of the box is checked through `M`
     /// (the map is linear, so the corners decide).
@@ -422,5 +444,32 @@ mod tests {
         // Single axis: roll alone up to 2 d (f_max − f_min), yaw alone 2 c (f_max − f_min).
         assert!((fit.torque_single_axis[0] - 2.0 * d * 3.0).abs() < 1e-4);
         assert!((fit.torque_single_axis[2] - 2.0 * c * 3.0).abs() < 1e-4);
+    }
+
+    /// Box margin: by hand for the symmetric X (every rotor's extremes are
+    /// `T/4 ± (τx/(4d) + τy/(4d) + τz/(4c))`), zero exactly when a corner touches a rotor limit,
+    /// and negative (consistently with `box_fit`) when the box does not fit.
+    #[test]
+    fn box_margin_by_hand() {
+        let m = mixer();
+        let d = 0.25f32 * core::f32::consts::FRAC_1_SQRT_2;
+        let c = 0.1f32;
+        let tau = Vector3::new(0.05f32, 0.04, 0.03);
+        let a = tau.x / (4.0 * d) + tau.y / (4.0 * d) + tau.z / (4.0 * c);
+        let (t_lo, t_hi) = (3.0f32, 6.0);
+        let hand = (3.0 - (t_hi / 4.0 + a)).min(t_lo / 4.0 - a) / 3.0;
+        let margin = m.box_margin(t_lo, t_hi, &tau);
+        assert!((margin - hand).abs() < 1e-5, "{margin} vs {hand}");
+        assert!(m.box_fit(t_lo, t_hi, &tau).fits && margin > 0.0);
+        // Raise T_hi until the top corner touches f_max: margin 0.
+        let t_touch = 4.0 * (3.0 - a);
+        assert!(m.box_margin(t_lo, t_touch, &tau).abs() < 1e-5);
+        // The paper's a-priori box does not fit: negative margin.
+        let paper = m.box_margin(3.512, 6.188, &Vector3::new(0.379, 0.446, 0.664));
+        assert!(paper < 0.0);
+        assert!(
+            !m.box_fit(3.512, 6.188, &Vector3::new(0.379, 0.446, 0.664))
+                .fits
+        );
     }
 }

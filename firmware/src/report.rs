@@ -126,13 +126,43 @@ pub enum Severity {
     Warn,
 }
 
-/// A condition that holds is informational; a violated one is a warning (the paper's conditions
-/// are sufficient, not necessary: the bounds are then not guaranteed, which is not a failure).
+/// A condition that holds is informational; a violated one is a warning: the bounds are then
+/// not guaranteed (the paper's conditions are sufficient, not necessary), and the pipeline
+/// refuses to arm ([`crate::pipeline::BootReport::gate`]) unless the build allows uncertified
+/// set-ups.
 pub fn condition_severity(c: &Condition<f32>) -> Severity {
     if c.holds {
         Severity::Info
     } else {
         Severity::Warn
+    }
+}
+
+/// A condition's margin `lhs / rhs` \[dimensionless\]: above 1 when a strict condition holds,
+/// and how far it is from binding (`+inf` when `rhs` is 0, e.g. `g > K_a3` on a hover).
+pub fn condition_ratio(c: &Condition<f32>) -> f32 {
+    c.lhs / c.rhs
+}
+
+/// The banner's verdict on the certificate: `"certificate holds"` when every condition holds.
+pub fn certificate_verdict(c: &Certificate<f32>) -> &'static str {
+    if c.violations().next().is_none() {
+        "certificate holds"
+    } else {
+        "certificate FAILS"
+    }
+}
+
+/// The banner's verdict on the box: `"box fits"` when the certified `(T, τ)` box leaves at
+/// least `required` of every rotor's range free (`margin` from
+/// [`crate::mixer::Mixer::box_margin`]); NaN fails.
+pub fn box_verdict(margin: f32, required: f32) -> &'static str {
+    if margin >= required {
+        "box fits"
+    } else if margin >= 0.0 {
+        "box fits WITHOUT the required margin"
+    } else {
+        "box does NOT fit"
     }
 }
 
@@ -330,5 +360,38 @@ mod tests {
         s.constants.jerk = -1.0;
         let r = refusal(&boot(s).certificate.unwrap_err());
         assert_eq!((r.name, r.value), ("K_j", -1.0));
+    }
+
+    /// The verdicts: the paper's certificate fails (Theorem 2 yaw) and its box does not fit;
+    /// the built x500 set-up's certificate holds and its box fits with the file's margin.
+    #[test]
+    #[cfg(not(feature = "uncertified-paper"))] // the default flight file's x500
+    fn verdicts() {
+        let paper = boot(Setup::paper()).certificate.unwrap();
+        assert_eq!(certificate_verdict(&paper), "certificate FAILS");
+        let yaw = paper
+            .conditions
+            .iter()
+            .find(|c| c.name == "theorem2.torque_max_yaw")
+            .unwrap();
+        assert!(condition_ratio(yaw) < 1.0);
+        assert_eq!(box_verdict(0.07, 0.05), "box fits");
+        assert_eq!(
+            box_verdict(0.02, 0.05),
+            "box fits WITHOUT the required margin"
+        );
+        assert_eq!(box_verdict(-0.1, 0.05), "box does NOT fit");
+        assert_eq!(box_verdict(f32::NAN, 0.05), "box does NOT fit");
+
+        let c = crate::config::FlightConfig::built();
+        let p = crate::pipeline::FlightPipeline::new(&c).unwrap();
+        let r = p.boot_report();
+        assert_eq!(certificate_verdict(&r.certificate), "certificate holds");
+        assert!(r
+            .certificate
+            .conditions
+            .iter()
+            .all(|c| condition_ratio(c) >= 1.0));
+        assert_eq!(box_verdict(r.box_margin, r.required_margin), "box fits");
     }
 }

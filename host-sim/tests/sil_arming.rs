@@ -30,7 +30,7 @@ fn pose(p: [f32; 3], q: [f32; 4]) -> Vec<u8> {
 }
 
 fn config() -> FlightConfig {
-    let mut c = FlightConfig::paper();
+    let mut c = FlightConfig::built();
     c.gyro_calibration_samples = 50;
     c
 }

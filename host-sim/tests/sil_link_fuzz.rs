@@ -62,7 +62,7 @@ proptest! {
         push_chunked(&mut d, &bytes, &chunks);
         let c = d.counters();
         prop_assert!(c.bytes_discarded as usize <= bytes.len());
-        let mut p = FlightPipeline::new(&FlightConfig::paper()).unwrap();
+        let mut p = FlightPipeline::new(&FlightConfig::built()).unwrap();
         for (k, c) in bytes.chunks(chunks[0]).enumerate() {
             p.on_link_bytes(c, k as u64 * 1000);
         }

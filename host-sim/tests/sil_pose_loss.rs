@@ -102,29 +102,39 @@ fn pose_loss_near_the_ground_disarms_on_the_ground() {
 }
 
 /// Pose rates and latency: at 300 Hz with 25 ms latency (configured in the firmware) and at
-/// 100 Hz with 5 % dropouts, the hover is held to a few millimetres and the estimate stays
-/// within millimetres of the truth.
+/// 100 Hz with 5 % dropouts, the hover is held to centimetres and the estimate stays within
+/// millimetres of the truth.
+///
+/// The hand launch releases the vehicle with its motors stopped (the x500's idle throttle is
+/// 0): the spin-up, `1.5 τ_m` of missing thrust, sinks it at `1.5 τ_m g` ≈ 0.37 m/s, a sag of
+/// about 0.7 m that the certified gains' output filter (`k_f` = 0.25/s: the slowest mode,
+/// `e^{-k_f t}`) removes in `ln(0.7 / 0.002) / k_f` ≈ 23 s after its peak near 3 s. So the
+/// hover is judged from 30 s on, against the 5 cm settling criterion of the SIL summary: the
+/// law has no integral action, so a constant unmodelled acceleration `δa` (IMU bias leaking
+/// through the velocity filter, pose latency) leaves an offset `δa / k_p`, 1 cm per 0.01 m/s²
+/// with the x500's `k_p` = 1/s², nine times the paper gains' (`k_p` = 9/s², for which this test
+/// asked 2 cm). Measured: about 2 cm at 100 Hz, 4 cm at 300 Hz with 25 ms latency.
 #[test]
 fn pose_rates_and_latency() {
     for (rate, latency, dropout) in [(300.0, 0.025, 0.02), (100.0, 0.010, 0.05)] {
         let mut setup = scenarios::pose_loss(11);
         setup.pose_outage = None;
-        setup.duration_s = 8.0;
+        setup.duration_s = 35.0;
         setup.mocap.rate_hz = rate;
         setup.mocap.latency_s = latency;
         setup.mocap.dropout = dropout;
         setup.flight.mocap_latency_us = (latency * 1e6) as u64;
         let (mut est, mut err) = (0.0f64, 0.0f64);
         let s = run(&setup, |r| {
-            if r.t_s > 5.0 {
+            if r.t_s > 30.0 {
                 est = est.max(r.estimate_error_m);
                 err = err.max(r.position_error_m);
             }
         })
         .unwrap();
         assert_eq!(s.final_state, "armed");
-        assert!(s.link_frames[0] as f64 > rate * 9.0 * (1.0 - dropout) * 0.95);
+        assert!(s.link_frames[0] as f64 > rate * 36.0 * (1.0 - dropout) * 0.95);
         assert!(est < 0.005, "{rate} Hz: estimate error {est}");
-        assert!(err < 0.02, "{rate} Hz: position error {err}");
+        assert!(err < 0.05, "{rate} Hz: position error {err}");
     }
 }

@@ -1,8 +1,10 @@
-//! Processor in the loop: the firmware built for Cortex-M4F (`firmware-mps2-an386`) runs in
-//! QEMU `mps2-an386` and flies SIL's paper scenario (the helix from upside down) over its
-//! emulated serial port, in lockstep with the plant. The same checks as host-sim's `sil_paper.rs` where
+//! Processor in the loop: the firmware built for Cortex-M4F (`firmware-mps2-an386`, the
+//! default build: firmware/flights/x500.toml) runs in QEMU `mps2-an386` and flies SIL's paper
+//! scenario (the x500 released upside down, then its demo mission) over its emulated serial
+//! port, in lockstep with the rotor plant. The same checks as host-sim's `sil_paper.rs` where
 //! the telemetry carries them, plus: the firmware neither crashed nor stalled (the stall
-//! timeout bounds the wall time) and its defmt log decodes and holds the boot certificate.
+//! timeout bounds the wall time) and its defmt log decodes and holds the boot banner: the x500,
+//! "certificate holds" and "box fits".
 //!
 //! Needs `qemu-system-arm` and the ELF: `PIL_FIRMWARE_ELF`, or the default path
 //! (`host_sim::harness::pil::default_elf`, i.e. `$CARGO_TARGET_DIR` or `target/`, then
@@ -16,7 +18,7 @@ use host_sim::harness::sil::{scenarios, FlightExtremes};
 
 #[test]
 #[ignore = "needs qemu-system-arm and the mps2-an386 firmware ELF; tests/run-all.sh builds both and runs it with --ignored"]
-fn paper_helix_on_the_emulated_mcu_converges_within_rotor_limits() {
+fn upside_down_recovery_on_the_emulated_mcu_stays_inside_the_certified_bounds() {
     let elf = std::env::var_os("PIL_FIRMWARE_ELF")
         .map(PathBuf::from)
         .unwrap_or_else(pil::default_elf);
@@ -32,8 +34,8 @@ fn paper_helix_on_the_emulated_mcu_converges_within_rotor_limits() {
     // The certificate the firmware computes at boot for the configuration it flies.
     let bounds = setup
         .a_priori_bounds()
-        .expect("the paper configuration boots");
-    let mut seen = FlightExtremes::new(25.0);
+        .expect("the built configuration boots");
+    let mut seen = FlightExtremes::new(10.0);
     // A crash, a stall (no answer within the timeout) or a lost lockstep is an error here.
     let s = pil::run(&setup, &options, |r| seen.observe(r))
         .unwrap_or_else(|e| panic!("PIL run failed: {e:#}"));
@@ -42,18 +44,12 @@ fn paper_helix_on_the_emulated_mcu_converges_within_rotor_limits() {
     // It really started upside down, and every tick was answered.
     assert!(seen.max_tilt_early_rad > 3.0, "{seen:?}");
     assert_eq!(seen.samples, 3151);
-    // Armed (explicit upside-down arm), flew the helix to the end, never failsafe.
+    // Armed (explicit upside-down arm), flew the mission to the end, never failsafe.
     assert_eq!(f.final_state, "armed", "{:#?}", f.events);
     assert!(f.failsafe_at_s.is_none(), "{:#?}", f.events);
-    // Converges: below 5 cm before 25 s, centimetres over the last 5 s.
-    let settled = f.below_5cm_from_s.expect("never below 5 cm");
-    assert!(settled < 25.0, "settled at {settled}");
-    assert!(seen.max_error_late_m < 0.02, "{seen:?}");
-    assert!(
-        f.final_position_error_m < 0.02,
-        "{}",
-        f.final_position_error_m
-    );
+    // Upright again from 10 s on: within the tilt the saturated position loop can ask for plus
+    // 0.05 rad (host-sim/tests/sil_paper.rs derives the envelope, 0.165 rad for the x500).
+    assert!(seen.max_tilt_late_rad < 0.215, "{seen:?}");
     // The (T, τ) rebuilt from the throttles stays inside the certificate's a-priori bounds.
     assert!(seen.inside(&bounds), "{seen:?} vs {bounds:?}");
     // Rotor limits held: throttles finite in [0, 1], nothing spinning while disarmed.
@@ -70,15 +66,22 @@ fn paper_helix_on_the_emulated_mcu_converges_within_rotor_limits() {
     assert_eq!(c.non_finite, 0, "{c:?}");
     assert_eq!(s.serial.malformed, 0, "{:?}", s.serial);
     assert!(f.telemetry_frames[0] > 6000, "{:?}", f.telemetry_frames);
-    // The certificate as in SIL.
-    assert_eq!(f.violated_conditions, ["theorem2.torque_max_yaw"]);
-    assert!(!f.a_priori_box_fits);
-    // The defmt log decodes and has the boot certificate line.
+    // Certified at boot, as in SIL.
+    assert!(f.certificate_holds, "{:?}", f.violated_conditions);
+    assert!(f.a_priori_box_fits && f.box_margin >= f.required_box_margin);
+    // The defmt boot banner: the vehicle, "certificate holds", "box fits".
     assert!(s.defmt_error.is_none(), "{:?}", s.defmt_error);
     assert_eq!(s.defmt_malformed, 0);
     let line = s.certificate_line.as_deref().expect("no certificate line");
-    assert!(line.contains("certificate:"), "{line}");
+    assert!(line.contains("certificate holds"), "{line}");
+    let line = s.box_line.as_deref().expect("no box-fit line");
+    assert!(
+        line.contains("box fits") && !line.contains("WITHOUT") && !line.contains("NOT"),
+        "{line}"
+    );
+    let line = s.vehicle_line.as_deref().expect("no vehicle line");
+    assert!(line.contains("x500"), "{line}");
     let log = std::fs::read_to_string(out.join("defmt.log")).unwrap();
-    assert!(log.contains("certificate:"));
+    assert!(log.contains("gate: certificate holds and box fits"));
     let _ = std::fs::remove_dir_all(&out);
 }

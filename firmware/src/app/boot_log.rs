@@ -1,6 +1,8 @@
-//! The boot banner as defmt lines: the set-up, its a-priori bound certificate (conditions that
-//! fail are warnings: the bounds are then not guaranteed), the mixer fit of the a-priori
-//! `(T, τ)` box, and refusals with the violated condition and its numbers.
+//! The boot banner as defmt lines: the flight file the firmware was built with (vehicle name and
+//! source, the `[design]` fields), the set-up, its a-priori bound certificate (every condition
+//! with `lhs`, `rhs` and their ratio; a failing one blocks arming), the mixer fit of the
+//! a-priori `(T, τ)` box with its margin, the verdicts `certificate holds` / `box fits`, and
+//! refusals with the violated condition and its numbers.
 
 use controller_core::{Certificate, ParameterError};
 use defmt::{error, info, warn};
@@ -45,27 +47,39 @@ pub fn log_certificate(certificate: &Result<Certificate<f32>, ParameterError>) {
     for cond in &c.conditions {
         match report::condition_severity(cond) {
             Severity::Info => info!(
-                "condition {=str}: holds = {=bool}, lhs = {=f32}, rhs = {=f32}",
-                cond.name, cond.holds, cond.lhs, cond.rhs
+                "condition {=str}: holds = {=bool}, lhs = {=f32}, rhs = {=f32}, \
+                 margin lhs/rhs = {=f32}",
+                cond.name,
+                cond.holds,
+                cond.lhs,
+                cond.rhs,
+                report::condition_ratio(cond)
             ),
             Severity::Warn => warn!(
-                "condition {=str}: holds = {=bool}, lhs = {=f32}, rhs = {=f32} ({=str}); \
-                 the bounds are not guaranteed",
-                cond.name, cond.holds, cond.lhs, cond.rhs, cond.statement
+                "condition {=str}: holds = {=bool}, lhs = {=f32}, rhs = {=f32}, \
+                 margin lhs/rhs = {=f32} ({=str}); the bounds are not guaranteed",
+                cond.name,
+                cond.holds,
+                cond.lhs,
+                cond.rhs,
+                report::condition_ratio(cond),
+                cond.statement
             ),
         }
     }
     let violated = c.violations().count();
     if violated == 0 {
         info!(
-            "certificate: all {=usize} conditions hold",
-            c.conditions.len()
+            "certificate: all {=usize} conditions hold: {=str}",
+            c.conditions.len(),
+            report::certificate_verdict(c)
         );
     } else {
-        warn!(
-            "certificate: {=usize} of {=usize} conditions violated",
+        error!(
+            "certificate: {=usize} of {=usize} conditions violated: {=str}",
             violated,
-            c.conditions.len()
+            c.conditions.len(),
+            report::certificate_verdict(c)
         );
     }
 }
@@ -96,10 +110,48 @@ pub fn log_boot_report(r: &BootReport) {
             f.torque_shortfall[i]
         );
     }
-    if f.fits {
-        info!("mixer fit: the a-priori (T, tau) box fits the rotors");
+    let verdict = report::box_verdict(r.box_margin, r.required_margin);
+    if r.box_margin >= r.required_margin {
+        info!(
+            "mixer fit: box margin {=f32} of the rotor range (required {=f32}): {=str}",
+            r.box_margin, r.required_margin, verdict
+        );
     } else {
-        warn!("mixer fit: the a-priori (T, tau) box does NOT fit the rotors (see shortfalls)");
+        error!(
+            "mixer fit: box margin {=f32} of the rotor range (required {=f32}): {=str} \
+             (see shortfalls)",
+            r.box_margin, r.required_margin, verdict
+        );
+    }
+    match r.gate {
+        Ok(_) => info!("gate: certificate holds and box fits; arming allowed"),
+        Err(f) => error!(
+            "gate: NOT certified: {=str} (lhs = {=f32}, rhs = {=f32}); arming refused unless \
+             the build allows uncertified set-ups",
+            f.condition, f.lhs, f.rhs
+        ),
+    }
+}
+
+/// Logs which flight file the firmware flies: vehicle name and source, the file, the
+/// `[design]` fields, and (loudly) whether this build may arm an uncertified set-up.
+pub fn log_identity(config: &crate::config::FlightConfig) {
+    let id = &config.identity;
+    info!("flight: vehicle {=str} ({=str})", id.name, id.source);
+    info!("flight: file {=str}", id.file);
+    for d in id.design {
+        info!("flight: design {=str} = {=str}", d.key, d.value);
+    }
+    info!(
+        "flight: design margin = {=f32} (box-fit headroom required, fraction of the rotor range)",
+        config.box_margin
+    );
+    if config.allow_uncertified {
+        error!(
+            "flight: UNCERTIFIED BUILD (feature uncertified-paper): this firmware arms set-ups \
+             whose certificate fails or whose box does not fit; the a-priori bounds are NOT \
+             guaranteed. Never fly it."
+        );
     }
 }
 
@@ -116,19 +168,19 @@ pub fn log_boot_error(e: &BootError) {
     }
 }
 
-/// Logs the set-up (`config` with the demo helix's constants), builds the pipeline and logs its
-/// boot report; on a refusal logs why and returns `None` (the board then keeps the motors
+/// Logs the flight file's identity and the set-up (`config` with its demo mission's constants),
+/// builds the pipeline and logs its boot report; on a refusal logs why and returns `None` (the board then keeps the motors
 /// stopped).
 pub fn build_pipeline(
     config: &crate::config::FlightConfig,
 ) -> Option<crate::pipeline::FlightPipeline> {
-    use controller_core::{ReferenceTrajectory, Trajectory};
-    info!("set-up: the paper's Section VI vehicle and gains; demo reference: its helix");
+    use controller_core::Trajectory;
+    log_identity(config);
     log_setup(&Setup {
         vehicle: config.vehicle,
         limits: config.limits,
         gains: config.gains,
-        constants: ReferenceTrajectory::<f32>::paper_helix().constants(),
+        constants: config.mission.constants(),
     });
     match crate::pipeline::FlightPipeline::new(config) {
         Ok(p) => {

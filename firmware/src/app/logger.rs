@@ -3,7 +3,7 @@
 
 use core::sync::atomic::Ordering;
 
-use defmt::{info, warn};
+use defmt::{error, info, warn};
 use embassy_futures::select::{select3, Either3};
 
 use super::queues::{Summary, EVENTS, IO, SUMMARY, TIMING};
@@ -83,13 +83,13 @@ fn log_event(event: &Event) {
             "event: reference refused: {=str} (lhs = {=f32}, rhs = {=f32})",
             condition, lhs, rhs
         ),
-        Event::ReferenceWarning {
+        Event::Uncertified {
             condition,
             lhs,
             rhs,
-        } => warn!(
-            "event: reference accepted, bounds not guaranteed: {=str} (lhs = {=f32}, \
-             rhs = {=f32})",
+        } => error!(
+            "event: UNCERTIFIED set-up accepted (uncertified-paper build): {=str} fails \
+             (lhs = {=f32}, rhs = {=f32}); the a-priori bounds are NOT guaranteed",
             condition, lhs, rhs
         ),
         Event::NonFinite { source } => warn!("event: non-finite value in {=str}", source),

@@ -1,9 +1,10 @@
 //! Commands from the ground station and the certificate gate. Each inbound MAVLink message
 //! (pose, command, hover setpoint, HIL sensor sample) is dispatched here; commands are
 //! answered with a `COMMAND_ACK` and refusals logged and sent as `STATUSTEXT`. A new reference
-//! (hold at arming, takeoff, land, setpoint, helix) is flown only if the a-priori bound
-//! certificate accepts its constants ([`FlightPipeline::accept`]: Assumption 1 and Theorem 1,
-//! Theorem 2 as configured) and the controller takes it.
+//! (hold at arming, takeoff, land, setpoint, demo mission) is flown only if every condition of
+//! the a-priori bound certificate holds for its constants and the certified `(T, τ)` box fits the
+//! rotors with the configured margin ([`FlightPipeline::accept`], [`super::gate`]), and the
+//! controller takes it; arming also needs the built set-up's own certificate (its demo mission).
 
 use controller_core::{certify, Controller, FilterStart, TrajectoryConstants};
 use mavlink::dialects::common::{MavResult, MavSeverity};
@@ -116,8 +117,11 @@ impl FlightPipeline {
         }
     }
 
-    /// Certificate gate for a new reference: refuses when an Assumption 1 or Theorem 1
-    /// condition fails (or Theorem 2 too if configured), or when the controller refuses it.
+    /// Certificate gate for a new reference: refuses it unless every certificate condition
+    /// holds (Assumption 1, Theorem 1, Lemma 1, Theorem 2) and the certified `(T, τ)` box fits
+    /// the rotors with the configured margin ([`super::gate::check`]), or when the controller
+    /// refuses it. With [`crate::config::FlightConfig::allow_uncertified`] (the
+    /// `uncertified-paper` build only) a failure is logged as [`Event::Uncertified`] instead.
     fn accept(&mut self, k: &TrajectoryConstants<f32>, start: FilterStart) -> Result<(), Refusal> {
         let c = &self.cfg;
         let cert = match certify(&c.vehicle, &c.limits, &c.gains, k, start) {
@@ -132,20 +136,18 @@ impl FlightPipeline {
                 });
             }
         };
-        let strict = c.safety.require_theorem2;
-        let mut warnings: heapless::Vec<(&'static str, f32, f32), 4> = heapless::Vec::new();
-        for cond in cert.violations() {
-            if cond.name.starts_with("theorem2") && !strict {
-                let _ = warnings.push((cond.name, cond.lhs, cond.rhs));
-            } else {
+        let warning = match super::gate::check(&cert, &self.mixer, c.box_margin) {
+            Ok(_) => None,
+            Err(f) if c.allow_uncertified => Some(f),
+            Err(f) => {
                 return Err(Refusal {
-                    reason: "reference infeasible (certificate)",
-                    condition: cond.name,
-                    lhs: cond.lhs,
-                    rhs: cond.rhs,
-                });
+                    reason: "reference not certified",
+                    condition: f.condition,
+                    lhs: f.lhs,
+                    rhs: f.rhs,
+                })
             }
-        }
+        };
         let controller = match self.controller.as_mut() {
             Some(ctl) => ctl,
             None => return Err(Self::simple("not armed")),
@@ -159,11 +161,11 @@ impl FlightPipeline {
                 rhs: r.high as f32,
             });
         }
-        for (condition, lhs, rhs) in warnings {
-            self.event(Event::ReferenceWarning {
-                condition,
-                lhs,
-                rhs,
+        if let Some(f) = warning {
+            self.event(Event::Uncertified {
+                condition: f.condition,
+                lhs: f.lhs,
+                rhs: f.rhs,
             });
         }
         Ok(())
@@ -226,6 +228,24 @@ impl FlightPipeline {
                 };
                 check_arm(&self.cfg.safety, state, &inputs)
                     .map_err(|r| Self::simple(r.reason()))?;
+                // The set-up the firmware was built with (its demo mission, filters at zero)
+                // must be certified before anything else is.
+                match self.report.gate {
+                    Ok(_) => {}
+                    Err(f) if self.cfg.allow_uncertified => self.event(Event::Uncertified {
+                        condition: f.condition,
+                        lhs: f.lhs,
+                        rhs: f.rhs,
+                    }),
+                    Err(f) => {
+                        return Err(Refusal {
+                            reason: "set-up not certified",
+                            condition: f.condition,
+                            lhs: f.lhs,
+                            rhs: f.rhs,
+                        })
+                    }
+                }
                 let est = est.ok_or_else(|| Self::simple("no estimate"))?;
                 let controller = Controller::new(
                     self.cfg.vehicle,
@@ -240,6 +260,7 @@ impl FlightPipeline {
                     est.position,
                     yaw,
                     self.table,
+                    self.cfg.mission,
                 );
                 // The hold reference (constants zero) must pass the gate too.
                 if let Err(r) = self.accept(&TrajectoryConstants::zero(), FilterStart::Zero) {

@@ -52,9 +52,11 @@ pub enum Event {
         /// Right-hand side.
         rhs: f32,
     },
-    /// A reference was accepted although a Theorem 2 condition fails (bounds not guaranteed;
-    /// the conditions are sufficient, not necessary).
-    ReferenceWarning {
+    /// An uncertified set-up or reference was accepted (only with
+    /// [`crate::config::FlightConfig::allow_uncertified`], the `uncertified-paper` build): the
+    /// first failing condition (or `box_fit.margin`) with both sides. The a-priori bounds are
+    /// not guaranteed, or the rotors cannot deliver them.
+    Uncertified {
         /// Condition name.
         condition: &'static str,
         /// Left-hand side.

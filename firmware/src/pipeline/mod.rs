@@ -18,6 +18,7 @@
 mod commands;
 mod events;
 mod failsafe;
+mod gate;
 mod landed;
 mod mission;
 mod telemetry;
@@ -25,6 +26,7 @@ mod telemetry;
 mod tests;
 
 pub use events::{Counters, Event, PipelineStatus};
+pub use gate::{box_margin, check as gate_check, GateFailure, BOX_FIT};
 pub use landed::{LandedDetector, LandedInputs};
 pub use mission::{Mode, ModeMachine};
 
@@ -83,14 +85,24 @@ pub enum BootError {
     Mixer(MixerError),
 }
 
-/// What the board logs at boot: the certificate of the demo mission (the paper's helix, filters
-/// starting at zero) and whether its a-priori `(T, τ)` box fits inside the rotors.
+/// What the board logs at boot: the certificate of the demo mission (the configured trajectory,
+/// filters starting at zero), whether its a-priori `(T, τ)` box fits inside the rotors and by
+/// how much, and the gate's verdict (arming needs it).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BootReport {
-    /// The a-priori bound certificate for the helix demo.
+    /// The a-priori bound certificate for the demo mission.
     pub certificate: Certificate<f32>,
     /// The certificate's box `[T_min, T_max] × Π[−τ_i, τ_i]` against the rotors.
     pub a_priori_fit: BoxFit,
+    /// The box's smallest headroom inside the rotors, a fraction of the rotor range
+    /// ([`crate::mixer::Mixer::box_margin`]; negative: it does not fit).
+    pub box_margin: f32,
+    /// The margin the configuration requires ([`FlightConfig::box_margin`]).
+    pub required_margin: f32,
+    /// The gate on this set-up: `Ok(margin)` when every condition holds and the box fits
+    /// with the required margin, else the first failure. Arming is refused on `Err` unless
+    /// [`FlightConfig::allow_uncertified`].
+    pub gate: Result<f32, GateFailure>,
     /// Total rotor thrust capacity `4 f_max` \[N\] (vs the configured `T_max`).
     pub thrust_capacity: f32,
 }
@@ -139,14 +151,19 @@ pub struct FlightPipeline {
 }
 
 impl FlightPipeline {
-    /// Builds the pipeline: certifies the helix demo, builds the mixer and checks the a-priori
+    /// Builds the pipeline: certifies the demo mission, builds the mixer and checks the a-priori
     /// box against the rotors. Errors: [`BootError`].
     pub fn new(config: &FlightConfig) -> Result<Self, BootError> {
         let cfg = *config;
         let mixer = Mixer::new(&cfg.rotors).map_err(BootError::Mixer)?;
         let table = SupTable::PRECOMPUTED;
-        let reference =
-            FlightReference::new(cfg.reference.smoothing_rate, Vector3::zeros(), 0.0, table);
+        let reference = FlightReference::new(
+            cfg.reference.smoothing_rate,
+            Vector3::zeros(),
+            0.0,
+            table,
+            cfg.mission,
+        );
         let certificate = certify(
             &cfg.vehicle,
             &cfg.limits,
@@ -163,6 +180,9 @@ impl FlightPipeline {
         let report = BootReport {
             certificate,
             a_priori_fit,
+            box_margin: gate::box_margin(&certificate, &mixer),
+            required_margin: cfg.box_margin,
+            gate: gate::check(&certificate, &mixer, cfg.box_margin),
             thrust_capacity: 4.0 * cfg.rotors.thrust_max,
         };
         let estimator = Estimator::new(EstimatorConfig {

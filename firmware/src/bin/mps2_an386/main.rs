@@ -177,7 +177,7 @@ mod mcu {
         core.DWT.enable_cycle_counter();
         time_driver::init(core.SYST);
 
-        let config = FlightConfig::paper();
+        let config = FlightConfig::built();
         if !start_control(&config, &mut core.NVIC) {
             error!("configuration refused; not flying");
             exit_failure();

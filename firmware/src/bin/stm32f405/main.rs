@@ -368,7 +368,7 @@ mod mcu {
         let mut motors = Motors::new(b.motors, pins::MOTOR_PROTOCOL);
         motors.stop().await;
 
-        let config = FlightConfig::paper();
+        let config = FlightConfig::built();
         if let Err(_motors) = start_control(&config, motors, b.iwdg) {
             // `_motors` stays alive and keeps the outputs at stop (DShot: no frame, line low;
             // PWM: 1000 us).

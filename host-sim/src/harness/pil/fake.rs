@@ -165,43 +165,58 @@ fn fly(mut setup: sil::SilSetup, fault: Fault) -> (Result<sil::SilSummary>, Vec<
     (s, records)
 }
 
-/// The paper's helix through the PIL protocol (FRD sensor frames, MAVLink both ways, the
-/// reconstruction of state, mode, reference and wrench from telemetry) flies as in SIL.
+/// The `helix` scenario (the built vehicle's demo mission from an upright start 4.1 m away)
+/// through the PIL protocol (FRD sensor frames, MAVLink both ways, the reconstruction of state,
+/// mode, reference and wrench from telemetry) flies as in SIL (host-sim/tests/sil_paper.rs:
+/// the same settling bound): certified at boot, converges, thrust inside the certificate's
+/// interval.
 #[test]
-fn paper_flight_through_the_pil_protocol_converges() {
-    let (s, records) = fly(scenarios::paper(1), Fault::None);
+fn helix_flight_through_the_pil_protocol_converges() {
+    let setup = scenarios::helix(1);
+    let bounds = setup.a_priori_bounds().unwrap();
+    let g = setup.flight.gains.position;
+    let (s, records) = fly(setup, Fault::None);
     let s = s.unwrap();
-    assert_eq!(records.len(), 3151);
-    assert!(records.iter().take(50).any(|r| r.tilt_rad > 3.0));
+    assert!(s.certificate_holds && s.box_margin >= s.required_box_margin);
+    assert_eq!(records.len(), 3151); // `fly` stops at 30 s
     assert_eq!(s.final_state, "armed", "{:#?}", s.events);
     assert!(s
         .events
         .iter()
         .any(|(_, e)| e.contains("disarmed -> armed")));
     assert!(s.events.iter().any(|(_, e)| e == "mode helix"));
+    let expected =
+        2.0 * (4.1 / f64::from(g.saturation)).sqrt() + (4.1f64 / 0.05).ln() / f64::from(g.kf);
     let settled = s.below_5cm_from_s.expect("never below 5 cm");
-    assert!(settled < 25.0, "{settled}");
+    assert!(settled < expected, "{settled} vs {expected}");
     assert!(
-        s.final_position_error_m < 0.02,
+        s.final_position_error_m < 0.05,
         "{}",
         s.final_position_error_m
     );
     assert_eq!(s.throttle_violations, 0);
     assert_eq!(s.spun_while_disarmed, 0);
     assert_eq!(s.telemetry_frames[1], 0);
-    // Thrust and torque rebuilt from the throttles stay inside the a-priori box.
+    // Thrust rebuilt from the throttles stays inside the a-priori thrust interval.
     let flying = records.iter().filter(|r| r.t_s > 0.0);
     let (lo, hi) = flying.fold((f64::INFINITY, 0.0f64), |(lo, hi), r| {
         (lo.min(r.thrust_N), hi.max(r.thrust_N))
     });
-    assert!(lo > 3.5 && hi < 6.19, "{lo} {hi}");
+    assert!(
+        lo >= f64::from(bounds.thrust_min) && hi <= f64::from(bounds.thrust_max),
+        "{lo} {hi} vs {bounds:?}"
+    );
     // The 20 Hz estimate is compared with the truth at its own time.
     let est: Vec<f64> = records
         .iter()
         .filter(|r| r.t_s > 10.0)
         .map(|r| r.estimate_error_m)
         .collect();
-    assert!(est.iter().all(|e| e.is_finite() && *e < 0.01), "{est:?}");
+    assert!(
+        est.iter().all(|e| e.is_finite() && *e < 0.01),
+        "{:?}",
+        est.iter().fold(0.0f64, |m, e| m.max(*e))
+    );
 }
 
 #[test]

@@ -124,8 +124,14 @@ pub struct PilSummary {
     pub defmt_malformed: usize,
     /// Why the defmt log could not be decoded (`None`: decoded).
     pub defmt_error: Option<String>,
-    /// The boot certificate line of the log (`certificate: …`), if present.
+    /// The boot certificate line of the log (`certificate: …`, ending in the verdict
+    /// `certificate holds` or `certificate FAILS`), if present.
     pub certificate_line: Option<String>,
+    /// The boot banner's box-fit line (`mixer fit: box margin …`, ending in the verdict `box
+    /// fits`, `box fits WITHOUT the required margin` or `box does NOT fit`), if present.
+    pub box_line: Option<String>,
+    /// The boot banner's vehicle line (`flight: vehicle <name> (<source>)`), if present.
+    pub vehicle_line: Option<String>,
 }
 
 /// Flies `setup` on the firmware in QEMU (`options`), calling `observe` for every tick, then
@@ -209,6 +215,14 @@ pub fn run(
         defmt_malformed: malformed,
         defmt_error,
         certificate_line: lines.iter().find(|l| l.contains("certificate:")).cloned(),
+        box_line: lines
+            .iter()
+            .find(|l| l.contains("mixer fit: box margin"))
+            .cloned(),
+        vehicle_line: lines
+            .iter()
+            .find(|l| l.contains("flight: vehicle"))
+            .cloned(),
     })
 }
 
@@ -249,6 +263,12 @@ pub fn human_summary(s: &PilSummary) -> String {
         s.certificate_line
             .as_deref()
             .unwrap_or("no certificate line")
+    );
+    let _ = writeln!(
+        o,
+        "  {}; {}",
+        s.vehicle_line.as_deref().unwrap_or("no vehicle line"),
+        s.box_line.as_deref().unwrap_or("no box-fit line")
     );
     if s.firmware_counters.is_none() {
         let _ = writeln!(

@@ -19,6 +19,11 @@ pub struct FlightExtremes {
     pub max_tilt_early_rad: f64,
     /// Largest position error from `late_from_s` on \[m\].
     pub max_error_late_m: f64,
+    /// Largest tilt from `late_from_s` on \[rad\] (the attitude has recovered when it stays
+    /// within what the saturated position loop can ask for).
+    pub max_tilt_late_rad: f64,
+    /// Lowest height `z` after release \[m\] (z up): with the start height, the altitude lost.
+    pub lowest_z_m: f64,
     /// Smallest and largest allocated thrust after release \[N\].
     pub thrust_range_n: (f64, f64),
     /// Largest allocated `|τ_i|` per body axis after release \[N m\].
@@ -33,6 +38,8 @@ impl FlightExtremes {
             samples: 0,
             max_tilt_early_rad: 0.0,
             max_error_late_m: 0.0,
+            max_tilt_late_rad: 0.0,
+            lowest_z_m: f64::INFINITY,
             thrust_range_n: (f64::INFINITY, 0.0),
             torque_max_nm: [0.0; 3],
         }
@@ -46,8 +53,10 @@ impl FlightExtremes {
         }
         if r.t_s > self.late_from_s {
             self.max_error_late_m = self.max_error_late_m.max(r.position_error_m);
+            self.max_tilt_late_rad = self.max_tilt_late_rad.max(r.tilt_rad);
         }
         if r.t_s > 0.0 {
+            self.lowest_z_m = self.lowest_z_m.min(r.z_m);
             let (low, high) = self.thrust_range_n;
             self.thrust_range_n = (low.min(r.thrust_N), high.max(r.thrust_N));
             for (m, t) in

@@ -6,7 +6,9 @@
 //!   frame from the firmware's encoder, delivered in random chunks to the firmware's decoder
 //!   ([`sensors::MocapModel`]);
 //! - ground-station commands as MAVLink frames too;
-//! - motors: throttle → thrust through the vehicle's curve, first-order lag, per-rotor limits;
+//! - motors: throttle → thrust through the vehicle's curve, first-order lag on rotor speed
+//!   (the flight's airframe's motor time constant unless the scenario sets one), per-rotor
+//!   limits;
 //!   the plant ([`crate::plant`]) is driven by the four rotor thrusts through the mixer's
 //!   effectiveness matrix (the same geometry the firmware allocates with);
 //! - optionally a flat ground (contact stops the body) for takeoff and landing.
@@ -40,7 +42,9 @@ use serde::Serialize;
 use crate::plant::{PlantInput, RigidBody};
 use sensors::Rng;
 
-/// Motors: throttle → thrust through the vehicle's curve (0 when stopped), first-order lag,
+/// Motors: throttle → commanded thrust through the vehicle's curve (0 when stopped), then a
+/// first-order lag on rotor *speed* (thrust ∝ speed², as RotorPy's and PX4's Gazebo motor
+/// models): with `s = √f`, `ṡ = (√f_cmd − s)/τ_m`, stepped exactly over each plant substep;
 /// per-rotor limits.
 #[derive(Clone, Copy, Debug)]
 struct Motors {
@@ -58,8 +62,9 @@ impl Motors {
             } else {
                 0.0
             };
-            self.thrust[k] += (target - self.thrust[k]) * alpha;
-            self.thrust[k] = self.thrust[k].clamp(0.0, f64::from(r.thrust_max));
+            let speed = self.thrust[k].max(0.0).sqrt();
+            let speed = speed + (target.max(0.0).sqrt() - speed) * alpha;
+            self.thrust[k] = (speed * speed).clamp(0.0, f64::from(r.thrust_max));
         }
     }
 }
@@ -302,6 +307,10 @@ pub fn fly(
     let mut summary = SilSummary {
         scenario: setup.name.clone(),
         seed: setup.seed,
+        vehicle: cfg.identity.name.to_string(),
+        certificate_holds: boot.certificate.violations().next().is_none(),
+        box_margin: f64::from(boot.box_margin),
+        required_box_margin: f64::from(boot.required_margin),
         a_priori_box_fits: boot.a_priori_fit.fits,
         a_priori_box_shortfall: {
             let f = &boot.a_priori_fit;

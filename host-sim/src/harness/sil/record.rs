@@ -73,6 +73,17 @@ pub struct SilSummary {
     pub scenario: String,
     /// Seed.
     pub seed: u64,
+    /// The flown configuration's vehicle name (the flight file's `[vehicle] name`).
+    pub vehicle: String,
+    /// Whether every condition of the boot certificate holds (the firmware's boot banner:
+    /// "certificate holds").
+    pub certificate_holds: bool,
+    /// The a-priori box's smallest headroom inside the rotors, a fraction of the rotor range
+    /// (negative: it does not fit).
+    pub box_margin: f64,
+    /// The margin the configuration requires (the banner says "box fits" when
+    /// `box_margin >= required_box_margin`).
+    pub required_box_margin: f64,
     /// Whether the certificate's a-priori `(T, τ)` box fits inside the rotors.
     pub a_priori_box_fits: bool,
     /// Shortfall of that box per axis: thrust below/above \[N\], then torque x, y, z [N m].
@@ -125,7 +136,16 @@ pub struct SilSummary {
 pub fn human_summary(s: &SilSummary) -> String {
     use std::fmt::Write;
     let mut o = String::new();
-    let _ = writeln!(o, "SIL scenario {} (seed {})", s.scenario, s.seed);
+    let _ = writeln!(
+        o,
+        "SIL scenario {} (seed {}), vehicle {}",
+        s.scenario, s.seed, s.vehicle
+    );
+    let _ = writeln!(
+        o,
+        "  boot: certificate holds: {}; box margin {:.4} of the rotor range (required {:.4})",
+        s.certificate_holds, s.box_margin, s.required_box_margin
+    );
     let _ = writeln!(
         o,
         "  a-priori (T, tau) box inside the rotors: {}{}",

@@ -3,10 +3,14 @@
 //! Units are in the key names, unknown keys are refused, and every error names the file, the
 //! key and the reason. A scenario file holds:
 //!
-//! - `flight = "paper"`: the firmware's configuration, `FlightConfig::paper()` (the only one);
+//! - `flight = "built" | "paper"` (default `"built"`): the firmware's configuration.
+//!   `"built"` is `FlightConfig::built()`, the flight file the firmware crate was built with
+//!   (`FIRMWARE_FLIGHT_FILE`, default `firmware/flights/x500.toml`), flown on that file's
+//!   airframe; `"paper"` is `FlightConfig::paper()` with `allow_uncertified` set (as the
+//!   `uncertified-paper` build flies it: its certificate fails and its box does not fit);
 //! - `pose_message = "odometry" | "att_pos_mocap"`: the MAVLink message carrying the poses;
-//! - `motor_time_constant_s`, `hold_s` (held still before the release), `duration_s` (after
-//!   it), optional `ground_z_m` (flat ground, z up; none if absent) and `pose_outage_s =
+//! - optional `motor_time_constant_s` (the lag of each rotor's speed; default: the flight's
+//!   airframe's), `hold_s` (held still before the release), `duration_s` (after it), optional `ground_z_m` (flat ground, z up; none if absent) and `pose_outage_s =
 //!   [start, end)` (no pose sent; `inf` allowed);
 //! - `[initial]`: either `scenario = "paper"`, the `[initial]` state of the paper's scenario
 //!   (`host-sim/scenarios/paper.toml`; a file read from disk may also name another scenario
@@ -22,6 +26,7 @@
 use std::path::Path;
 
 use anyhow::{anyhow, Result};
+use firmware::airframe::Airframe;
 use firmware::config::FlightConfig;
 use firmware::ground_station;
 use firmware::link::mavlink::dialects::common::MavMessage;
@@ -46,9 +51,11 @@ const SENSORS_ORIGIN: &str = "host-sim/scenarios/sil/sensors.toml";
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ScenarioFile {
+    #[serde(default)]
     flight: FlightName,
     pose_message: PoseMessageName,
-    motor_time_constant_s: f64,
+    #[serde(default)]
+    motor_time_constant_s: Option<f64>,
     hold_s: f64,
     duration_s: f64,
     #[serde(default)]
@@ -65,10 +72,13 @@ struct ScenarioFile {
 }
 
 /// `flight`: the firmware configuration flown.
-#[derive(Clone, Copy, Debug, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, Deserialize)]
 #[serde(rename_all = "snake_case")]
 enum FlightName {
-    /// `FlightConfig::paper()`.
+    /// `FlightConfig::built()` on `FlightConfig::built_airframe()`.
+    #[default]
+    Built,
+    /// `FlightConfig::paper()` (uncertified, allowed to arm) on `Airframe::paper()`.
     Paper,
 }
 
@@ -363,8 +373,15 @@ fn build(
     name: &str,
     seed: u64,
 ) -> Result<SilSetup, String> {
-    let flight = match file.flight {
-        FlightName::Paper => FlightConfig::paper(),
+    let (flight, airframe) = match file.flight {
+        FlightName::Built => (FlightConfig::built(), FlightConfig::built_airframe()),
+        FlightName::Paper => (
+            FlightConfig {
+                allow_uncertified: true,
+                ..FlightConfig::paper()
+            },
+            Airframe::paper(),
+        ),
     };
     let message = match file.pose_message {
         PoseMessageName::Odometry => PoseMessage::Odometry,
@@ -372,7 +389,10 @@ fn build(
     };
     let imu = shared.imu.overlay(file.imu).model()?;
     let mocap = shared.mocap.overlay(file.mocap).model(message)?;
-    positive("motor_time_constant_s", file.motor_time_constant_s)?;
+    let motor_time_constant_s = file
+        .motor_time_constant_s
+        .unwrap_or(f64::from(airframe.motor_time_constant_s));
+    positive("motor_time_constant_s", motor_time_constant_s)?;
     non_negative("hold_s", file.hold_s)?;
     positive("duration_s", file.duration_s)?;
     if let Some(z) = file.ground_z_m {
@@ -398,7 +418,7 @@ fn build(
         flight,
         imu,
         mocap,
-        motor_time_constant_s: file.motor_time_constant_s,
+        motor_time_constant_s,
         initial,
         hold_s: file.hold_s,
         duration_s: file.duration_s,
@@ -451,15 +471,15 @@ mod tests {
 
     #[test]
     fn missing_and_wrong_values_are_named() {
-        let e = refused(&TAKEOFF_LAND.replace("duration_s = 20.0", ""));
+        let e = refused(&TAKEOFF_LAND.replace("duration_s = 50.0", ""));
         assert_names(&e, &["bad.toml", "duration_s"]);
-        let e = refused(&TAKEOFF_LAND.replace("duration_s = 20.0", "duration_s = -1.0"));
+        let e = refused(&TAKEOFF_LAND.replace("duration_s = 50.0", "duration_s = -1.0"));
         assert_names(&e, &["bad.toml", "duration_s", "> 0", "-1"]);
         let e = refused(&TAKEOFF_LAND.replace("hold_s = 1.5", "hold_s = \"long\""));
         assert_names(&e, &["bad.toml", "hold_s"]);
         let e = refused(&TAKEOFF_LAND.replace("\"att_pos_mocap\"", "\"vicon\""));
         assert_names(&e, &["bad.toml", "pose_message", "vicon"]);
-        let e = refused(&TAKEOFF_LAND.replace("flight = \"paper\"", "flight = \"racer\""));
+        let e = refused(&TAKEOFF_LAND.replace("flight = \"built\"", "flight = \"racer\""));
         assert_names(&e, &["bad.toml", "flight", "racer"]);
         let e = refused(&format!("{TAKEOFF_LAND}\n[mocap]\ndropout = 1.5\n"));
         assert_names(&e, &["bad.toml", "mocap.dropout", "[0, 1]", "1.5"]);
@@ -488,11 +508,10 @@ mod tests {
             "position_m = [0.0, 0.0, 0.0]\nscenario = \"paper\"",
         ));
         assert_names(&e, &["bad.toml", "initial", "not both"]);
-        let paper = include_str!(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/scenarios/sil/paper.toml"
+        let e = refused(&TAKEOFF_LAND.replace(
+            "position_m = [0.0, 0.0, 0.0]\neuler_rad = [0.0, 0.0, 0.5]",
+            "scenario = \"other.toml\"",
         ));
-        let e = refused(&paper.replace("scenario = \"paper\"", "scenario = \"other.toml\""));
         assert_names(&e, &["bad.toml", "initial.scenario", "other.toml"]);
     }
 
@@ -504,5 +523,34 @@ mod tests {
         assert_eq!(s.imu.gyro_noise, 3e-3);
         assert_eq!(s.mocap.latency_s, 0.02);
         assert_eq!(s.mocap.rate_hz, 100.0);
+    }
+
+    /// `flight` defaults to the built flight file and `motor_time_constant_s` to its
+    /// airframe's; `flight = "paper"` is the paper's set-up, allowed to arm uncertified, with
+    /// the paper airframe's time constant; an explicit time constant wins.
+    #[test]
+    fn flight_and_motor_lag_default_to_the_built_airframe() {
+        let s = parse(TAKEOFF_LAND, "t.toml", None, "t", 1).unwrap();
+        assert_eq!(s.flight, FlightConfig::built());
+        let tau = FlightConfig::built_airframe().motor_time_constant_s;
+        assert_eq!(s.motor_time_constant_s, f64::from(tau));
+        let text = TAKEOFF_LAND.replace("flight = \"built\"", "flight = \"paper\"");
+        let s = parse(&text, "t.toml", None, "t", 1).unwrap();
+        assert!(s.flight.allow_uncertified);
+        assert_eq!(s.flight.vehicle, FlightConfig::paper().vehicle);
+        assert_eq!(
+            s.motor_time_constant_s,
+            f64::from(Airframe::paper().motor_time_constant_s)
+        );
+        let text = TAKEOFF_LAND.replace(
+            "flight = \"built\"",
+            "flight = \"built\"\nmotor_time_constant_s = 0.05",
+        );
+        assert_eq!(
+            parse(&text, "t.toml", None, "t", 1)
+                .unwrap()
+                .motor_time_constant_s,
+            0.05
+        );
     }
 }

@@ -11,10 +11,10 @@ use super::scenario_file;
 use super::setup::SilSetup;
 
 /// The scenario names the CLI accepts.
-pub const NAMES: [&str; 3] = ["paper", "pose-loss", "takeoff-land"];
+pub const NAMES: [&str; 4] = ["paper", "pose-loss", "takeoff-land", "helix"];
 
 /// The embedded scenario files, by name (same order as [`NAMES`]).
-const FILES: [&str; 3] = [
+const FILES: [&str; 4] = [
     include_str!(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenarios/sil/paper.toml"
@@ -26,6 +26,10 @@ const FILES: [&str; 3] = [
     include_str!(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenarios/sil/takeoff-land.toml"
+    )),
+    include_str!(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/sil/helix.toml"
     )),
 ];
 
@@ -69,10 +73,10 @@ pub fn load(name_or_path: &str, seed: u64) -> Result<SilSetup> {
     )
 }
 
-/// Scenario `paper` (`host-sim/scenarios/sil/paper.toml`): the paper's Section VI flight from
-/// its upside-down start, held still 1.5 s for calibration, then released while the ground
-/// station sends an explicit upside-down arm and the helix mission; 30 s with realistic
-/// sensors.
+/// Scenario `paper` (`host-sim/scenarios/sil/paper.toml`): the paper's Section VI manoeuvre on
+/// the built vehicle (`FlightConfig::built()`): released upside down 4.1 m from the demo
+/// mission's start, held still 1.5 s for calibration, then released while the ground station
+/// sends an explicit upside-down arm and the mission; 30 s with realistic sensors.
 pub fn paper(seed: u64) -> SilSetup {
     embedded(0, seed)
 }
@@ -87,6 +91,12 @@ pub fn pose_loss(seed: u64) -> SilSetup {
 /// ground to 1 m, a hover target, landing and the automatic disarm.
 pub fn takeoff_land(seed: u64) -> SilSetup {
     embedded(2, seed)
+}
+
+/// Scenario `helix` (`host-sim/scenarios/sil/helix.toml`): the built flight's demo mission
+/// from an upright start 4.1 m away with a 100° heading error; 60 s.
+pub fn helix(seed: u64) -> SilSetup {
+    embedded(3, seed)
 }
 
 fn embedded(i: usize, seed: u64) -> SilSetup {
@@ -200,14 +210,26 @@ mod tests {
         }
     }
 
+    /// The built flight's motor time constant \[s\] (what the files leave to the airframe).
+    fn built_tau() -> f64 {
+        f64::from(FlightConfig::built_airframe().motor_time_constant_s)
+    }
+
     fn old_paper(seed: u64) -> SilSetup {
         SilSetup {
             name: "paper".into(),
-            flight: FlightConfig::paper(),
+            flight: FlightConfig::built(),
             imu: imu(),
             mocap: mocap(PoseMessage::Odometry),
-            motor_time_constant_s: 0.02,
-            initial: Scenario::paper().initial_state(),
+            motor_time_constant_s: built_tau(),
+            initial: at_rest(
+                Vector3::new(3.0, 2.0, 6.0),
+                UnitQuaternion::from_euler_angles(
+                    (-179.0f64).to_radians(),
+                    0.0,
+                    100.0f64.to_radians(),
+                ),
+            ),
             hold_s: 1.5,
             duration_s: 30.0,
             commands: vec![(0.0, arm(true)), (0.0, mission_start())],
@@ -217,13 +239,33 @@ mod tests {
         }
     }
 
+    fn old_helix(seed: u64) -> SilSetup {
+        SilSetup {
+            name: "helix".into(),
+            flight: FlightConfig::built(),
+            imu: imu(),
+            mocap: mocap(PoseMessage::Odometry),
+            motor_time_constant_s: built_tau(),
+            initial: at_rest(
+                Vector3::new(3.0, 2.0, 6.0),
+                UnitQuaternion::from_euler_angles(0.0, 0.0, 100.0f64.to_radians()),
+            ),
+            hold_s: 1.5,
+            duration_s: 60.0,
+            commands: vec![(0.0, arm(false)), (0.0, mission_start())],
+            pose_outage: None,
+            seed,
+            ground_z: None,
+        }
+    }
+
     fn old_pose_loss(seed: u64) -> SilSetup {
         SilSetup {
             name: "pose-loss".into(),
-            flight: FlightConfig::paper(),
+            flight: FlightConfig::built(),
             imu: imu(),
             mocap: mocap(PoseMessage::AttPosMocap),
-            motor_time_constant_s: 0.02,
+            motor_time_constant_s: built_tau(),
             initial: at_rest(Vector3::new(0.0, 0.0, 2.0), UnitQuaternion::identity()),
             hold_s: 1.5,
             duration_s: 10.0,
@@ -237,21 +279,21 @@ mod tests {
     fn old_takeoff_land(seed: u64) -> SilSetup {
         SilSetup {
             name: "takeoff-land".into(),
-            flight: FlightConfig::paper(),
+            flight: FlightConfig::built(),
             imu: imu(),
             mocap: mocap(PoseMessage::AttPosMocap),
-            motor_time_constant_s: 0.02,
+            motor_time_constant_s: built_tau(),
             initial: at_rest(
                 Vector3::zeros(),
                 UnitQuaternion::from_euler_angles(0.0, 0.0, 0.5),
             ),
             hold_s: 1.5,
-            duration_s: 20.0,
+            duration_s: 50.0,
             commands: vec![
                 (0.0, arm(false)),
                 (0.2, takeoff(1.0)),
-                (5.0, setpoint_nwu(Vector3::new(1.0, 0.5, 1.2), 1.0)),
-                (10.0, land()),
+                (15.0, setpoint_nwu(Vector3::new(1.0, 0.5, 1.2), 1.0)),
+                (30.0, land()),
             ],
             pose_outage: None,
             seed,
@@ -266,6 +308,7 @@ mod tests {
                 (paper(seed), old_paper(seed)),
                 (pose_loss(seed), old_pose_loss(seed)),
                 (takeoff_land(seed), old_takeoff_land(seed)),
+                (helix(seed), old_helix(seed)),
             ];
             for (new, old) in pairs {
                 assert_eq!(format!("{new:?}"), format!("{old:?}"), "{}", old.name);
@@ -302,13 +345,25 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("sil-scenario-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("start.toml"), crate::scenario::PAPER_SCENARIO).unwrap();
-        let text = FILES[0].replace("scenario = \"paper\"", "scenario = \"start.toml\"");
+        // The paper scenario with its start read from a scenario file next to it.
+        let text: String = FILES[0]
+            .lines()
+            .filter(|l| !l.starts_with("euler_rad"))
+            .map(|l| {
+                if l.starts_with("position_m") {
+                    "scenario = \"start.toml\"\n".to_string()
+                } else {
+                    format!("{l}\n")
+                }
+            })
+            .collect();
         let path = dir.join("my-run.toml");
         std::fs::write(&path, text).unwrap();
         let s = load(path.to_str().unwrap(), 3).unwrap();
         assert_eq!(s.name, "my-run");
         let mut old = old_paper(3);
         old.name = "my-run".into();
+        old.initial = Scenario::paper().initial_state();
         assert_eq!(format!("{s:?}"), format!("{old:?}"));
         let e = load(dir.join("missing.toml").to_str().unwrap(), 3).unwrap_err();
         assert!(format!("{e:#}").contains("unknown SIL scenario"), "{e:#}");

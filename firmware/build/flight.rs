@@ -1,0 +1,419 @@
+//! The build's flight file (`FIRMWARE_FLIGHT_FILE`, default `firmware/flights/x500.toml`):
+//! the vehicle file tables (`[vehicle]`, `[rotors]`, optional `[drag]`, parsed and checked by
+//! the shared `vehicle_file` module) plus `[limits]`, `[gains]`, `[trajectory]` (the certified
+//! demo mission, scenario syntax) and `[design]` (free-text fields and the box-fit `margin`).
+//! Written to `OUT_DIR/flight.rs` as Rust source, which `src/built_flight.rs` includes.
+//!
+//! Every error panics with the file, the key and the reason: a build must not quietly fly
+//! something else than the file it was given.
+
+use std::collections::BTreeMap;
+use std::env;
+use std::fmt::Write as _;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use crate::vehicle_file::VehicleFile;
+
+/// The environment variable naming the flight file.
+const ENV: &str = "FIRMWARE_FLIGHT_FILE";
+
+/// `[limits]` (as in a scenario file).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+struct LimitsTable {
+    thrust_max_N: f64,
+    torque_max_Nm: [f64; 3],
+}
+
+/// `[gains]`, Table I names (as in a scenario file).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+struct GainsTable {
+    kp: f64,
+    kv: f64,
+    kf: f64,
+    ks: f64,
+    k_theta: f64,
+    k_omega: f64,
+    M_p: f64,
+    M_theta: f64,
+    M_omega: f64,
+    delta: f64,
+    alpha: f64,
+}
+
+/// `[trajectory]` (scenario syntax), tagged by `kind`.
+#[derive(Debug, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum TrajectoryTable {
+    Hover {
+        point_m: [f64; 3],
+        #[serde(default)]
+        heading: HeadingTable,
+    },
+    Helix {
+        center_m: [f64; 3],
+        radius_m: f64,
+        vertical_amplitude_m: f64,
+        frequency_rad_s: f64,
+        #[serde(default)]
+        heading: HeadingTable,
+    },
+    FigureEight {
+        center_m: [f64; 3],
+        x_amplitude_m: f64,
+        y_amplitude_m: f64,
+        frequency_rad_s: f64,
+        #[serde(default)]
+        heading: HeadingTable,
+    },
+}
+
+/// `[trajectory.heading]`, tagged by `kind`.
+#[derive(Debug, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum HeadingTable {
+    Constant {
+        yaw_rad: f64,
+    },
+    Sinusoidal {
+        amplitude_rad: f64,
+        frequency_rad_s: f64,
+        #[serde(default)]
+        offset_rad: f64,
+    },
+}
+
+impl Default for HeadingTable {
+    fn default() -> Self {
+        Self::Constant { yaw_rad: 0.0 }
+    }
+}
+
+/// The flight file's own tables; `[design]` is free text except `margin`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FlightTables {
+    limits: LimitsTable,
+    gains: GainsTable,
+    trajectory: TrajectoryTable,
+    #[serde(default)]
+    design: BTreeMap<String, toml::Value>,
+}
+
+/// The box-fit margin when `[design]` has none: 5 % of each rotor's thrust range.
+const DEFAULT_MARGIN: f64 = 0.05;
+
+/// The setpoint filter's bandwidth λ [1/s] when `[design]` has no `smoothing_rate_per_s`:
+/// the filter's Assumption 1 constants grow as λ³ (jerk) and λ⁴ (snap), and Theorem 2's
+/// torque bound with them, so a slow filter is what an unknown design can most likely certify
+/// for setpoints of a metre or so (the gate refuses what it cannot).
+const DEFAULT_SMOOTHING_RATE: f64 = 0.5;
+
+fn fail(file: &str, key: &str, reason: impl std::fmt::Display) -> ! {
+    panic!("flight file {file}: {key}: {reason}")
+}
+
+/// The `f32` the firmware flies (`x as f32`, as host-sim converts the same file), printed as
+/// the shortest decimal that gives that `f32` back.
+fn lit(x: f64) -> String {
+    format!("{:?}f32", x as f32)
+}
+
+fn vec3(v: [f64; 3]) -> String {
+    format!(
+        "nalgebra::Vector3::new({}, {}, {})",
+        lit(v[0]),
+        lit(v[1]),
+        lit(v[2])
+    )
+}
+
+fn finite(file: &str, key: &str, values: &[f64]) {
+    if let Some(v) = values.iter().find(|v| !v.is_finite()) {
+        fail(file, key, format!("{v} is not finite"));
+    }
+}
+
+fn heading_source(file: &str, h: &HeadingTable) -> String {
+    match *h {
+        HeadingTable::Constant { yaw_rad } => {
+            finite(file, "trajectory.heading.yaw_rad", &[yaw_rad]);
+            format!(
+                "controller_core::HeadingProfile::Constant {{ yaw: {} }}",
+                lit(yaw_rad)
+            )
+        }
+        HeadingTable::Sinusoidal {
+            amplitude_rad,
+            frequency_rad_s,
+            offset_rad,
+        } => {
+            finite(
+                file,
+                "trajectory.heading",
+                &[amplitude_rad, frequency_rad_s, offset_rad],
+            );
+            format!(
+                "controller_core::HeadingProfile::Sinusoidal {{ amplitude: {}, frequency: {}, \
+                 offset: {} }}",
+                lit(amplitude_rad),
+                lit(frequency_rad_s),
+                lit(offset_rad)
+            )
+        }
+    }
+}
+
+fn trajectory_source(file: &str, t: &TrajectoryTable) -> String {
+    match t {
+        TrajectoryTable::Hover { point_m, heading } => {
+            finite(file, "trajectory.point_m", point_m);
+            format!(
+                "controller_core::ReferenceTrajectory::Hover {{ point: {}, heading: {} }}",
+                vec3(*point_m),
+                heading_source(file, heading)
+            )
+        }
+        TrajectoryTable::Helix {
+            center_m,
+            radius_m,
+            vertical_amplitude_m,
+            frequency_rad_s,
+            heading,
+        } => {
+            finite(file, "trajectory.center_m", center_m);
+            finite(
+                file,
+                "trajectory",
+                &[*radius_m, *vertical_amplitude_m, *frequency_rad_s],
+            );
+            format!(
+                "controller_core::ReferenceTrajectory::Helix {{ center: {}, radius: {}, \
+                 vertical_amplitude: {}, frequency: {}, heading: {} }}",
+                vec3(*center_m),
+                lit(*radius_m),
+                lit(*vertical_amplitude_m),
+                lit(*frequency_rad_s),
+                heading_source(file, heading)
+            )
+        }
+        TrajectoryTable::FigureEight {
+            center_m,
+            x_amplitude_m,
+            y_amplitude_m,
+            frequency_rad_s,
+            heading,
+        } => {
+            finite(file, "trajectory.center_m", center_m);
+            finite(
+                file,
+                "trajectory",
+                &[*x_amplitude_m, *y_amplitude_m, *frequency_rad_s],
+            );
+            format!(
+                "controller_core::ReferenceTrajectory::FigureEight {{ center: {}, \
+                 x_amplitude: {}, y_amplitude: {}, frequency: {}, heading: {} }}",
+                vec3(*center_m),
+                lit(*x_amplitude_m),
+                lit(*y_amplitude_m),
+                lit(*frequency_rad_s),
+                heading_source(file, heading)
+            )
+        }
+    }
+}
+
+/// A `[design]` number, given as a TOML number or as a string holding one (`host-sim design`
+/// writes the `[design]` fields as text).
+fn design_number(v: &toml::Value) -> Option<f64> {
+    match v {
+        toml::Value::Float(x) => Some(*x),
+        toml::Value::Integer(i) => Some(*i as f64),
+        toml::Value::String(s) => s.trim().parse().ok(),
+        _ => None,
+    }
+}
+
+/// A `[design]` value as banner text (strings unquoted).
+fn design_text(v: &toml::Value) -> String {
+    match v {
+        toml::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    }
+}
+
+/// Reads the build's flight file and writes `OUT_DIR/flight.rs`.
+pub fn write(manifest_dir: &Path, out_dir: &Path) {
+    println!("cargo:rerun-if-env-changed={ENV}");
+    let (path, shown) = match env::var_os(ENV) {
+        Some(p) => {
+            let p = PathBuf::from(p);
+            let shown = p.display().to_string();
+            // A relative path is taken from the workspace root (where `cargo` is usually run)
+            // if it exists there, else from the firmware crate.
+            let abs = if p.is_absolute() {
+                p
+            } else {
+                let root = manifest_dir.join("..").join(&p);
+                if root.exists() {
+                    root
+                } else {
+                    manifest_dir.join(&p)
+                }
+            };
+            (abs, shown)
+        }
+        None => (
+            manifest_dir.join("flights").join("x500.toml"),
+            "firmware/flights/x500.toml".to_string(),
+        ),
+    };
+    println!("cargo:rerun-if-changed={}", path.display());
+    let file = shown.as_str();
+    let text = fs::read_to_string(&path).unwrap_or_else(|e| {
+        fail(
+            file,
+            "(file)",
+            format!("cannot read {}: {e}", path.display()),
+        )
+    });
+    let mut table: toml::Table = text
+        .parse()
+        .unwrap_or_else(|e| fail(file, "(file)", format!("not valid TOML: {e}")));
+
+    // The vehicle file tables, checked by the shared parser (which skips the flight file's own
+    // tables and refuses any other); then the flight file's own tables.
+    const OWN: [&str; 4] = ["limits", "gains", "trajectory", "design"];
+    let vehicle = VehicleFile::parse_embedded(&text, file, &OWN).unwrap_or_else(|e| panic!("{e}"));
+    let mut own = toml::Table::new();
+    for key in OWN {
+        if let Some(v) = table.remove(key) {
+            own.insert(key.to_string(), v);
+        }
+    }
+    let tables: FlightTables = own.try_into().unwrap_or_else(|e: toml::de::Error| {
+        fail(file, "[limits]/[gains]/[trajectory]/[design]", e.message())
+    });
+
+    let uncertified_feature = env::var_os("CARGO_FEATURE_UNCERTIFIED_PAPER").is_some();
+    if !vehicle.vehicle.real_propeller.unwrap_or(true) && !uncertified_feature {
+        panic!(
+            "flight file {file}: [vehicle] real_propeller = false: this is the paper's set-up, \
+             whose certificate fails (Theorem 2, yaw) and whose (T, tau) box does not fit its \
+             rotors; the firmware flies only certified set-ups. Build it only for study, with \
+             `--features uncertified-paper` (it then arms with a loud warning)."
+        );
+    }
+
+    let l = &tables.limits;
+    finite(file, "limits.torque_max_Nm", &l.torque_max_Nm);
+    finite(file, "limits.thrust_max_N", &[l.thrust_max_N]);
+    let g = &tables.gains;
+    finite(
+        file,
+        "gains",
+        &[
+            g.kp, g.kv, g.kf, g.ks, g.k_theta, g.k_omega, g.M_p, g.M_theta, g.M_omega, g.delta,
+            g.alpha,
+        ],
+    );
+    let mut design = tables.design;
+    let margin = match design.remove("margin") {
+        None => DEFAULT_MARGIN,
+        Some(v) => match design_number(&v) {
+            Some(m) if m.is_finite() && (0.0..1.0).contains(&m) => m,
+            _ => fail(
+                file,
+                "design.margin",
+                format!("{v} is not a fraction of the rotor range in [0, 1)"),
+            ),
+        },
+    };
+    let smoothing = match design.remove("smoothing_rate_per_s") {
+        None => DEFAULT_SMOOTHING_RATE,
+        Some(v) => match design_number(&v) {
+            Some(x) if x.is_finite() && x > 0.0 => x,
+            _ => fail(
+                file,
+                "design.smoothing_rate_per_s",
+                format!("{v} is not a finite bandwidth > 0 [1/s]"),
+            ),
+        },
+    };
+    let fields: Vec<String> = design
+        .iter()
+        .map(|(k, v)| {
+            format!(
+                "crate::config::DesignField {{ key: {k:?}, value: {:?} }}",
+                design_text(v)
+            )
+        })
+        .collect();
+
+    let mut code = String::new();
+    let w = &mut code;
+    let mut put = |s: String| writeln!(w, "{s}").expect("writing to a String never fails");
+    put(format!(
+        "// Generated by firmware/build.rs from the flight file {file}. Do not edit."
+    ));
+    put(format!(
+        "/// The flight file as given to the build.\npub(crate) const FILE: &str = {file:?};"
+    ));
+    put(format!(
+        "/// The vehicle, rotors and motors of the flight file.\n\
+         pub(crate) fn airframe() -> crate::airframe::Airframe {{\n{}\n}}",
+        vehicle.to_rust_source()
+    ));
+    put(format!(
+        "/// `[limits]`.\npub(crate) fn limits() -> controller_core::Limits<f32> {{\n    \
+         controller_core::Limits {{ thrust_max: {}, torque_max: {} }}\n}}",
+        lit(l.thrust_max_N),
+        vec3(l.torque_max_Nm)
+    ));
+    put(format!(
+        "/// `[gains]` (Table I names).\npub(crate) fn gains() -> controller_core::Gains<f32> {{\n    \
+         controller_core::Gains {{\n        \
+         position: controller_core::position::PositionGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {} }},\n        \
+         attitude: controller_core::attitude_control::AttitudeGains {{ k_mrp: {}, k_omega: {}, mrp_saturation: {}, omega_saturation: {} }},\n        \
+         hysteresis: {},\n        reset_threshold: {},\n    }}\n}}",
+        lit(g.kp),
+        lit(g.kv),
+        lit(g.kf),
+        lit(g.ks),
+        lit(g.M_p),
+        lit(g.k_theta),
+        lit(g.k_omega),
+        lit(g.M_theta),
+        lit(g.M_omega),
+        lit(g.delta),
+        lit(g.alpha)
+    ));
+    put(format!(
+        "/// `[trajectory]`: the demo mission.\n\
+         pub(crate) fn mission() -> controller_core::ReferenceTrajectory<f32> {{\n    {}\n}}",
+        trajectory_source(file, &tables.trajectory)
+    ));
+    put(format!(
+        "/// `[design] margin`: required box-fit headroom, fraction of the rotor range.\n\
+         pub(crate) const MARGIN: f32 = {};",
+        lit(margin)
+    ));
+    put(format!(
+        "/// `[design] smoothing_rate_per_s`: the setpoint filter's bandwidth λ [1/s].\n\
+         pub(crate) const SMOOTHING_RATE: f32 = {};",
+        lit(smoothing)
+    ));
+    put(format!(
+        "/// The other `[design]` fields, in key order.\n\
+         pub(crate) const DESIGN: &[crate::config::DesignField] = &[{}];",
+        fields.join(", ")
+    ));
+    let dest = out_dir.join("flight.rs");
+    fs::write(&dest, code).unwrap_or_else(|e| panic!("cannot write {}: {e}", dest.display()));
+}
