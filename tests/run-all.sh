@@ -67,7 +67,7 @@ case "$target_dir" in /*) ;; *) target_dir="$PWD/$target_dir" ;; esac
 elf_mps2="$target_dir/thumbv7em-none-eabihf/release/firmware-mps2-an386"
 bash firmware/qemu/boot-check.sh "$elf_mps2"
 
-step "processor in the loop: the paper's helix from upside down, firmware on QEMU (lockstep)"
+step "processor in the loop: the default build's x500 from upside down, firmware on QEMU (lockstep)"
 PIL_FIRMWARE_ELF="$elf_mps2" cargo test -p tests --test pil_qemu -- --ignored --nocapture
 
 step "Cortex-M4F instruction counts of the control step, f32 on ARM vs host, budget"
