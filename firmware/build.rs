@@ -2,7 +2,8 @@
 //!
 //! **The flight file** (every build). The firmware flies one flight file chosen at build time:
 //! env `FIRMWARE_FLIGHT_FILE` (default `firmware/flights/x500.toml`): a vehicle file (read by
-//! the shared `src/vehicle_file.rs`) plus `[limits]`, `[gains]`, `[trajectory]` and `[design]`.
+//! the shared `src/vehicle_file.rs`) plus `[limits]`, `[gains]`, `[trajectory]` (read by the
+//! shared `src/flight_tables.rs`) and `[design]`.
 //! `build/flight.rs` writes it to `OUT_DIR/flight.rs`, which `src/built_flight.rs` includes
 //! (`FlightConfig::built()`). The paper's set-up (`[vehicle] real_propeller = false`) is refused
 //! unless the `uncertified-paper` feature is on.
@@ -30,6 +31,11 @@ use std::path::{Path, PathBuf};
 #[allow(dead_code)]
 #[path = "src/vehicle_file.rs"]
 mod vehicle_file;
+
+// The flight file's `[limits]`, `[gains]` and `[trajectory]` tables, shared with the firmware
+// library (`firmware::flight_tables`) and host-sim's scenario files.
+#[path = "src/flight_tables.rs"]
+mod flight_tables;
 
 #[path = "build/flight.rs"]
 mod flight;

@@ -1,7 +1,8 @@
 //! The build's flight file (`FIRMWARE_FLIGHT_FILE`, default `firmware/flights/x500.toml`):
 //! the vehicle file tables (`[vehicle]`, `[rotors]`, optional `[drag]`, parsed and checked by
 //! the shared `vehicle_file` module) plus `[limits]`, `[gains]`, `[trajectory]` (the certified
-//! demo mission, scenario syntax) and `[design]` (free-text fields and the box-fit `margin`).
+//! demo mission; the scenario files' tables, from the shared `flight_tables` module) and
+//! `[design]` (free-text fields, the box-fit `margin` and `smoothing_rate_per_s`).
 //! Written to `OUT_DIR/flight.rs` as Rust source, which `src/built_flight.rs` includes.
 //!
 //! Every error panics with the file, the key and the reason: a build must not quietly fly
@@ -15,87 +16,14 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
+use crate::flight_tables::{GainsTable, HeadingTable, LimitsTable, TrajectoryTable};
 use crate::vehicle_file::VehicleFile;
 
 /// The environment variable naming the flight file.
 const ENV: &str = "FIRMWARE_FLIGHT_FILE";
 
-/// `[limits]` (as in a scenario file).
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-#[allow(non_snake_case)]
-struct LimitsTable {
-    thrust_max_N: f64,
-    torque_max_Nm: [f64; 3],
-}
-
-/// `[gains]`, Table I names (as in a scenario file).
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-#[allow(non_snake_case)]
-struct GainsTable {
-    kp: f64,
-    kv: f64,
-    kf: f64,
-    ks: f64,
-    k_theta: f64,
-    k_omega: f64,
-    M_p: f64,
-    M_theta: f64,
-    M_omega: f64,
-    delta: f64,
-    alpha: f64,
-}
-
-/// `[trajectory]` (scenario syntax), tagged by `kind`.
-#[derive(Debug, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-enum TrajectoryTable {
-    Hover {
-        point_m: [f64; 3],
-        #[serde(default)]
-        heading: HeadingTable,
-    },
-    Helix {
-        center_m: [f64; 3],
-        radius_m: f64,
-        vertical_amplitude_m: f64,
-        frequency_rad_s: f64,
-        #[serde(default)]
-        heading: HeadingTable,
-    },
-    FigureEight {
-        center_m: [f64; 3],
-        x_amplitude_m: f64,
-        y_amplitude_m: f64,
-        frequency_rad_s: f64,
-        #[serde(default)]
-        heading: HeadingTable,
-    },
-}
-
-/// `[trajectory.heading]`, tagged by `kind`.
-#[derive(Debug, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-enum HeadingTable {
-    Constant {
-        yaw_rad: f64,
-    },
-    Sinusoidal {
-        amplitude_rad: f64,
-        frequency_rad_s: f64,
-        #[serde(default)]
-        offset_rad: f64,
-    },
-}
-
-impl Default for HeadingTable {
-    fn default() -> Self {
-        Self::Constant { yaw_rad: 0.0 }
-    }
-}
-
-/// The flight file's own tables; `[design]` is free text except `margin`.
+/// The flight file's own tables; `[design]` is free text except `margin` and
+/// `smoothing_rate_per_s` (numbers).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct FlightTables {
@@ -229,13 +157,11 @@ fn trajectory_source(file: &str, t: &TrajectoryTable) -> String {
     }
 }
 
-/// A `[design]` number, given as a TOML number or as a string holding one (`host-sim design`
-/// writes the `[design]` fields as text).
+/// A `[design]` number: a TOML float or integer (a string is refused, not parsed).
 fn design_number(v: &toml::Value) -> Option<f64> {
     match v {
         toml::Value::Float(x) => Some(*x),
         toml::Value::Integer(i) => Some(*i as f64),
-        toml::Value::String(s) => s.trim().parse().ok(),
         _ => None,
     }
 }

@@ -12,7 +12,8 @@
 //! [`airframe::Airframe`] is one vehicle (rigid body, rotors, motors, drag, name and source);
 //! with the `vehicle-file` feature (host only: it brings std, serde and toml), `vehicle_file`
 //! reads and checks the vehicle files that describe one (`host-sim/vehicles/*.toml`), and
-//! `build.rs` compiles the same source.
+//! `flight_tables` holds the `[limits]`, `[gains]` and `[trajectory]` tables of scenario and
+//! flight files; `build.rs` compiles the same sources.
 //!
 //! With the `bench-fixtures` feature only (never in the flight build), `step_inputs` is the
 //! deterministic control-step sequence of the Cortex-M4F bench (`src/bin/step_bench/`), the
@@ -37,6 +38,8 @@ pub mod config;
 pub mod drivers;
 pub mod estimator;
 pub mod flight_reference;
+#[cfg(feature = "vehicle-file")]
+pub mod flight_tables;
 pub mod frames;
 pub mod ground_station;
 pub mod imu_attitude;

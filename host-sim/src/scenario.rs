@@ -2,7 +2,9 @@
 //!
 //! A scenario file is a vehicle file (`[vehicle]`, and optionally `[rotors]` and `[drag]`: the
 //! same tables as `host-sim/vehicles/*.toml`, see [`crate::vehicle`]) plus `[limits]`,
-//! `[gains]`, `[trajectory]`, `[initial]`, `[simulation]` and `[perturbations]`.
+//! `[gains]`, `[trajectory]`, `[initial]`, `[simulation]` and `[perturbations]`. `[limits]`,
+//! `[gains]` and `[trajectory]` are the tables of [`firmware::flight_tables`], shared with the
+//! firmware build's flight file.
 //!
 //! Every key carries its unit in its name. Unknown keys are refused. Errors name the file, the
 //! key and the reason. The paper's Section VI scenario is embedded ([`Scenario::paper`]).
@@ -58,114 +60,12 @@ pub struct Scenario {
 /// `[vehicle]`: the vehicle files' table ([`VehicleTable`]).
 pub type VehicleConfig = VehicleTable;
 
-/// `[limits]`.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-#[allow(non_snake_case)]
-pub struct LimitsConfig {
-    /// Maximum thrust \[N\].
-    pub thrust_max_N: f64,
-    /// Per-axis maximum torque [N m], body frame.
-    pub torque_max_Nm: [f64; 3],
-}
-
-/// `[gains]`, Table I names.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-#[allow(non_snake_case)]
-pub struct GainsConfig {
-    /// `k_p` [1/s²].
-    pub kp: f64,
-    /// `k_v` [1/s].
-    pub kv: f64,
-    /// `k_f` [1/s].
-    pub kf: f64,
-    /// `k_s` [1/s].
-    pub ks: f64,
-    /// `k_ϑ`.
-    pub k_theta: f64,
-    /// `k_ω`.
-    pub k_omega: f64,
-    /// `M_p` [m/s²].
-    pub M_p: f64,
-    /// `M_ϑ` [N m].
-    pub M_theta: f64,
-    /// `M_ω` [N m].
-    pub M_omega: f64,
-    /// Hysteresis `δ`.
-    pub delta: f64,
-    /// Reset threshold `α`.
-    pub alpha: f64,
-}
-
-/// `[trajectory]`, tagged by `kind`.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-pub enum TrajectoryConfig {
-    /// Hold a point.
-    Hover {
-        /// Point \[m\], inertial.
-        point_m: [f64; 3],
-        /// Heading profile (default: yaw 0).
-        #[serde(default)]
-        heading: HeadingConfig,
-    },
-    /// `center + (r cos f t, r sin f t, h cos f t)`.
-    Helix {
-        /// Center \[m\].
-        center_m: [f64; 3],
-        /// Radius \[m\].
-        radius_m: f64,
-        /// Vertical amplitude \[m\].
-        vertical_amplitude_m: f64,
-        /// Angular frequency [rad/s].
-        frequency_rad_s: f64,
-        /// Heading profile.
-        #[serde(default)]
-        heading: HeadingConfig,
-    },
-    /// `center + (a sin f t, (b/2) sin 2 f t, 0)`.
-    FigureEight {
-        /// Center \[m\].
-        center_m: [f64; 3],
-        /// `a` \[m\].
-        x_amplitude_m: f64,
-        /// `b` \[m\].
-        y_amplitude_m: f64,
-        /// Angular frequency [rad/s].
-        frequency_rad_s: f64,
-        /// Heading profile.
-        #[serde(default)]
-        heading: HeadingConfig,
-    },
-}
-
-/// `[trajectory.heading]`, tagged by `kind`.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-pub enum HeadingConfig {
-    /// Constant yaw.
-    Constant {
-        /// Yaw \[rad\].
-        yaw_rad: f64,
-    },
-    /// `offset + amplitude sin(frequency t)`.
-    Sinusoidal {
-        /// Amplitude \[rad\].
-        amplitude_rad: f64,
-        /// Angular frequency [rad/s].
-        frequency_rad_s: f64,
-        /// Offset \[rad\].
-        #[serde(default)]
-        offset_rad: f64,
-    },
-}
-
-impl Default for HeadingConfig {
-    fn default() -> Self {
-        Self::Constant { yaw_rad: 0.0 }
-    }
-}
+// `[limits]`, `[gains]` and `[trajectory]` are the firmware's flight file tables (one
+// definition: the firmware build reads the same tables from its flight file).
+pub use firmware::flight_tables::{
+    GainsTable as GainsConfig, HeadingTable as HeadingConfig, LimitsTable as LimitsConfig,
+    TrajectoryTable as TrajectoryConfig,
+};
 
 /// `[initial]`.
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]

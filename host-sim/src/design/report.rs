@@ -372,10 +372,7 @@ pub fn write_outputs(
         "objective".into(),
         report.objective.definition.clone().into(),
     );
-    design.insert(
-        "margin".into(),
-        format!("{}", report.box_fit.requested_margin).into(),
-    );
+    design.insert("margin".into(), report.box_fit.requested_margin.into());
     flight.insert("design".into(), toml::Value::Table(design));
     let text = ordered_toml(&flight)?;
     let header = format!(

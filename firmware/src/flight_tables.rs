@@ -1,0 +1,124 @@
+//! The `[limits]`, `[gains]` and `[trajectory]` tables (TOML) of host-sim's scenario files and
+//! of the firmware build's flight file: actuator limits, the Table I gains and the reference
+//! trajectory with its heading profile, with units in the key names (format:
+//! `docs/firmware-board.md`, "Flight files").
+//!
+//! Unknown keys are refused (`deny_unknown_fields`); the values are checked by their users
+//! (host-sim's `Scenario::validate`, the build's flight file checks).
+//!
+//! This file is compiled twice: as `firmware::flight_tables` (feature `vehicle-file`, which
+//! brings std, serde and toml) and by `firmware/build.rs` with `#[path]`, which turns the
+//! build's flight file into Rust source. So it names nothing of the firmware crate (no
+//! `crate::` paths) and uses only serde.
+
+use serde::{Deserialize, Serialize};
+
+/// `[limits]`.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct LimitsTable {
+    /// Maximum thrust \[N\].
+    pub thrust_max_N: f64,
+    /// Per-axis maximum torque [N m], body frame.
+    pub torque_max_Nm: [f64; 3],
+}
+
+/// `[gains]`, Table I names.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct GainsTable {
+    /// `k_p` [1/s²].
+    pub kp: f64,
+    /// `k_v` [1/s].
+    pub kv: f64,
+    /// `k_f` [1/s].
+    pub kf: f64,
+    /// `k_s` [1/s].
+    pub ks: f64,
+    /// `k_ϑ`.
+    pub k_theta: f64,
+    /// `k_ω`.
+    pub k_omega: f64,
+    /// `M_p` [m/s²].
+    pub M_p: f64,
+    /// `M_ϑ` [N m].
+    pub M_theta: f64,
+    /// `M_ω` [N m].
+    pub M_omega: f64,
+    /// Hysteresis `δ`.
+    pub delta: f64,
+    /// Reset threshold `α`.
+    pub alpha: f64,
+}
+
+/// `[trajectory]`, tagged by `kind`.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum TrajectoryTable {
+    /// Hold a point.
+    Hover {
+        /// Point \[m\], inertial.
+        point_m: [f64; 3],
+        /// Heading profile (default: yaw 0).
+        #[serde(default)]
+        heading: HeadingTable,
+    },
+    /// `center + (r cos f t, r sin f t, h cos f t)`.
+    Helix {
+        /// Center \[m\].
+        center_m: [f64; 3],
+        /// Radius \[m\].
+        radius_m: f64,
+        /// Vertical amplitude \[m\].
+        vertical_amplitude_m: f64,
+        /// Angular frequency [rad/s].
+        frequency_rad_s: f64,
+        /// Heading profile.
+        #[serde(default)]
+        heading: HeadingTable,
+    },
+    /// `center + (a sin f t, (b/2) sin 2 f t, 0)`.
+    FigureEight {
+        /// Center \[m\].
+        center_m: [f64; 3],
+        /// `a` \[m\].
+        x_amplitude_m: f64,
+        /// `b` \[m\].
+        y_amplitude_m: f64,
+        /// Angular frequency [rad/s].
+        frequency_rad_s: f64,
+        /// Heading profile.
+        #[serde(default)]
+        heading: HeadingTable,
+    },
+}
+
+/// `[trajectory.heading]`, tagged by `kind`.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum HeadingTable {
+    /// Constant yaw.
+    Constant {
+        /// Yaw \[rad\].
+        yaw_rad: f64,
+    },
+    /// `offset + amplitude sin(frequency t)`.
+    Sinusoidal {
+        /// Amplitude \[rad\].
+        amplitude_rad: f64,
+        /// Angular frequency [rad/s].
+        frequency_rad_s: f64,
+        /// Offset \[rad\].
+        #[serde(default)]
+        offset_rad: f64,
+    },
+}
+
+impl Default for HeadingTable {
+    /// Yaw 0 (a `[trajectory]` without `[trajectory.heading]`).
+    fn default() -> Self {
+        Self::Constant { yaw_rad: 0.0 }
+    }
+}
