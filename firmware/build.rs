@@ -2,7 +2,7 @@
 //!
 //! **The flight file** (every build). The firmware flies one flight file chosen at build time:
 //! env `FIRMWARE_FLIGHT_FILE` (default `firmware/flights/x500.toml`): a vehicle file (read by
-//! the shared `src/vehicle_file.rs`) plus `[limits]`, `[gains]`, `[trajectory]` (read by the
+//! the shared `src/vehicle_file/`) plus `[limits]`, `[gains]`, `[trajectory]` (read by the
 //! shared `src/flight_tables.rs`) and `[design]`.
 //! `build/flight.rs` writes it to `OUT_DIR/flight.rs`, which `src/built_flight.rs` includes
 //! (`FlightConfig::built()`). The paper's set-up (`[vehicle] real_propeller = false`) is refused
@@ -28,8 +28,9 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 // The vehicle file format, shared with the firmware library (`firmware::vehicle_file`).
-#[allow(dead_code)]
-#[path = "src/vehicle_file.rs"]
+// `FlightValues` is re-exported for the library; the build script names it through methods only.
+#[allow(dead_code, unused_imports)]
+#[path = "src/vehicle_file/mod.rs"]
 mod vehicle_file;
 
 // The flight file's `[limits]`, `[gains]` and `[trajectory]` tables, shared with the firmware
