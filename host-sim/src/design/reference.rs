@@ -40,53 +40,29 @@ impl Reference {
 
     /// The same shape with time scaled by `s` (frequencies times `s`).
     pub fn scaled(&self, s: f64) -> Self {
-        let heading = |h: &HeadingConfig| match *h {
-            HeadingConfig::Sinusoidal {
-                amplitude_rad,
-                frequency_rad_s,
-                offset_rad,
-            } => HeadingConfig::Sinusoidal {
-                amplitude_rad,
-                frequency_rad_s: frequency_rad_s * s,
-                offset_rad,
-            },
-            ref c @ HeadingConfig::Constant { .. } => c.clone(),
-        };
-        let trajectory = match &self.trajectory {
-            TrajectoryConfig::Hover {
-                point_m,
-                heading: h,
-            } => TrajectoryConfig::Hover {
-                point_m: *point_m,
-                heading: heading(h),
-            },
+        let mut trajectory = self.trajectory.clone();
+        let heading = match &mut trajectory {
+            TrajectoryConfig::Hover { heading, .. } => heading,
             TrajectoryConfig::Helix {
-                center_m,
-                radius_m,
-                vertical_amplitude_m,
                 frequency_rad_s,
-                heading: h,
-            } => TrajectoryConfig::Helix {
-                center_m: *center_m,
-                radius_m: *radius_m,
-                vertical_amplitude_m: *vertical_amplitude_m,
-                frequency_rad_s: frequency_rad_s * s,
-                heading: heading(h),
-            },
-            TrajectoryConfig::FigureEight {
-                center_m,
-                x_amplitude_m,
-                y_amplitude_m,
+                heading,
+                ..
+            }
+            | TrajectoryConfig::FigureEight {
                 frequency_rad_s,
-                heading: h,
-            } => TrajectoryConfig::FigureEight {
-                center_m: *center_m,
-                x_amplitude_m: *x_amplitude_m,
-                y_amplitude_m: *y_amplitude_m,
-                frequency_rad_s: frequency_rad_s * s,
-                heading: heading(h),
-            },
+                heading,
+                ..
+            } => {
+                *frequency_rad_s *= s;
+                heading
+            }
         };
+        if let HeadingConfig::Sinusoidal {
+            frequency_rad_s, ..
+        } = heading
+        {
+            *frequency_rad_s *= s;
+        }
         Self {
             trajectory,
             initial: self.initial.clone(),
