@@ -240,18 +240,13 @@ impl Mixer {
                 .sum()
         };
         let all = |k: usize| others(k, 3);
-        let mut fits = true;
         let (mut cap_hi, mut cap_lo) = (f32::INFINITY, f32::NEG_INFINITY);
         for k in 0..4 {
             let (w, a) = (m[(k, 0)], all(k));
             // Thrust column entries are positive for any sensible quad; a non-positive entry
-            // cannot carry collective and makes the box unrealisable.
+            // cannot carry collective (`box_margin` then says the box does not fit).
             if w <= 0.0 {
-                fits = false;
                 continue;
-            }
-            if w * t_hi + a > hi || w * t_lo - a < lo {
-                fits = false;
             }
             cap_hi = cap_hi.min((hi - a) / w);
             cap_lo = cap_lo.max((lo + a) / w);
@@ -274,7 +269,7 @@ impl Mixer {
             *s = if e > 0.0 { (hi - lo) / (2.0 * e) } else { 0.0 };
         }
         BoxFit {
-            fits,
+            fits: self.box_margin(t_lo, t_hi, tau) >= 0.0,
             thrust_needed: [t_lo, t_hi],
             thrust_capacity: [cap_lo, cap_hi],
             thrust_shortfall: [(cap_lo - t_lo).max(0.0), (t_hi - cap_hi).max(0.0)],
