@@ -15,6 +15,7 @@ use crate::controllers::paper::{back3, PaperLaw};
 use crate::plant::RigidBodyState;
 use crate::rotor_plant::{MixerCounts, RotorSample};
 use crate::scenario::{PlantKind, Precision, Scenario};
+use crate::tight_certificate::{scenario_tight_bounds, tight_limits, tight_report, TightReport};
 
 /// One controller sample: the state, the reference, the command and the law's internals.
 /// Column names carry units; angles are in rad unless named `_deg`.
@@ -134,6 +135,9 @@ pub struct APriori {
     pub feasible: bool,
     /// Every condition with both sides.
     pub conditions: Vec<ConditionReport>,
+    /// The tight bounds on the same quantities, beside these
+    /// ([`crate::tight_certificate`]).
+    pub tight: TightReport,
 }
 
 /// Extremes seen along the run (over the controller samples).
@@ -152,6 +156,8 @@ pub struct Observed {
     pub angular_acceleration_d_max_rad_s2: f64,
     /// Samples whose thrust or torque left the a-priori bounds.
     pub samples_outside_a_priori_bounds: u64,
+    /// Samples whose torque, `|ω_d|` or `|ω̇_d|` exceeded the tight bounds.
+    pub samples_above_tight_bounds: u64,
     /// Samples taken.
     pub samples: u64,
 }
@@ -243,7 +249,7 @@ pub fn certificate(scenario: &Scenario) -> Result<Certificate<f64>> {
     .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))
 }
 
-fn a_priori(c: &Certificate<f64>) -> APriori {
+fn a_priori(c: &Certificate<f64>, tight: TightReport) -> APriori {
     let b = &c.bounds;
     APriori {
         thrust_min_N: b.thrust_min,
@@ -264,6 +270,7 @@ fn a_priori(c: &Certificate<f64>) -> APriori {
                 rhs: k.rhs,
             })
             .collect(),
+        tight,
     }
 }
 
@@ -351,6 +358,8 @@ fn run_generic<T: Scalar>(
 ) -> Result<Summary> {
     let cert = certificate(scenario)?;
     let bounds = &cert.bounds;
+    let tight = scenario_tight_bounds(scenario)?;
+    let tight_limits = tight_limits(&tight);
     // Rounding slack for the bound checks: f32 carries ~1e-7 relative error.
     let slack = 1e-5;
 
@@ -361,6 +370,7 @@ fn run_generic<T: Scalar>(
         angular_velocity_d_max_rad_s: 0.0,
         angular_acceleration_d_max_rad_s2: 0.0,
         samples_outside_a_priori_bounds: 0,
+        samples_above_tight_bounds: 0,
         samples: 0,
     };
     let mut settle_p = SettleTracker::new(1e-3);
@@ -388,6 +398,8 @@ fn run_generic<T: Scalar>(
             || thrust > bounds.thrust_max * (1.0 + slack)
             || (0..3).any(|i| torque[i].abs() > bounds.torque_max[i] * (1.0 + slack));
         observed.samples_outside_a_priori_bounds += u64::from(outside);
+        observed.samples_above_tight_bounds +=
+            u64::from(tight_limits.exceeded(&torque, w_d, w_d_dot, slack));
 
         let reference_f64 = trajectory_sample_f64(sample.reference);
         let position_error = (state.position - reference_f64.0).norm();
@@ -444,7 +456,7 @@ fn run_generic<T: Scalar>(
     let last = last.ok_or_else(|| anyhow!("the run produced no sample"))?;
     Ok(Summary {
         precision: scenario.simulation.precision,
-        a_priori: a_priori(&cert),
+        a_priori: a_priori(&cert, tight_report(&cert, &tight)),
         observed,
         final_: Final {
             time_s: last.t_s,

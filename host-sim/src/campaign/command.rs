@@ -55,7 +55,8 @@ pub fn run_command(args: &CampaignOptions) -> Result<()> {
     let checked = if nominal { &r.nominal } else { &r.perturbed };
     println!(
         "{} runs of {} s ({}): {} converged ({:.2} %), 180-deg starts {}/{}; settling p50 {} s, \
-         p99 {} s; samples outside the a-priori bounds: {} of {} ({}); max switches in 1 s: {}; \
+         p99 {} s; samples outside the a-priori bounds: {} of {} ({}), above the tight bounds: {}; \
+         max switches in 1 s: {}; \
          wall time {:.1} s ({:.1} runs/s)",
         r.runs,
         report.duration_s,
@@ -73,6 +74,7 @@ pub fn run_command(args: &CampaignOptions) -> Result<()> {
         } else {
             "perturbed runs"
         },
+        checked.samples_above_tight,
         r.switching.max_switches_in_1s,
         wall,
         report.runs_per_s

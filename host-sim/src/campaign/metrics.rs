@@ -75,6 +75,30 @@ pub struct BoundSet {
     pub limit_thrust_N: f64,
     /// Physical per-axis `τ_max` [N m].
     pub limit_torque_Nm: [f64; 3],
+    /// The tight bounds ([`crate::tight_bounds`]); `None` where they are not computed (the
+    /// design search, which certifies in closed form).
+    pub tight: Option<TightLimits>,
+}
+
+/// The tight bounds a sample is checked against.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+#[allow(non_snake_case)]
+pub struct TightLimits {
+    /// Per-axis bound on `|τ_i|` [N m], body frame.
+    pub torque_max_Nm: [f64; 3],
+    /// Bound on `|ω_d|` [rad/s].
+    pub angular_velocity_max_rad_s: f64,
+    /// Bound on `|ω̇_d|` [rad/s²].
+    pub angular_acceleration_max_rad_s2: f64,
+}
+
+impl TightLimits {
+    /// Whether a sample exceeds a bound, with the bound checks' rounding `slack` (relative).
+    pub fn exceeded(&self, torque: &Vector3<f64>, w_d: f64, w_d_dot: f64, slack: f64) -> bool {
+        w_d > self.angular_velocity_max_rad_s * (1.0 + slack)
+            || w_d_dot > self.angular_acceleration_max_rad_s2 * (1.0 + slack)
+            || (0..3).any(|i| torque[i].abs() > self.torque_max_Nm[i] * (1.0 + slack))
+    }
 }
 
 /// Sliding count of events over the last `window` sample intervals.
@@ -130,6 +154,8 @@ pub struct RunMetrics {
     pub torque_abs_max_Nm: [f64; 3],
     /// Samples outside the a-priori bounds.
     pub samples_outside_a_priori: u64,
+    /// Samples whose torque, `|ω_d|` or `|ω̇_d|` exceeded the tight bounds.
+    pub samples_above_tight: u64,
     /// Samples beyond the physical limits.
     pub samples_beyond_limits: u64,
     /// Largest `|ω_d|` [rad/s].
@@ -188,6 +214,7 @@ impl MetricsAccumulator {
                 thrust_max_N: f64::NEG_INFINITY,
                 torque_abs_max_Nm: [0.0; 3],
                 samples_outside_a_priori: 0,
+                samples_above_tight: 0,
                 samples_beyond_limits: 0,
                 omega_d_max_rad_s: 0.0,
                 omega_d_dot_max_rad_s2: 0.0,
@@ -222,13 +249,18 @@ impl MetricsAccumulator {
             || thrust > b.thrust_max_N * (1.0 + SLACK)
             || (0..3).any(|i| torque[i].abs() > b.torque_max_Nm[i] * (1.0 + SLACK));
         m.samples_outside_a_priori += u64::from(outside);
+        let (w_d, w_d_dot) = (
+            c.desired_angular_velocity.norm(),
+            c.desired_angular_acceleration.norm(),
+        );
+        if let Some(t) = &b.tight {
+            m.samples_above_tight += u64::from(t.exceeded(&torque, w_d, w_d_dot, SLACK));
+        }
         let beyond = !(0.0..=b.limit_thrust_N).contains(&thrust)
             || (0..3).any(|i| torque[i].abs() > b.limit_torque_Nm[i]);
         m.samples_beyond_limits += u64::from(beyond);
-        m.omega_d_max_rad_s = m.omega_d_max_rad_s.max(c.desired_angular_velocity.norm());
-        m.omega_d_dot_max_rad_s2 = m
-            .omega_d_dot_max_rad_s2
-            .max(c.desired_angular_acceleration.norm());
+        m.omega_d_max_rad_s = m.omega_d_max_rad_s.max(w_d);
+        m.omega_d_dot_max_rad_s2 = m.omega_d_dot_max_rad_s2.max(w_d_dot);
         m.switches = c.switches_total.switches;
         m.resets = c.switches_total.resets;
         self.switches_window.push(m.switches);

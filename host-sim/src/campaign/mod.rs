@@ -17,7 +17,7 @@ pub mod stats;
 pub mod trace;
 
 pub use command::run_command;
-pub use metrics::{BoundSet, Convergence, RunMetrics};
+pub use metrics::{BoundSet, Convergence, RunMetrics, TightLimits};
 pub use options::{BaseOptions, CampaignOptions};
 pub use runner::{run_campaign, CampaignConfig, RunResult};
 pub use sampler::{Sampler, SamplerRadii};

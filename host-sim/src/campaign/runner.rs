@@ -55,10 +55,23 @@ pub struct RunResult {
     pub error: Option<String>,
 }
 
-/// The bounds of a scenario: the certificate's a-priori bounds and the physical limits.
+/// The bounds of a scenario: the certificate's a-priori bounds, the tight bounds and the
+/// physical limits.
 ///
 /// Errors: the certificate cannot be computed (invalid parameters).
 pub fn bound_set(scenario: &Scenario) -> Result<BoundSet> {
+    let tight = crate::tight_certificate::scenario_tight_bounds(scenario)?;
+    Ok(BoundSet {
+        tight: Some(crate::tight_certificate::tight_limits(&tight)),
+        ..paper_bound_set(scenario)?
+    })
+}
+
+/// [`bound_set`] without the tight bounds (their branch and bound takes about a second): for
+/// the design search, which flies thousands of candidate gains.
+///
+/// Errors: the certificate cannot be computed (invalid parameters).
+pub fn paper_bound_set(scenario: &Scenario) -> Result<BoundSet> {
     let cert = crate::sim::certificate(scenario)?;
     Ok(BoundSet {
         thrust_min_N: cert.bounds.thrust_min,
@@ -66,6 +79,7 @@ pub fn bound_set(scenario: &Scenario) -> Result<BoundSet> {
         torque_max_Nm: cert.bounds.torque_max.into(),
         limit_thrust_N: scenario.limits.thrust_max_N,
         limit_torque_Nm: scenario.limits.torque_max_Nm,
+        tight: None,
     })
 }
 

@@ -58,6 +58,8 @@ pub struct BoundCounts {
     pub samples_outside_a_priori: u64,
     /// Runs with at least one such sample.
     pub runs_outside_a_priori: u64,
+    /// Samples above the tight bounds (torque, `|ω_d|`, `|ω̇_d|`).
+    pub samples_above_tight: u64,
     /// Samples beyond the physical limits (before clipping).
     pub samples_beyond_limits: u64,
 }
@@ -160,6 +162,7 @@ pub fn summarise(results: &[RunResult], nominal: bool) -> CampaignStats {
         counts.samples += m.samples;
         counts.samples_outside_a_priori += m.samples_outside_a_priori;
         counts.runs_outside_a_priori += u64::from(m.samples_outside_a_priori > 0);
+        counts.samples_above_tight += m.samples_above_tight;
         counts.samples_beyond_limits += m.samples_beyond_limits;
     }
     let fold = |f: fn(&RunMetrics) -> f64, init: f64, pick: fn(f64, f64) -> f64| {

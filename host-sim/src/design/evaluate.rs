@@ -17,7 +17,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::campaign::metrics::{Convergence, MetricsAccumulator};
-use crate::campaign::runner::bound_set;
+use crate::campaign::runner::paper_bound_set;
 use crate::campaign::sampler::{Sampler, SamplerRadii, HALF_TURN_AXES};
 use crate::closed_loop::fly;
 use crate::controllers::ControllerKind;
@@ -70,7 +70,7 @@ pub fn fly_trial(
     };
     let mut acc = MetricsAccumulator::new(
         convergence,
-        bound_set(scenario)?,
+        paper_bound_set(scenario)?,
         sim.duration_s,
         sim.controller_period_s,
     );

@@ -112,6 +112,19 @@ pub(crate) mod test_support {
                 feedback_torque_max_Nm: 0.25,
                 feasible: true,
                 conditions: vec![],
+                tight: crate::tight_certificate::TightReport {
+                    torque_max_Nm: [0.2, 0.25, 0.3],
+                    angular_velocity_max_rad_s: 0.8,
+                    angular_acceleration_max_rad_s2: 1.0,
+                    ratio_to_paper: crate::tight_certificate::TightRatios {
+                        torque: [0.2 / 0.29, 0.25 / 0.33, 0.3 / 0.48],
+                        angular_velocity: 0.8,
+                        angular_acceleration: 0.5,
+                    },
+                    relative_gap: 0.01,
+                    feasible: true,
+                    conditions: vec![],
+                },
             },
             observed: Observed {
                 thrust_min_N: 4.5,
@@ -120,6 +133,7 @@ pub(crate) mod test_support {
                 angular_velocity_d_max_rad_s: 0.5,
                 angular_acceleration_d_max_rad_s2: 0.5,
                 samples_outside_a_priori_bounds: 0,
+                samples_above_tight_bounds: 0,
                 samples: 3,
             },
             final_: Final {
