@@ -166,7 +166,7 @@ mod tests {
         let records = synthetic_records(200);
         let files =
             write_all(&dir, &Scenario::paper(), &synthetic_summary(), &records).expect("write_all");
-        assert_eq!(files.len(), 2 + 9);
+        assert_eq!(files.len(), 2 + 10);
         assert_eq!(files[0], dir.join(CSV_FILE));
         assert_eq!(files[1], dir.join(SUMMARY_FILE));
         for f in &files {

@@ -16,6 +16,8 @@ use crate::sim::{Record, Summary};
 
 /// File name of the combined figure.
 pub const OVERVIEW_FILE: &str = "overview.png";
+/// The torque against both a-priori bounds (written after [`OVERVIEW_FILE`], not in it).
+pub const BOUNDS_FILE: &str = "bounds.png";
 
 /// Size of each single-panel PNG \[px\].
 const PANEL_SIZE: (u32, u32) = (900, 520);
@@ -32,8 +34,8 @@ const C_LIMIT: RGBColor = RGBColor(80, 80, 80);
 const AXES: [(&str, RGBColor); 3] = [("x", C_X), ("y", C_Y), ("z", C_Z)];
 
 /// Writes the eight panel PNGs (`position.png`, `yaw.png`, `position_error.png`,
-/// `mrp_error.png`, `thrust.png`, `torque.png`, `filters.png`, `saturations.png`) and
-/// [`OVERVIEW_FILE`] into `dir`, which must exist. Bounds come from `summary.a_priori`
+/// `mrp_error.png`, `thrust.png`, `torque.png`, `filters.png`, `saturations.png`),
+/// [`OVERVIEW_FILE`] and [`BOUNDS_FILE`] into `dir`, which must exist. Bounds come from `summary.a_priori`
 /// (Theorems 1–2), actuator limits and saturation levels from `scenario`.
 ///
 /// Returns the paths written, in that order. Log-scale panels clamp values below
@@ -62,6 +64,11 @@ pub fn write_plots(
         }
         Ok(())
     })?;
+    written.push(path);
+    // Not in the overview grid, which keeps the paper's Fig. 2 layout.
+    let bounds = bounds_panel(summary, records);
+    let path = dir.join(bounds.file);
+    write_png(&path, PANEL_SIZE, |root| chart::draw(root, &bounds))?;
     written.push(path);
     Ok(written)
 }
@@ -307,6 +314,40 @@ fn torque_panel(
     panel("torque.png", "Torque", "torque [N m]", series)
 }
 
+/// `|τ_i|` per axis against the paper's bound (Theorem 2, dashed) and the tight bound (solid
+/// level, same colour): how much of each the run used.
+fn bounds_panel(summary: &Summary, records: &[Record]) -> Panel {
+    let span = time_span(records);
+    let pick: [Field; 3] = [|r| r.torque_x_Nm, |r| r.torque_y_Nm, |r| r.torque_z_Nm];
+    let mut series: Vec<Series> = Vec::new();
+    for (i, (&(axis, color), f)) in AXES.iter().zip(pick).enumerate() {
+        series.push(Series::line(
+            &format!("|τ_{axis}|"),
+            color,
+            column(records, |r| f(r).abs()),
+        ));
+        let paper = summary.a_priori.torque_max_Nm[i];
+        let tight = summary.a_priori.tight.torque_max_Nm[i];
+        series.push(Series::level(
+            Some(&format!("paper bound {axis}")),
+            color,
+            paper,
+            &span,
+        ));
+        series.push(Series::line(
+            &format!("tight bound {axis}"),
+            color,
+            vec![(span.start, tight), (span.end, tight)],
+        ));
+    }
+    panel(
+        BOUNDS_FILE,
+        "Torque against the paper's and the tight bounds",
+        "|torque| [N m]",
+        series,
+    )
+}
+
 /// Fig. 2c: norms of the saturated feedback and the filter states, with `√3 M_p` (each
 /// component of `ubar_p` is below `M_p`).
 fn filters_panel(scenario: &Scenario, records: &[Record], span: &Range<f64>) -> Panel {
@@ -352,7 +393,7 @@ mod tests {
     use crate::output::test_support::{synthetic_records, synthetic_summary, temp_dir};
 
     #[test]
-    fn writes_nine_non_empty_pngs() {
+    fn writes_ten_non_empty_pngs() {
         let dir = temp_dir("plots");
         let files = write_plots(
             &dir,
@@ -361,8 +402,9 @@ mod tests {
             &synthetic_records(300),
         )
         .expect("plots");
-        assert_eq!(files.len(), 9);
+        assert_eq!(files.len(), 10);
         assert_eq!(files[8], dir.join(OVERVIEW_FILE));
+        assert_eq!(files[9], dir.join(BOUNDS_FILE));
         for f in &files {
             let bytes = std::fs::read(f).expect("read png");
             assert!(
@@ -380,7 +422,7 @@ mod tests {
         let dir = temp_dir("plots-empty");
         let files = write_plots(&dir, &Scenario::paper(), &synthetic_summary(), &[])
             .expect("plots of nothing");
-        assert_eq!(files.len(), 9);
+        assert_eq!(files.len(), 10);
         let _ = std::fs::remove_dir_all(dir);
     }
 
