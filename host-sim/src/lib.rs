@@ -12,6 +12,7 @@
 //! and knows nothing of clap.
 
 pub mod ablation;
+pub mod bounds_table;
 pub mod campaign;
 pub mod closed_loop;
 pub mod compare;

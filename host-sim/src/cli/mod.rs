@@ -7,6 +7,7 @@
 //! they share.
 
 mod ablation;
+mod bounds;
 mod campaign;
 mod common;
 mod compare;
@@ -62,6 +63,10 @@ pub enum Command {
     /// (T, tau) box fits the rotors with a margin, best on a simulated objective; writes
     /// design.json, design.md, scenario.toml and firmware.toml.
     Design(design::DesignArgs),
+    /// The a-priori bounds of a set-up three ways: the paper's (Lemma 1, Theorem 2), the tight
+    /// ones (supremum of the law over its confining set, interval branch and bound) and the
+    /// largest value found at an admissible state; Theorem 2's torque conditions with both.
+    Bounds(bounds::BoundsArgs),
 }
 
 impl Cli {
@@ -78,6 +83,7 @@ impl Cli {
             Some(Command::Pil(args)) => pil::run(&args),
             Some(Command::Campaign(args)) => campaign::run(&args),
             Some(Command::Ablation(args)) => ablation::run(&args),
+            Some(Command::Bounds(args)) => bounds::run(&args),
             Some(Command::Compare(args)) => compare::run(&args),
             Some(Command::Design(args)) => design::run(&args),
         }

@@ -1,0 +1,187 @@
+//! `host-sim bounds`: one set-up's a-priori bounds three ways, before flying.
+//!
+//! For each quantity the law bounds a priori (`|ω_d|`, `|ω̇_d|`, each `|τ_i|`) the table gives
+//! the paper's bound (Lemma 1, Theorem 2 as written: [`controller_core::certify`]), the tight
+//! bound ([`crate::tight_bounds`], sound), the largest value the witness search found at an
+//! admissible state of the same confining set ([`crate::tight_bounds::witness`], a lower bound on
+//! the true supremum), and the ratios tight/paper and witness/tight. A witness/tight ratio near
+//! 1 shows the tight bound is nearly exact; Theorem 2's torque conditions are judged with both
+//! bounds ([`crate::tight_certificate`]).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use serde::Serialize;
+
+use crate::scenario::Scenario;
+use crate::tight_bounds::setup::Setup;
+use crate::tight_bounds::witness::{witnesses, Quantity, WitnessBudget};
+use crate::tight_certificate::{scenario_tight_bounds, tight_report, TightCondition};
+
+/// One row of the table.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct BoundRow {
+    /// The quantity, e.g. `|tau_1|`.
+    pub quantity: String,
+    /// Its SI unit.
+    pub unit: String,
+    /// The paper's bound (Lemma 1 / Theorem 2 as written).
+    pub paper: f64,
+    /// The tight bound.
+    pub tight: f64,
+    /// The largest value found at an admissible state (`None` when the search was skipped).
+    pub witness: Option<f64>,
+}
+
+impl BoundRow {
+    /// `tight / paper`.
+    pub fn tight_over_paper(&self) -> f64 {
+        self.tight / self.paper
+    }
+
+    /// `witness / tight`: how close the tight bound is to a value the law reaches.
+    pub fn witness_over_tight(&self) -> Option<f64> {
+        self.witness.map(|w| w / self.tight)
+    }
+}
+
+/// The whole report of `host-sim bounds`.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct BoundsTable {
+    /// The scenario's name (file path or `paper`).
+    pub scenario: String,
+    /// The rows: `|ω_d|`, `|ω̇_d|`, `|τ_1|`, `|τ_2|`, `|τ_3|`.
+    pub rows: Vec<BoundRow>,
+    /// Theorem 2's torque conditions judged with both bounds.
+    pub conditions: Vec<TightCondition>,
+    /// The branch and bound's relative gap.
+    pub relative_gap: f64,
+    /// Law evaluations the witness search spent (0 when skipped).
+    pub witness_evaluations: usize,
+}
+
+/// Options of `host-sim bounds`.
+#[derive(Clone, Debug)]
+pub struct BoundsOptions {
+    /// Scenario file; `None` is the embedded paper scenario.
+    pub scenario: Option<PathBuf>,
+    /// Seed of the witness search; `None` skips it.
+    pub witness_seed: Option<u64>,
+}
+
+/// Computes the table for the options' scenario.
+///
+/// Errors: the scenario cannot be read, or its parameters are refused by `certify`.
+pub fn bounds_table(options: &BoundsOptions) -> Result<BoundsTable> {
+    let (scenario, name) = match &options.scenario {
+        Some(path) => (Scenario::load(path)?, path.display().to_string()),
+        None => (Scenario::paper(), "paper".to_owned()),
+    };
+    let paper = crate::sim::certificate(&scenario)?;
+    let tight = scenario_tight_bounds(&scenario)?;
+    let found = match options.witness_seed {
+        Some(seed) => Some(witnesses(
+            &Setup::from_scenario(&scenario),
+            seed,
+            &WitnessBudget::default(),
+        )?),
+        None => None,
+    };
+    let witness = |q: Quantity| found.as_ref().map(|w| w.get(q).value);
+    let b = &paper.bounds;
+    let mut rows = vec![
+        BoundRow {
+            quantity: "|omega_d|".into(),
+            unit: "rad/s".into(),
+            paper: b.angular_velocity,
+            tight: tight.angular_velocity,
+            witness: witness(Quantity::AngularVelocity),
+        },
+        BoundRow {
+            quantity: "|omega_d_dot|".into(),
+            unit: "rad/s^2".into(),
+            paper: b.angular_acceleration,
+            tight: tight.angular_acceleration,
+            witness: witness(Quantity::AngularAcceleration),
+        },
+    ];
+    for i in 0..3 {
+        rows.push(BoundRow {
+            quantity: format!("|tau_{}|", i + 1),
+            unit: "N m".into(),
+            paper: b.torque_max[i],
+            tight: tight.torque_max[i],
+            witness: witness(Quantity::Torque(i)),
+        });
+    }
+    let report = tight_report(&paper, &tight);
+    Ok(BoundsTable {
+        scenario: name,
+        rows,
+        conditions: report.conditions,
+        relative_gap: tight.relative_gap,
+        witness_evaluations: found.as_ref().map_or(0, |w| w.evaluations),
+    })
+}
+
+/// The table as Markdown.
+pub fn markdown(table: &BoundsTable) -> String {
+    let opt = |x: Option<f64>, digits: usize| x.map_or("–".into(), |v| format!("{v:.digits$}"));
+    let mut s = String::new();
+    let _ = writeln!(s, "# A-priori bounds of `{}`\n", table.scenario);
+    let _ = writeln!(
+        s,
+        "| quantity | paper (Lemma 1, Theorem 2) | tight | witness | tight / paper | witness / tight |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|");
+    for r in &table.rows {
+        let _ = writeln!(
+            s,
+            "| {} [{}] | {:.4} | {:.4} | {} | {:.3} | {} |",
+            r.quantity,
+            r.unit,
+            r.paper,
+            r.tight,
+            opt(r.witness, 4),
+            r.tight_over_paper(),
+            opt(r.witness_over_tight(), 3),
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nBranch-and-bound gap {:.1} %; witness search: {} law evaluations.\n",
+        100.0 * table.relative_gap,
+        table.witness_evaluations
+    );
+    let _ = writeln!(
+        s,
+        "| condition | tau_max [N m] | paper's bound | tight bound | verdict |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|");
+    for c in &table.conditions {
+        let _ = writeln!(
+            s,
+            "| `{}` | {:.4} | {:.4} | {:.4} | {} |",
+            c.name,
+            c.lhs,
+            c.rhs_paper,
+            c.rhs_tight,
+            c.verdict()
+        );
+    }
+    s
+}
+
+/// Writes `bounds.json` and `bounds.md` into `dir` (created if missing); returns their paths.
+///
+/// Errors: the directory or a file cannot be written (named).
+pub fn write_table(dir: &Path, table: &BoundsTable) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let json = dir.join("bounds.json");
+    let text = serde_json::to_string_pretty(table).context("serialising bounds.json")?;
+    std::fs::write(&json, text).with_context(|| format!("writing {}", json.display()))?;
+    let md = dir.join("bounds.md");
+    std::fs::write(&md, markdown(table)).with_context(|| format!("writing {}", md.display()))?;
+    Ok(vec![json, md])
+}

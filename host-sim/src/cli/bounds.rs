@@ -1,0 +1,40 @@
+//! `host-sim bounds`: the paper's, the tight and the witnessed bounds of one set-up.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+use host_sim::bounds_table::{bounds_table, markdown, write_table, BoundsOptions};
+
+/// Options of `host-sim bounds`.
+#[derive(Debug, Args, Clone)]
+pub struct BoundsArgs {
+    /// Scenario file (default: the embedded paper scenario): its vehicle, gains and trajectory
+    /// set the confining set.
+    #[arg(long, value_name = "FILE")]
+    pub scenario: Option<PathBuf>,
+    /// Seed of the witness search (admissible states where the law comes close to the bound).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Skip the witness search (about two seconds).
+    #[arg(long)]
+    pub no_witness: bool,
+    /// Also write bounds.json and bounds.md here.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// Prints the table (Markdown) and writes the files if asked.
+pub fn run(args: &BoundsArgs) -> Result<()> {
+    let table = bounds_table(&BoundsOptions {
+        scenario: args.scenario.clone(),
+        witness_seed: (!args.no_witness).then_some(args.seed),
+    })?;
+    print!("{}", markdown(&table));
+    if let Some(dir) = &args.out {
+        for f in write_table(dir, &table)? {
+            println!("wrote {}", f.display());
+        }
+    }
+    Ok(())
+}
