@@ -2,7 +2,8 @@
 //!
 //! A scenario file is a vehicle file (`[vehicle]`, and optionally `[rotors]` and `[drag]`: the
 //! same tables as `host-sim/vehicles/*.toml`, see [`crate::vehicle`]) plus `[limits]`,
-//! `[gains]`, `[trajectory]`, `[initial]`, `[simulation]` and `[perturbations]`. `[limits]`,
+//! `[gains]`, `[trajectory]`, `[initial]`, `[simulation]`, `[perturbations]` and `[controller]`
+//! (the no-dive thrust option, off by default). `[limits]`,
 //! `[gains]` and `[trajectory]` are the tables of [`firmware::flight_tables`], shared with the
 //! firmware build's flight file.
 //!
@@ -14,7 +15,7 @@ use std::path::Path;
 use anyhow::{anyhow, Context, Result};
 use controller_core::scalar::{lit, Scalar};
 use controller_core::{
-    Gains, HeadingProfile, Limits, ParameterError, ReferenceTrajectory, Vehicle,
+    Gains, HeadingProfile, Limits, ParameterError, ReferenceTrajectory, ThrustMode, Vehicle,
 };
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -55,6 +56,68 @@ pub struct Scenario {
     /// default; see [`PerturbationConfig`]).
     #[serde(default, skip_serializing_if = "PerturbationConfig::is_nominal")]
     pub perturbations: PerturbationConfig,
+    /// Optional `[controller]`: options of the law beyond the paper's (absent = the paper's
+    /// law; see [`ControllerConfig`]).
+    #[serde(default, skip_serializing_if = "ControllerConfig::is_paper")]
+    pub controller: ControllerConfig,
+}
+
+/// `[controller]`: options of the law that depart from the paper (all off by default).
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct ControllerConfig {
+    /// How the collective thrust is computed from `u`: `"norm"` (`T = m|u|`, the paper's; the
+    /// default) or `"body-axis-projection"` (`T = max(m uᵀRe₃, thrust_floor_N)`, the no-dive
+    /// thrust: [`controller_core::thrust`]).
+    #[serde(default)]
+    pub thrust: ThrustKind,
+    /// `T_floor` \[N\] of `"body-axis-projection"`, in `[0, T_min]` (Theorem 1's `T_min`);
+    /// default 0. Refused with `thrust = "norm"` unless 0.
+    #[serde(default, skip_serializing_if = "is_zero_f64")]
+    pub thrust_floor_N: f64,
+}
+
+/// `controller.thrust`: the thrust law's name in scenario files and on the command line.
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum ThrustKind {
+    /// `T = m|u|` (the paper's).
+    #[default]
+    Norm,
+    /// `T = max(m uᵀRe₃, T_floor)`, the no-dive thrust.
+    BodyAxisProjection,
+}
+
+impl ThrustKind {
+    /// The name used in scenario files and on the command line.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Norm => "norm",
+            Self::BodyAxisProjection => "body-axis-projection",
+        }
+    }
+}
+
+impl ControllerConfig {
+    /// True for the paper's law (the default, left out when a scenario is written).
+    pub fn is_paper(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// The core's thrust mode in scalar `T`.
+    pub fn thrust_mode<T: Scalar>(&self) -> ThrustMode<T> {
+        match self.thrust {
+            ThrustKind::Norm => ThrustMode::Norm,
+            ThrustKind::BodyAxisProjection => ThrustMode::BodyAxisProjection {
+                floor: lit(self.thrust_floor_N),
+            },
+        }
+    }
+}
+
+fn is_zero_f64(x: &f64) -> bool {
+    *x == 0.0
 }
 
 /// `[vehicle]`: the vehicle files' table ([`VehicleTable`]).
@@ -178,6 +241,7 @@ fn key_of(name: &str) -> &'static str {
         "M_omega" => "gains.M_omega",
         "delta" => "gains.delta",
         "alpha" => "gains.alpha",
+        "thrust_floor" => "controller.thrust_floor_N",
         _ => "trajectory",
     }
 }
@@ -239,6 +303,7 @@ impl Scenario {
         }
         self.limits::<f64>().validate().map_err(|e| describe(&e))?;
         self.gains::<f64>().validate().map_err(|e| describe(&e))?;
+        self.validate_controller()?;
         let s = &self.simulation;
         let positive = |key: &str, v: f64| {
             if v.is_finite() && v > 0.0 {
@@ -275,6 +340,38 @@ impl Scenario {
             );
         }
         Ok(())
+    }
+
+    /// `[controller]`: the floor only with the projection, and within `[0, m(g − M_p))`
+    /// ([`ThrustMode::validate`]; the bound check against Theorem 1's `T_min` needs the
+    /// reference and is [`Scenario::thrust_interval`]'s).
+    fn validate_controller(&self) -> std::result::Result<(), String> {
+        let c = &self.controller;
+        if c.thrust == ThrustKind::Norm && c.thrust_floor_N != 0.0 {
+            return Err(format!(
+                "controller.thrust_floor_N: only used with thrust = \"body-axis-projection\", \
+                 got {} N with thrust = \"norm\"",
+                c.thrust_floor_N
+            ));
+        }
+        c.thrust_mode::<f64>()
+            .validate(&self.vehicle(), self.gains.M_p)
+            .map_err(|e| format!("controller.thrust_floor_N: {e}"))
+    }
+
+    /// The a-priori interval `[low, high]` \[N\] of the thrust the scenario's law applies,
+    /// from its certificate's bounds: Theorem 1's `[T_min, T_max]` for `thrust = "norm"`,
+    /// `[thrust_floor_N, T_max]` for the no-dive thrust ([`ThrustMode::interval`]).
+    /// Errors: the floor exceeds `T_min` (named by key).
+    pub fn thrust_interval(
+        &self,
+        bounds: &controller_core::Bounds<f64>,
+    ) -> std::result::Result<[f64; 2], String> {
+        self.controller
+            .thrust_mode::<f64>()
+            .interval(bounds)
+            .map(|(low, high)| [low, high])
+            .map_err(|e| format!("controller.thrust_floor_N: {e} (Theorem 1's T_min)"))
     }
 
     /// The vehicle in scalar `T`.

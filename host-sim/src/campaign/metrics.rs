@@ -65,9 +65,10 @@ impl Convergence {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 #[allow(non_snake_case)]
 pub struct BoundSet {
-    /// `T_min` of Theorem 1 \[N\].
+    /// Lower end of the certified thrust interval \[N\]: `T_min` of Theorem 1, or `T_floor`
+    /// with the no-dive thrust ([`controller_core::ThrustMode::interval`]).
     pub thrust_min_N: f64,
-    /// `T_max` of Theorem 1 \[N\].
+    /// `T_max` of Theorem 1 \[N\] (upper end with either thrust mode).
     pub thrust_max_N: f64,
     /// Theorem 2's per-axis torque bound [N m].
     pub torque_max_Nm: [f64; 3],

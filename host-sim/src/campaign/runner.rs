@@ -55,14 +55,19 @@ pub struct RunResult {
     pub error: Option<String>,
 }
 
-/// The bounds of a scenario: the certificate's a-priori bounds and the physical limits.
+/// The bounds of a scenario: the certificate's a-priori bounds (with the no-dive thrust, its
+/// thrust interval `[T_floor, T_max]` instead of Theorem 1's) and the physical limits.
 ///
-/// Errors: the certificate cannot be computed (invalid parameters).
+/// Errors: the certificate cannot be computed (invalid parameters), or the no-dive floor is
+/// above Theorem 1's `T_min`.
 pub fn bound_set(scenario: &Scenario) -> Result<BoundSet> {
     let cert = crate::sim::certificate(scenario)?;
+    let [thrust_low, thrust_high] = scenario
+        .thrust_interval(&cert.bounds)
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
     Ok(BoundSet {
-        thrust_min_N: cert.bounds.thrust_min,
-        thrust_max_N: cert.bounds.thrust_max,
+        thrust_min_N: thrust_low,
+        thrust_max_N: thrust_high,
         torque_max_Nm: cert.bounds.torque_max.into(),
         limit_thrust_N: scenario.limits.thrust_max_N,
         limit_torque_Nm: scenario.limits.torque_max_Nm,

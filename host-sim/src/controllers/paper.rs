@@ -12,7 +12,8 @@ use super::{Command, FlightController, SwitchCounts};
 use crate::plant::RigidBodyState;
 use crate::scenario::Scenario;
 
-/// `controller_core::Controller<T>` with the scenario's vehicle, gains and trajectory: samples
+/// `controller_core::Controller<T>` with the scenario's vehicle, gains, trajectory and
+/// `[controller]` thrust mode: samples
 /// the reference at `lit(t)` and measures the state through [`measure`].
 #[derive(Clone, Debug)]
 pub struct PaperLaw<T: Scalar> {
@@ -33,6 +34,10 @@ impl<T: Scalar> PaperLaw<T> {
             scenario.gains::<T>(),
             &trajectory.constants(),
         )
+        .and_then(|mut c| {
+            c.set_thrust_mode(scenario.controller.thrust_mode::<T>())?;
+            Ok(c)
+        })
         .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;
         Ok(Self {
             controller,

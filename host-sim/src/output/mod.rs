@@ -112,6 +112,7 @@ pub(crate) mod test_support {
                 feedback_torque_max_Nm: 0.25,
                 feasible: true,
                 conditions: vec![],
+                no_dive_thrust_interval_N: None,
             },
             observed: Observed {
                 thrust_min_N: 4.5,
@@ -121,6 +122,7 @@ pub(crate) mod test_support {
                 angular_acceleration_d_max_rad_s2: 0.5,
                 samples_outside_a_priori_bounds: 0,
                 samples: 3,
+                altitude_loss_m: 0.25,
             },
             final_: Final {
                 time_s: 0.02,

@@ -1,0 +1,211 @@
+//! Collective thrust from the control vector `u`: the paper's `T = m|u|` or the no-dive
+//! projection on the measured body z axis.
+//!
+//! The paper applies `T = m|u|` (Section IV), which Theorem 1 keeps in `[T_min, T_max]` with
+//! `T_min = m(g − M_p − K_a3) > 0` *whatever the attitude*: while the vehicle is upside down the
+//! rotors push it towards the ground at `|u| ≳ g` on top of gravity until the attitude loop has
+//! turned it over. [`ThrustMode::BodyAxisProjection`] applies instead the component of `m u`
+//! along the measured body z axis, clipped below at a floor,
+//!
+//! `T = max(m uᵀ R e₃, T_floor)`, `0 ≤ T_floor ≤ T_min`,   (no-dive thrust)
+//!
+//! as geometric controllers do (Lee, Leok, McClamroch 2010, `f = −(−k_x e_x − … ) · R e₃`). With
+//! `θ̃` the angle between the body z axis `R e₃` and the thrust direction `ρ = u/|u|`,
+//! `m uᵀ R e₃ = m|u| cos θ̃`: the paper's thrust when the body z axis is on `ρ`, less when it is
+//! tilted away, and the floor (zero by default: free fall rather than a powered dive) when it
+//! points more than 90° away. It is continuous in `R` and `u`, so it adds no switching; the
+//! torque law, `R_d`, `ω_d`, `ω̇_d` and the filters do not depend on the applied thrust.
+//!
+//! A-priori interval: `m uᵀRe₃ ≤ m|u| ≤ T_max` (Theorem 1), so `T ∈ [T_floor, T_max]`
+//! ([`ThrustMode::interval`]); the floor never raises the thrust above the paper's because
+//! `T_floor ≤ T_min ≤ m|u|`. What the paper's theorems still cover with it is in
+//! `docs/no-dive-thrust.md`.
+
+use nalgebra::Vector3;
+
+use crate::bounds::Bounds;
+use crate::params::{ParameterError, Vehicle};
+use crate::scalar::{norm, to_f64, Scalar};
+
+/// How the collective thrust is computed from the control vector `u` [m/s²] (inertial).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum ThrustMode<T: Scalar> {
+    /// `T = m|u|`: the paper's law (Section IV, Theorem 1). The default.
+    #[default]
+    Norm,
+    /// `T = max(m uᵀ R e₃, T_floor)`: the projection of `m u` on the measured body z axis,
+    /// clipped below at `floor` (no-dive thrust).
+    BodyAxisProjection {
+        /// `T_floor` \[N\], `0 ≤ T_floor ≤ T_min` (see [`ThrustMode::validate`] and
+        /// [`ThrustMode::interval`]); 0 = the rotors idle while the body z axis points more
+        /// than 90° away from `u`.
+        floor: T,
+    },
+}
+
+impl<T: Scalar> ThrustMode<T> {
+    /// The body-axis projection with no floor (`T = m·max(uᵀ R e₃, 0)`).
+    pub fn body_axis_projection() -> Self {
+        Self::BodyAxisProjection { floor: T::zero() }
+    }
+
+    /// The collective thrust \[N\] for the control vector `u` [m/s²] (inertial), the vehicle
+    /// mass `mass` \[kg\] and the measured body z axis `body_z = R e₃` (unit, inertial; `R`
+    /// body to inertial). [`ThrustMode::Norm`] ignores `body_z` and computes `m|u|` exactly as
+    /// the paper's law always has.
+    #[inline(always)]
+    pub fn thrust(&self, mass: T, u: &Vector3<T>, body_z: &Vector3<T>) -> T {
+        match *self {
+            Self::Norm => mass * norm(u),
+            Self::BodyAxisProjection { floor } => (mass * u.dot(body_z)).max(floor),
+        }
+    }
+
+    /// Checks the mode for `vehicle` and the saturation level `M_p` [m/s²]: the floor must be
+    /// finite, `≥ 0` and `< m(g − M_p)` (`T_min` of Theorem 1 for a reference with `K_a3 = 0`,
+    /// the largest `T_min` can be; [`ThrustMode::interval`] checks against the actual `T_min`).
+    /// Errors: [`ParameterError::OutOfRange`] naming `"thrust_floor"` (its low end 0 is
+    /// allowed).
+    pub fn validate(&self, vehicle: &Vehicle<T>, saturation: T) -> Result<(), ParameterError> {
+        match *self {
+            Self::Norm => Ok(()),
+            Self::BodyAxisProjection { floor } => {
+                let high = vehicle.mass * (vehicle.gravity - saturation);
+                if floor.is_finite() && floor >= T::zero() && floor < high {
+                    Ok(())
+                } else {
+                    Err(ParameterError::OutOfRange {
+                        name: "thrust_floor",
+                        value: to_f64(floor),
+                        low: 0.0,
+                        high: to_f64(high),
+                    })
+                }
+            }
+        }
+    }
+
+    /// The a-priori interval `[low, high]` \[N\] of the thrust this mode applies, from the
+    /// paper's bounds: `[T_min, T_max]` for [`ThrustMode::Norm`] (Theorem 1, eq:BoundsT) and
+    /// `[T_floor, T_max]` for [`ThrustMode::BodyAxisProjection`] (because
+    /// `m uᵀRe₃ ≤ m|u| ≤ T_max`, and the floor is at most `T_min`).
+    ///
+    /// Errors: [`ParameterError::OutOfRange`] naming `"thrust_floor"` if the floor is not in
+    /// `[0, T_min]` (a larger floor would raise the thrust above the paper's).
+    pub fn interval(&self, bounds: &Bounds<T>) -> Result<(T, T), ParameterError> {
+        match *self {
+            Self::Norm => Ok((bounds.thrust_min, bounds.thrust_max)),
+            Self::BodyAxisProjection { floor } => {
+                if floor.is_finite() && floor >= T::zero() && floor <= bounds.thrust_min {
+                    Ok((floor, bounds.thrust_max))
+                } else {
+                    Err(ParameterError::OutOfRange {
+                        name: "thrust_floor",
+                        value: to_f64(floor),
+                        low: 0.0,
+                        high: to_f64(bounds.thrust_min),
+                    })
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bounds::{certify, FilterStart};
+    use crate::params::{Gains, Limits};
+    use crate::reference::{ReferenceTrajectory, Trajectory};
+    use nalgebra::{Rotation3, Unit};
+    use proptest::prelude::*;
+
+    fn unit(v: [f64; 3]) -> Vector3<f64> {
+        Vector3::from(v).normalize()
+    }
+
+    #[test]
+    fn norm_is_the_papers_thrust_bit_for_bit() {
+        let u = Vector3::new(0.3f32, -1.7, 9.2);
+        let m = 0.46f32;
+        let t = ThrustMode::Norm.thrust(m, &u, &Vector3::new(0.0, 0.0, -1.0));
+        assert_eq!(t.to_bits(), (m * norm(&u)).to_bits());
+    }
+
+    proptest! {
+        /// The projection is `m|u| cos θ̃` clipped at the floor, with θ̃ the angle between the
+        /// body z axis and u computed independently (from the rotation that takes e₃ to body z).
+        #[test]
+        fn projection_is_m_norm_u_cos_angle(
+            u in prop::array::uniform3(-20.0f64..20.0),
+            axis in prop::array::uniform3(-1.0f64..1.0),
+            angle in 0.0f64..std::f64::consts::PI,
+            floor in 0.0f64..3.0,
+        ) {
+            let u = Vector3::from(u);
+            prop_assume!(u.norm() > 1e-3 && Vector3::from(axis).norm() > 1e-3);
+            let r = Rotation3::from_axis_angle(&Unit::new_normalize(Vector3::from(axis)), angle);
+            let body_z = r * Vector3::z();
+            let cos = body_z.angle(&u).cos();
+            let t = ThrustMode::BodyAxisProjection { floor }.thrust(0.46, &u, &body_z);
+            let expected = (0.46 * u.norm() * cos).max(floor);
+            prop_assert!((t - expected).abs() <= 1e-12 * (1.0 + expected.abs()), "{t} {expected}");
+            // Never more than the paper's thrust once the floor is at most it.
+            prop_assert!(t <= (0.46 * u.norm()).max(floor) * (1.0 + 1e-15));
+        }
+    }
+
+    #[test]
+    fn upside_down_gives_the_floor_and_aligned_gives_the_norm() {
+        let u = Vector3::new(0.5, -0.2, 9.81);
+        let m = 0.46;
+        let p = ThrustMode::BodyAxisProjection { floor: 0.25 };
+        assert_eq!(p.thrust(m, &u, &unit([0.1, 0.0, -1.0])), 0.25);
+        let aligned = p.thrust(m, &u, &u.normalize());
+        assert!((aligned - m * u.norm()).abs() < 1e-12);
+        assert_eq!(
+            ThrustMode::body_axis_projection().thrust(m, &u, &unit([0.0, 1.0, -0.01])),
+            0.0
+        );
+    }
+
+    #[test]
+    fn interval_is_floor_to_theorem1_max() {
+        let c = certify(
+            &Vehicle::paper(),
+            &Limits::paper(),
+            &Gains::paper(),
+            &ReferenceTrajectory::paper_helix().constants(),
+            FilterStart::Zero,
+        )
+        .unwrap();
+        let b = &c.bounds;
+        assert_eq!(
+            ThrustMode::Norm.interval(b),
+            Ok((b.thrust_min, b.thrust_max))
+        );
+        assert_eq!(
+            ThrustMode::body_axis_projection().interval(b),
+            Ok((0.0, b.thrust_max))
+        );
+        let e = ThrustMode::BodyAxisProjection {
+            floor: b.thrust_min * 1.01,
+        }
+        .interval(b)
+        .unwrap_err();
+        assert!(matches!(e, ParameterError::OutOfRange { name: "thrust_floor", .. }), "{e:?}");
+    }
+
+    #[test]
+    fn validate_refuses_bad_floors_by_name() {
+        let v = Vehicle::<f64>::paper();
+        for floor in [-0.1, f64::NAN, 0.46 * (9.81 - 2.0)] {
+            let e = ThrustMode::BodyAxisProjection { floor }
+                .validate(&v, 2.0)
+                .unwrap_err();
+            assert!(matches!(e, ParameterError::OutOfRange { name: "thrust_floor", .. }), "{e:?}");
+        }
+        assert!(ThrustMode::body_axis_projection().validate(&v, 2.0).is_ok());
+        assert!(ThrustMode::Norm.validate(&v, 2.0).is_ok());
+    }
+}
