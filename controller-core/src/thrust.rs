@@ -41,6 +41,15 @@ pub enum ThrustMode<T: Scalar> {
         /// than 90° away from `u`.
         floor: T,
     },
+    /// `T = max(m|u| · max(cos θ̃, 0)^k, T_floor)` with `cos θ̃ = uᵀRe₃/|u|`: a smooth factor of
+    /// the thrust-direction error; `k = 1` is the projection, `k < 1` keeps more thrust while
+    /// the body z axis is tilted less than 90° from `u`, `k > 1` less.
+    AlignmentPower {
+        /// The exponent `k > 0` (dimensionless).
+        exponent: T,
+        /// `T_floor` \[N\], as for [`ThrustMode::BodyAxisProjection`].
+        floor: T,
+    },
 }
 
 impl<T: Scalar> ThrustMode<T> {
@@ -58,6 +67,11 @@ impl<T: Scalar> ThrustMode<T> {
         match *self {
             Self::Norm => mass * norm(u),
             Self::BodyAxisProjection { floor } => (mass * u.dot(body_z)).max(floor),
+            Self::AlignmentPower { exponent, floor } => {
+                let n = norm(u);
+                let cos = (u.dot(body_z) / n).max(T::zero());
+                (mass * n * cos.powf(exponent)).max(floor)
+            }
         }
     }
 
@@ -69,7 +83,7 @@ impl<T: Scalar> ThrustMode<T> {
     pub fn validate(&self, vehicle: &Vehicle<T>, saturation: T) -> Result<(), ParameterError> {
         match *self {
             Self::Norm => Ok(()),
-            Self::BodyAxisProjection { floor } => {
+            Self::BodyAxisProjection { floor } | Self::AlignmentPower { floor, .. } => {
                 let high = vehicle.mass * (vehicle.gravity - saturation);
                 if floor.is_finite() && floor >= T::zero() && floor < high {
                     Ok(())
@@ -95,7 +109,7 @@ impl<T: Scalar> ThrustMode<T> {
     pub fn interval(&self, bounds: &Bounds<T>) -> Result<(T, T), ParameterError> {
         match *self {
             Self::Norm => Ok((bounds.thrust_min, bounds.thrust_max)),
-            Self::BodyAxisProjection { floor } => {
+            Self::BodyAxisProjection { floor } | Self::AlignmentPower { floor, .. } => {
                 if floor.is_finite() && floor >= T::zero() && floor <= bounds.thrust_min {
                     Ok((floor, bounds.thrust_max))
                 } else {

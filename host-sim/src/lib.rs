@@ -18,6 +18,7 @@ pub mod compare;
 pub mod controllers;
 pub mod design;
 pub mod harness;
+pub mod no_dive;
 pub mod output;
 pub mod perturbation;
 pub mod plant;

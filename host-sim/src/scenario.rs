@@ -63,7 +63,7 @@ pub struct Scenario {
 }
 
 /// `[controller]`: options of the law that depart from the paper (all off by default).
-#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
 pub struct ControllerConfig {
@@ -76,6 +76,17 @@ pub struct ControllerConfig {
     /// default 0. Refused with `thrust = "norm"` unless 0.
     #[serde(default, skip_serializing_if = "is_zero_f64")]
     pub thrust_floor_N: f64,
+    /// Exponent `k` of `"alignment-power"`.
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub thrust_exponent: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+fn is_one(x: &f64) -> bool {
+    *x == 1.0
 }
 
 /// `controller.thrust`: the thrust law's name in scenario files and on the command line.
@@ -87,6 +98,8 @@ pub enum ThrustKind {
     Norm,
     /// `T = max(m uᵀRe₃, T_floor)`, the no-dive thrust.
     BodyAxisProjection,
+    /// `T = max(m|u| max(cos θ̃, 0)^k, T_floor)`.
+    AlignmentPower,
 }
 
 impl ThrustKind {
@@ -95,6 +108,17 @@ impl ThrustKind {
         match self {
             Self::Norm => "norm",
             Self::BodyAxisProjection => "body-axis-projection",
+            Self::AlignmentPower => "alignment-power",
+        }
+    }
+}
+
+impl Default for ControllerConfig {
+    fn default() -> Self {
+        Self {
+            thrust: ThrustKind::Norm,
+            thrust_floor_N: 0.0,
+            thrust_exponent: 1.0,
         }
     }
 }
@@ -110,6 +134,10 @@ impl ControllerConfig {
         match self.thrust {
             ThrustKind::Norm => ThrustMode::Norm,
             ThrustKind::BodyAxisProjection => ThrustMode::BodyAxisProjection {
+                floor: lit(self.thrust_floor_N),
+            },
+            ThrustKind::AlignmentPower => ThrustMode::AlignmentPower {
+                exponent: lit(self.thrust_exponent),
                 floor: lit(self.thrust_floor_N),
             },
         }
@@ -503,6 +531,28 @@ impl Scenario {
             self.perturbations.motor_time_constant_s = t;
         }
         Ok(self)
+    }
+
+    /// This scenario with the command line's `[controller]` overrides (`--thrust`,
+    /// `--thrust-floor-n`, `--thrust-exponent`); `None` keeps the scenario's value. The result
+    /// is checked by [`Scenario::validate`].
+    pub fn with_controller_overrides(
+        mut self,
+        thrust: Option<ThrustKind>,
+        floor_n: Option<f64>,
+        exponent: Option<f64>,
+    ) -> Scenario {
+        let c = &mut self.controller;
+        if let Some(t) = thrust {
+            c.thrust = t;
+        }
+        if let Some(f) = floor_n {
+            c.thrust_floor_N = f;
+        }
+        if let Some(k) = exponent {
+            c.thrust_exponent = k;
+        }
+        self
     }
 
     /// The scenario's rotors (geometry, thrust range, yaw torque per newton), motor time

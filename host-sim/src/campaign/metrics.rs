@@ -78,23 +78,24 @@ pub struct BoundSet {
     pub limit_torque_Nm: [f64; 3],
 }
 
-/// Sliding count of events over the last `window` sample intervals.
+/// Sliding count of events over the last `window` sample intervals: push the running total
+/// at every sample; `max` is the most events within any `window` consecutive intervals.
 #[derive(Clone, Debug)]
-struct WindowMax {
+pub(crate) struct WindowMax {
     window: usize,
     totals: VecDeque<u32>,
-    max: u32,
+    pub(crate) max: u32,
 }
 
 impl WindowMax {
-    fn new(window: usize) -> Self {
+    pub(crate) fn new(window: usize) -> Self {
         Self {
             window: window.max(1),
             totals: VecDeque::new(),
             max: 0,
         }
     }
-    fn push(&mut self, total: u32) {
+    pub(crate) fn push(&mut self, total: u32) {
         self.totals.push_back(total);
         if self.totals.len() > self.window + 1 {
             self.totals.pop_front();

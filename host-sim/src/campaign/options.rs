@@ -7,11 +7,12 @@ use std::path::PathBuf;
 use anyhow::{bail, Result};
 
 use crate::controllers::ControllerKind;
-use crate::scenario::{PlantKind, Precision, Scenario};
+use crate::scenario::{PlantKind, Precision, Scenario, ThrustKind};
 
 /// Options shared by the campaign, the ablations and the comparison: the base scenario and the
 /// seed.
 #[derive(Clone, Debug, Default, PartialEq)]
+#[allow(non_snake_case)]
 pub struct BaseOptions {
     /// Base scenario file (TOML); `None`: the embedded paper scenario. Its `[initial]` table is
     /// replaced by the sampled initial conditions; its `[perturbations]` apply to every run.
@@ -38,6 +39,13 @@ pub struct BaseOptions {
     /// Motor time constant \[s\], overriding `[perturbations] motor_time_constant_s` (on the
     /// rotor plant it replaces the vehicle's, e.g. twice it for a robustness campaign).
     pub motor_time_constant_s: Option<f64>,
+    /// Thrust law, overriding `[controller] thrust` (`ThrustKind::BodyAxisProjection`: the
+    /// no-dive thrust).
+    pub thrust: Option<ThrustKind>,
+    /// No-dive thrust floor \[N\], overriding `[controller] thrust_floor_N`.
+    pub thrust_floor_N: Option<f64>,
+    /// Exponent of `alignment-power`, overriding `[controller] thrust_exponent`.
+    pub thrust_exponent: Option<f64>,
 }
 
 impl BaseOptions {
@@ -67,11 +75,13 @@ impl BaseOptions {
         if let Some(p) = self.precision {
             s.simulation.precision = p;
         }
-        let s = s.with_plant_overrides(
-            self.vehicle.as_deref(),
-            self.plant,
-            self.motor_time_constant_s,
-        )?;
+        let s = s
+            .with_plant_overrides(
+                self.vehicle.as_deref(),
+                self.plant,
+                self.motor_time_constant_s,
+            )?
+            .with_controller_overrides(self.thrust, self.thrust_floor_N, self.thrust_exponent);
         s.validate().map_err(|e| anyhow::anyhow!("{e}"))?;
         Ok(s)
     }
