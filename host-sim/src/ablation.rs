@@ -34,8 +34,8 @@ use crate::campaign::stats::Distribution;
 use crate::campaign::trace::{trace, TracePoint};
 use crate::campaign::Convergence;
 use crate::controllers::ControllerKind;
-use crate::output::chart::{LegendAt, Panel, Scale, Series};
 use crate::no_dive::{run_no_dive, NoDiveReport};
+use crate::output::chart::{LegendAt, Panel, Scale, Series};
 use crate::report::fmt_opt;
 use crate::scenario::{Precision, Scenario};
 
@@ -345,7 +345,11 @@ pub fn markdown(report: &AblationReport, plots: &[(String, String)]) -> String {
 }
 
 fn no_dive_markdown(md: &mut String, r: &NoDiveReport) {
-    let _ = writeln!(md, "\n## No-dive thrust: T = m|u| vs {}\n", r.no_dive.thrust.name());
+    let _ = writeln!(
+        md,
+        "\n## No-dive thrust: T = m|u| vs {}\n",
+        r.no_dive.thrust.name()
+    );
     let _ = writeln!(
         md,
         "Certified thrust interval with the option: [{:.3}, {:.3}] N. Flip cost (paper start \

@@ -130,6 +130,8 @@ fn fly_one(
     );
     let window = (1.0 / sim.controller_period_s).round() as usize;
     let mut cutoff_window = WindowMax::new(window);
+    // A run that starts at the floor counts that first cut-off in its first second too.
+    cutoff_window.push(0);
     let (mut cutoffs, mut above, mut z_min) = (0u32, true, initial.position.z);
     let mut trace = Vec::new();
     let mut law = ControllerKind::Paper.build(scenario)?;
@@ -261,7 +263,10 @@ pub fn run_no_dive(scenario: &Scenario, seed: u64, repeats: u64) -> Result<NoDiv
         })
         .collect();
     let altitude_traces = vec![
-        ("paper start, T = m|u|".to_string(), flown[0][0].trace.clone()),
+        (
+            "paper start, T = m|u|".to_string(),
+            flown[0][0].trace.clone(),
+        ),
         (
             format!("paper start, {}", no_dive.thrust.name()),
             flown[0][1].trace.clone(),
@@ -285,9 +290,8 @@ pub fn run_no_dive(scenario: &Scenario, seed: u64, repeats: u64) -> Result<NoDiv
                         .with_context(|| format!("hover {label}, noise {noise} deg"))
                 })
                 .collect::<Result<_>>()?;
-            let mean = |f: fn(&Flown) -> f64| {
-                runs.iter().map(f).sum::<f64>() / (runs.len().max(1) as f64)
-            };
+            let mean =
+                |f: fn(&Flown) -> f64| runs.iter().map(f).sum::<f64>() / (runs.len().max(1) as f64);
             chattering.push(ChatterRow {
                 thrust: c.thrust.name().into(),
                 attitude_noise_deg: noise,
@@ -295,7 +299,11 @@ pub fn run_no_dive(scenario: &Scenario, seed: u64, repeats: u64) -> Result<NoDiv
                 switches_per_s: mean(|r| f64::from(r.switches) / r.duration_s),
                 max_switches_in_1s: runs.iter().map(|r| r.max_switches_in_1s).max().unwrap_or(0),
                 thrust_cutoffs_per_s: mean(|r| f64::from(r.cutoffs) / r.duration_s),
-                max_thrust_cutoffs_in_1s: runs.iter().map(|r| r.max_cutoffs_in_1s).max().unwrap_or(0),
+                max_thrust_cutoffs_in_1s: runs
+                    .iter()
+                    .map(|r| r.max_cutoffs_in_1s)
+                    .max()
+                    .unwrap_or(0),
                 converged: runs.iter().filter(|r| r.converged).count(),
             });
         }

@@ -15,7 +15,8 @@ use std::path::Path;
 use anyhow::{anyhow, Context, Result};
 use controller_core::scalar::{lit, Scalar};
 use controller_core::{
-    Gains, HeadingProfile, Limits, ParameterError, ReferenceTrajectory, ThrustMode, Vehicle,
+    Gains, HeadingProfile, Limits, ParameterError, ReferenceTrajectory, ThrustMode, Trajectory,
+    Vehicle,
 };
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -68,17 +69,30 @@ pub struct Scenario {
 #[allow(non_snake_case)]
 pub struct ControllerConfig {
     /// How the collective thrust is computed from `u`: `"norm"` (`T = m|u|`, the paper's; the
-    /// default) or `"body-axis-projection"` (`T = max(m uᵀRe₃, thrust_floor_N)`, the no-dive
-    /// thrust: [`controller_core::thrust`]).
+    /// default), or a no-dive thrust ([`controller_core::thrust`]): `"body-axis-projection"`
+    /// (`T = max(m uᵀRe₃, thrust_floor_N)`), `"alignment-power"`
+    /// (`T = max(m|u| max(cos θ̃, 0)^thrust_exponent, thrust_floor_N)`) or `"vertical-priority"`
+    /// (see [`ThrustKind::VerticalPriority`]).
     #[serde(default)]
     pub thrust: ThrustKind,
     /// `T_floor` \[N\] of `"body-axis-projection"`, in `[0, T_min]` (Theorem 1's `T_min`);
     /// default 0. Refused with `thrust = "norm"` unless 0.
     #[serde(default, skip_serializing_if = "is_zero_f64")]
     pub thrust_floor_N: f64,
-    /// Exponent `k` of `"alignment-power"`.
+    /// Exponent `k > 0` of `"alignment-power"`; default 1.
     #[serde(default = "one", skip_serializing_if = "is_one")]
     pub thrust_exponent: f64,
+    /// Ramp width `b₀ ∈ (0, 1]` of `"vertical-priority"` in `e₃ᵀRe₃`; default 0.2.
+    #[serde(default = "default_ramp", skip_serializing_if = "is_default_ramp")]
+    pub thrust_ramp: f64,
+}
+
+fn default_ramp() -> f64 {
+    0.2
+}
+
+fn is_default_ramp(x: &f64) -> bool {
+    *x == default_ramp()
 }
 
 fn one() -> f64 {
@@ -100,6 +114,10 @@ pub enum ThrustKind {
     BodyAxisProjection,
     /// `T = max(m|u| max(cos θ̃, 0)^k, T_floor)`.
     AlignmentPower,
+    /// `T = min(m u₃/b₃, T_max · min(1, b₃/b₀))` for `b₃ = e₃ᵀRe₃ > 0`, else 0: the vertical
+    /// thrust `u` asks for while the body z axis is above the horizon (tilt compensation),
+    /// capped at Theorem 1's `T_max` and ramped to 0 at the horizon.
+    VerticalPriority,
 }
 
 impl ThrustKind {
@@ -109,6 +127,7 @@ impl ThrustKind {
             Self::Norm => "norm",
             Self::BodyAxisProjection => "body-axis-projection",
             Self::AlignmentPower => "alignment-power",
+            Self::VerticalPriority => "vertical-priority",
         }
     }
 }
@@ -119,6 +138,7 @@ impl Default for ControllerConfig {
             thrust: ThrustKind::Norm,
             thrust_floor_N: 0.0,
             thrust_exponent: 1.0,
+            thrust_ramp: default_ramp(),
         }
     }
 }
@@ -129,8 +149,9 @@ impl ControllerConfig {
         *self == Self::default()
     }
 
-    /// The core's thrust mode in scalar `T`.
-    pub fn thrust_mode<T: Scalar>(&self) -> ThrustMode<T> {
+    /// The core's thrust mode in scalar `T`; `thrust_max_n` \[N\] is Theorem 1's `T_max`, the
+    /// cap of `"vertical-priority"` (unused by the others).
+    pub fn thrust_mode<T: Scalar>(&self, thrust_max_n: f64) -> ThrustMode<T> {
         match self.thrust {
             ThrustKind::Norm => ThrustMode::Norm,
             ThrustKind::BodyAxisProjection => ThrustMode::BodyAxisProjection {
@@ -139,6 +160,10 @@ impl ControllerConfig {
             ThrustKind::AlignmentPower => ThrustMode::AlignmentPower {
                 exponent: lit(self.thrust_exponent),
                 floor: lit(self.thrust_floor_N),
+            },
+            ThrustKind::VerticalPriority => ThrustMode::VerticalPriority {
+                cap: lit(thrust_max_n),
+                ramp: lit(self.thrust_ramp),
             },
         }
     }
@@ -270,6 +295,8 @@ fn key_of(name: &str) -> &'static str {
         "delta" => "gains.delta",
         "alpha" => "gains.alpha",
         "thrust_floor" => "controller.thrust_floor_N",
+        "thrust_ramp" => "controller.thrust_ramp",
+        "thrust_cap" => "controller.thrust",
         _ => "trajectory",
     }
 }
@@ -382,9 +409,39 @@ impl Scenario {
                 c.thrust_floor_N
             ));
         }
-        c.thrust_mode::<f64>()
+        if c.thrust == ThrustKind::AlignmentPower
+            && !(c.thrust_exponent.is_finite() && c.thrust_exponent > 0.0)
+        {
+            return Err(format!(
+                "controller.thrust_exponent: must be finite and > 0, got {}",
+                c.thrust_exponent
+            ));
+        }
+        // The cap (Theorem 1's T_max) is checked with the certificate; any positive value here.
+        c.thrust_mode::<f64>(1.0)
             .validate(&self.vehicle(), self.gains.M_p)
-            .map_err(|e| format!("controller.thrust_floor_N: {e}"))
+            .map_err(|e| describe(&e))
+    }
+
+    /// The core's thrust mode of `[controller]` for this scenario, in scalar `T` (the
+    /// vertical-priority cap is Theorem 1's `T_max` from the certificate).
+    /// Errors: the certificate cannot be computed (named by key).
+    pub fn thrust_mode<T: Scalar>(&self) -> std::result::Result<ThrustMode<T>, String> {
+        let thrust_max = if self.controller.thrust == ThrustKind::VerticalPriority {
+            controller_core::certify(
+                &self.vehicle::<f64>(),
+                &self.limits::<f64>(),
+                &self.gains::<f64>(),
+                &self.trajectory::<f64>().constants(),
+                controller_core::FilterStart::Zero,
+            )
+            .map_err(|e| describe(&e))?
+            .bounds
+            .thrust_max
+        } else {
+            0.0
+        };
+        Ok(self.controller.thrust_mode(thrust_max))
     }
 
     /// The a-priori interval `[low, high]` \[N\] of the thrust the scenario's law applies,
@@ -396,10 +453,10 @@ impl Scenario {
         bounds: &controller_core::Bounds<f64>,
     ) -> std::result::Result<[f64; 2], String> {
         self.controller
-            .thrust_mode::<f64>()
+            .thrust_mode::<f64>(bounds.thrust_max)
             .interval(bounds)
             .map(|(low, high)| [low, high])
-            .map_err(|e| format!("controller.thrust_floor_N: {e} (Theorem 1's T_min)"))
+            .map_err(|e| format!("{} (Theorem 1's interval)", describe(&e)))
     }
 
     /// The vehicle in scalar `T`.

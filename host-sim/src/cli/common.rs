@@ -53,6 +53,8 @@ pub enum ThrustArg {
     BodyAxisProjection,
     /// T = max(m|u| max(cos th, 0)^k, T_floor), th the angle between body z and u.
     AlignmentPower,
+    /// Vertical priority.
+    VerticalPriority,
 }
 
 impl From<ThrustArg> for ThrustKind {
@@ -61,6 +63,7 @@ impl From<ThrustArg> for ThrustKind {
             ThrustArg::Norm => ThrustKind::Norm,
             ThrustArg::BodyAxisProjection => ThrustKind::BodyAxisProjection,
             ThrustArg::AlignmentPower => ThrustKind::AlignmentPower,
+            ThrustArg::VerticalPriority => ThrustKind::VerticalPriority,
         }
     }
 }

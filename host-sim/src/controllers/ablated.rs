@@ -28,9 +28,7 @@ use controller_core::path_lifting::PathLifting;
 use controller_core::position::FilterState;
 use controller_core::saturation::tanh_saturation;
 use controller_core::scalar::{lit, to_f64, Scalar};
-use controller_core::{
-    Controller, Gains, ReferenceTrajectory, ThrustMode, Trajectory, Vehicle,
-};
+use controller_core::{Controller, Gains, ReferenceTrajectory, ThrustMode, Trajectory, Vehicle};
 use nalgebra::{Quaternion, Vector3};
 
 use super::measure;
@@ -160,7 +158,7 @@ impl<T: Scalar> AblatedLaw<T> {
         let vehicle = scenario.vehicle::<T>();
         let gains = scenario.gains::<T>();
         // Same validation as the core (the constructed controller is then dropped).
-        let thrust_mode = scenario.controller.thrust_mode::<T>();
+        let thrust_mode = scenario.thrust_mode::<T>().map_err(|e| anyhow!("{e}"))?;
         Controller::new(vehicle, gains, &trajectory.constants())
             .and_then(|mut c| c.set_thrust_mode(thrust_mode))
             .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;

@@ -34,11 +34,12 @@ impl<T: Scalar> PaperLaw<T> {
             scenario.gains::<T>(),
             &trajectory.constants(),
         )
-        .and_then(|mut c| {
-            c.set_thrust_mode(scenario.controller.thrust_mode::<T>())?;
-            Ok(c)
-        })
         .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;
+        let mut controller = controller;
+        let mode = scenario.thrust_mode::<T>().map_err(|e| anyhow!("{e}"))?;
+        controller
+            .set_thrust_mode(mode)
+            .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;
         Ok(Self {
             controller,
             trajectory,

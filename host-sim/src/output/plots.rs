@@ -256,10 +256,7 @@ fn thrust_panel(
     // With the no-dive thrust the certified interval is [T_floor, T_max], not Theorem 1's.
     let (label, [low, high]) = match b.no_dive_thrust_interval_N {
         Some(interval) => ("T_floor, T_max (a priori)", interval),
-        None => (
-            "T_min, T_max (a priori)",
-            [b.thrust_min_N, b.thrust_max_N],
-        ),
+        None => ("T_min, T_max (a priori)", [b.thrust_min_N, b.thrust_max_N]),
     };
     let series = vec![
         Series::line("T", C_X, column(records, |r| r.thrust_N)),
