@@ -710,6 +710,61 @@ mod tests {
         assert!(e.contains("perturbations.position_noise_std_m"), "{e}");
     }
 
+    /// `paper-no-dive.toml` is the paper's scenario with only `[controller]` changed.
+    #[test]
+    fn paper_no_dive_is_the_paper_with_the_thrust_option() {
+        let text = include_str!("../scenarios/paper-no-dive.toml");
+        let s = Scenario::parse(text, "paper-no-dive.toml").unwrap();
+        assert_eq!(s.controller.thrust, ThrustKind::VerticalPriority);
+        assert_eq!(
+            Scenario {
+                controller: ControllerConfig::default(),
+                ..s
+            },
+            Scenario::paper()
+        );
+    }
+
+    #[test]
+    fn controller_keys_are_checked_by_name() {
+        let table = |body: &str| format!("{PAPER_SCENARIO}\n[controller]\n{body}\n");
+        let e = Scenario::parse(&table("thrust = \"sideways\""), "a.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("a.toml") && e.contains("sideways"), "{e}");
+        let e = Scenario::parse(
+            &table("thrust = \"body-axis-projection\"\nthrust_floor_N = -1.0"),
+            "b.toml",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("controller.thrust_floor_N"), "{e}");
+        let e = Scenario::parse(&table("thrust_floor_N = 0.5"), "c.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("controller.thrust_floor_N") && e.contains("norm"), "{e}");
+        let e = Scenario::parse(
+            &table("thrust = \"vertical-priority\"\nthrust_ramp = 0.0"),
+            "d.toml",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("controller.thrust_ramp"), "{e}");
+        // A floor between T_min (3.51 N) and m(g - M_p) (3.59 N) passes the file check (which
+        // knows no reference) but not the interval.
+        let s = Scenario::parse(
+            &table("thrust = \"body-axis-projection\"\nthrust_floor_N = 3.55"),
+            "e.toml",
+        )
+        .unwrap();
+        let cert = crate::sim::certificate(&s).unwrap();
+        let e = s.thrust_interval(&cert.bounds).unwrap_err();
+        assert!(e.contains("controller.thrust_floor_N"), "{e}");
+        // The paper's scenario written back has no [controller] table.
+        let written = toml::to_string(&Scenario::paper()).unwrap();
+        assert!(!written.contains("[controller]"), "{written}");
+    }
+
     #[test]
     fn euler_convention_is_zyx() {
         let mut s = Scenario::paper();
