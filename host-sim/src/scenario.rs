@@ -169,6 +169,20 @@ impl ControllerConfig {
     }
 }
 
+/// Overrides of `[controller]` keys (from the command line); `None` keeps the scenario's.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[allow(non_snake_case)]
+pub struct ControllerOverrides {
+    /// `thrust`.
+    pub thrust: Option<ThrustKind>,
+    /// `thrust_floor_N` \[N\].
+    pub thrust_floor_N: Option<f64>,
+    /// `thrust_ramp`.
+    pub thrust_ramp: Option<f64>,
+    /// `thrust_exponent`.
+    pub thrust_exponent: Option<f64>,
+}
+
 fn is_zero_f64(x: &f64) -> bool {
     *x == 0.0
 }
@@ -591,22 +605,20 @@ impl Scenario {
     }
 
     /// This scenario with the command line's `[controller]` overrides (`--thrust`,
-    /// `--thrust-floor-n`, `--thrust-exponent`); `None` keeps the scenario's value. The result
-    /// is checked by [`Scenario::validate`].
-    pub fn with_controller_overrides(
-        mut self,
-        thrust: Option<ThrustKind>,
-        floor_n: Option<f64>,
-        exponent: Option<f64>,
-    ) -> Scenario {
+    /// `--thrust-floor-n`, `--thrust-ramp`, `--thrust-exponent`); a `None` keeps the
+    /// scenario's value. The result is checked by [`Scenario::validate`].
+    pub fn with_controller_overrides(mut self, o: &ControllerOverrides) -> Scenario {
         let c = &mut self.controller;
-        if let Some(t) = thrust {
+        if let Some(t) = o.thrust {
             c.thrust = t;
         }
-        if let Some(f) = floor_n {
+        if let Some(f) = o.thrust_floor_N {
             c.thrust_floor_N = f;
         }
-        if let Some(k) = exponent {
+        if let Some(b) = o.thrust_ramp {
+            c.thrust_ramp = b;
+        }
+        if let Some(k) = o.thrust_exponent {
             c.thrust_exponent = k;
         }
         self
@@ -742,7 +754,10 @@ mod tests {
         let e = Scenario::parse(&table("thrust_floor_N = 0.5"), "c.toml")
             .unwrap_err()
             .to_string();
-        assert!(e.contains("controller.thrust_floor_N") && e.contains("norm"), "{e}");
+        assert!(
+            e.contains("controller.thrust_floor_N") && e.contains("norm"),
+            "{e}"
+        );
         let e = Scenario::parse(
             &table("thrust = \"vertical-priority\"\nthrust_ramp = 0.0"),
             "d.toml",

@@ -7,12 +7,11 @@ use std::path::PathBuf;
 use anyhow::{bail, Result};
 
 use crate::controllers::ControllerKind;
-use crate::scenario::{PlantKind, Precision, Scenario, ThrustKind};
+use crate::scenario::{ControllerOverrides, PlantKind, Precision, Scenario};
 
 /// Options shared by the campaign, the ablations and the comparison: the base scenario and the
 /// seed.
 #[derive(Clone, Debug, Default, PartialEq)]
-#[allow(non_snake_case)]
 pub struct BaseOptions {
     /// Base scenario file (TOML); `None`: the embedded paper scenario. Its `[initial]` table is
     /// replaced by the sampled initial conditions; its `[perturbations]` apply to every run.
@@ -39,13 +38,8 @@ pub struct BaseOptions {
     /// Motor time constant \[s\], overriding `[perturbations] motor_time_constant_s` (on the
     /// rotor plant it replaces the vehicle's, e.g. twice it for a robustness campaign).
     pub motor_time_constant_s: Option<f64>,
-    /// Thrust law, overriding `[controller] thrust` (`ThrustKind::BodyAxisProjection`: the
-    /// no-dive thrust).
-    pub thrust: Option<ThrustKind>,
-    /// No-dive thrust floor \[N\], overriding `[controller] thrust_floor_N`.
-    pub thrust_floor_N: Option<f64>,
-    /// Exponent of `alignment-power`, overriding `[controller] thrust_exponent`.
-    pub thrust_exponent: Option<f64>,
+    /// `[controller]` overrides (the thrust law and its parameters).
+    pub controller: ControllerOverrides,
 }
 
 impl BaseOptions {
@@ -81,7 +75,7 @@ impl BaseOptions {
                 self.plant,
                 self.motor_time_constant_s,
             )?
-            .with_controller_overrides(self.thrust, self.thrust_floor_N, self.thrust_exponent);
+            .with_controller_overrides(&self.controller);
         s.validate().map_err(|e| anyhow::anyhow!("{e}"))?;
         Ok(s)
     }

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use host_sim::campaign::BaseOptions;
-use host_sim::scenario::{PlantKind, Precision, Scenario, ThrustKind};
+use host_sim::scenario::{ControllerOverrides, PlantKind, Precision, Scenario, ThrustKind};
 
 /// Controller scalar type (the command line's spelling of [`Precision`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -79,19 +79,30 @@ pub struct ThrustArgs {
     /// `[controller] thrust_floor_N`.
     #[arg(long, value_name = "N")]
     pub thrust_floor_n: Option<f64>,
-    /// Exponent k of `--thrust alignment-power`, overriding `[controller] thrust_exponent`.
+    /// Ramp width b0 in (0, 1] of `--thrust vertical-priority` (the vertical component of the
+    /// body z axis below which the thrust cap ramps down to 0), overriding
+    /// `[controller] thrust_ramp`.
+    #[arg(long, value_name = "B0")]
+    pub thrust_ramp: Option<f64>,
+    /// Exponent k > 0 of `--thrust alignment-power`, overriding `[controller] thrust_exponent`.
     #[arg(long, value_name = "K")]
     pub thrust_exponent: Option<f64>,
 }
 
 impl ThrustArgs {
+    /// The library's overrides.
+    pub fn overrides(&self) -> ControllerOverrides {
+        ControllerOverrides {
+            thrust: self.thrust.map(ThrustKind::from),
+            thrust_floor_N: self.thrust_floor_n,
+            thrust_ramp: self.thrust_ramp,
+            thrust_exponent: self.thrust_exponent,
+        }
+    }
+
     /// `scenario` with these overrides ([`Scenario::with_controller_overrides`]).
     pub fn apply(&self, scenario: Scenario) -> Scenario {
-        scenario.with_controller_overrides(
-            self.thrust.map(ThrustKind::from),
-            self.thrust_floor_n,
-            self.thrust_exponent,
-        )
+        scenario.with_controller_overrides(&self.overrides())
     }
 }
 
@@ -154,9 +165,7 @@ impl From<&BaseArgs> for BaseOptions {
             plant: a.plant.plant.map(PlantKind::from),
             vehicle: a.plant.vehicle.clone(),
             motor_time_constant_s: a.plant.motor_time_constant_s,
-            thrust: a.thrust.thrust.map(ThrustKind::from),
-            thrust_floor_N: a.thrust.thrust_floor_n,
-            thrust_exponent: a.thrust.thrust_exponent,
+            controller: a.thrust.overrides(),
         }
     }
 }
