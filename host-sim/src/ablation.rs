@@ -10,8 +10,8 @@
 //!    noise) and from the 180° starts. Measured: peak `|ω_d|`, `|ω̇_d|`, torque and thrust, and
 //!    samples outside the a-priori bounds (which only the filtered law is promised).
 //!
-//! 3. **No-dive thrust.** The paper's `T = m|u|` against the projection of `m u` on the body z
-//!    axis ([`crate::no_dive`]): altitude lost from the paper's start, upright, and the seven
+//! 3. **No-dive thrust.** The paper's `T = m|u|` against a no-dive thrust (the scenario's
+//!    `[controller] thrust`, or vertical priority; [`crate::no_dive`]): altitude lost from the paper's start, upright, and the seven
 //!    180° starts (on the reference and at hover); chattering under attitude noise.
 //!
 //! The first two run in f64 (the recomposed law of [`crate::controllers::ablated`], which equals

@@ -80,8 +80,8 @@ pub struct ChatterRow {
 pub struct NoDiveReport {
     /// Definitions of the measured quantities.
     pub definitions: String,
-    /// The no-dive mode measured (the scenario's `[controller]`, or `body-axis-projection` with
-    /// no floor when the scenario flies the paper's thrust).
+    /// The no-dive mode measured (the scenario's `[controller]`, or `vertical-priority` when the
+    /// scenario flies the paper's thrust).
     pub no_dive: ControllerConfig,
     /// Its certified thrust interval `[T_floor, T_max]` \[N\].
     pub no_dive_thrust_interval_N: [f64; 2],
@@ -198,11 +198,12 @@ fn half_turn_starts(scenario: &Scenario) -> Result<Vec<(String, RigidBodyState)>
 }
 
 /// The no-dive configuration measured for `scenario`: its own `[controller]` if it departs
-/// from the paper, else the body-axis projection with no floor.
+/// from the paper, else vertical priority with the default ramp (the recommended no-dive
+/// thrust, `docs/no-dive-thrust.md`).
 pub fn no_dive_config(scenario: &Scenario) -> ControllerConfig {
     if scenario.controller.is_paper() {
         ControllerConfig {
-            thrust: ThrustKind::BodyAxisProjection,
+            thrust: ThrustKind::VerticalPriority,
             ..ControllerConfig::default()
         }
     } else {
