@@ -370,4 +370,28 @@ mod tests {
         assert!(nd.cutoffs >= 1);
         assert_eq!(norm.cutoffs, 0);
     }
+
+    /// The main run of `paper-no-dive.toml`: its summary names the certified interval
+    /// [0, Theorem 1's T_max], the thrust reaches both ends and no sample leaves it; the
+    /// altitude lost is the samples' `z(0) − min z`.
+    #[test]
+    fn main_run_reports_the_no_dive_interval_and_the_altitude_lost() {
+        let mut s = Scenario::parse(
+            include_str!("../scenarios/paper-no-dive.toml"),
+            "paper-no-dive.toml",
+        )
+        .unwrap();
+        s.simulation.duration_s = 6.0;
+        let (summary, records) = crate::sim::run(&s).unwrap();
+        let t_max = crate::sim::certificate(&s).unwrap().bounds.thrust_max;
+        assert_eq!(
+            summary.a_priori.no_dive_thrust_interval_N,
+            Some([0.0, t_max])
+        );
+        assert_eq!(summary.observed.samples_outside_a_priori_bounds, 0);
+        assert_eq!(summary.observed.thrust_min_N, 0.0);
+        assert!(summary.observed.thrust_max_N <= t_max * (1.0 + 1e-6));
+        let z_min = records.iter().map(|r| r.z_m).fold(f64::INFINITY, f64::min);
+        assert_eq!(summary.observed.altitude_loss_m, records[0].z_m - z_min);
+    }
 }
