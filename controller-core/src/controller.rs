@@ -1,7 +1,8 @@
 //! The complete controller: one sample of the saturated hybrid law.
 //!
 //! `step(state, reference, dt)` runs, in order: the filtered saturated position law
-//! (Section IV) → thrust `T = m|u|` and thrust direction → desired attitude `R_d`, `ω_d`, `ω̇_d`
+//! (Section IV) → thrust `T = m|u|` (or the no-dive projection, [`ThrustMode`]) and thrust
+//! direction → desired attitude `R_d`, `ω_d`, `ω̇_d`
 //! (eq:DesiredRotationMatrix, eq:DesiredAngularVelocity, eq:DesiredAngularAcceleration) →
 //! attitude error `R̃ = R_dᵀR` lifted to the MRP `ϑ̃` by the hybrid path lifting (Appendix) →
 //! saturated MRP torque with feedforward (Section V) → exact propagation of the filter states over
@@ -20,7 +21,8 @@ use crate::params::{Gains, ParameterError, Vehicle};
 use crate::path_lifting::{JumpCounters, PathLifting};
 use crate::position::{FilterPropagator, FilterState};
 use crate::reference::{ReferenceSample, TrajectoryConstants};
-use crate::scalar::{norm, to_f64, Scalar};
+use crate::scalar::{to_f64, Scalar};
+use crate::thrust::ThrustMode;
 
 /// The measured rigid-body state `x = (p, v, R, ω)` of Problem 1.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -77,7 +79,8 @@ pub struct Diagnostics<T: Scalar> {
 /// The command of one sample.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ControlOutput<T: Scalar> {
-    /// Collective thrust `T = m|u|` \[N\] along the body z axis.
+    /// Collective thrust \[N\] along the body z axis: `T = m|u|`, or as set by
+    /// [`Controller::set_thrust_mode`].
     pub thrust: T,
     /// Torque `τ` [N m], body frame.
     pub torque: Vector3<T>,
@@ -124,6 +127,7 @@ pub struct Controller<T: Scalar> {
     lifting: PathLifting<T>,
     /// The filter propagation of the last `dt`, reused while the rate does not change.
     propagator: Option<FilterPropagator<T>>,
+    thrust_mode: ThrustMode<T>,
 }
 
 fn finite3<T: Scalar>(v: &Vector3<T>, field: &'static str) -> Result<(), StepError> {
@@ -155,6 +159,7 @@ impl<T: Scalar> Controller<T> {
             filter: FilterState::zero(),
             lifting: PathLifting::new(gains.hysteresis, gains.reset_threshold),
             propagator: None,
+            thrust_mode: ThrustMode::Norm,
         };
         c.accept_reference(constants)?;
         Ok(c)
@@ -212,6 +217,21 @@ impl<T: Scalar> Controller<T> {
             });
         }
         self.filter = filter;
+        Ok(())
+    }
+
+    /// How the thrust is computed from `u` ([`ThrustMode::Norm`], the paper's, unless set).
+    pub fn thrust_mode(&self) -> ThrustMode<T> {
+        self.thrust_mode
+    }
+
+    /// Sets how the thrust is computed from `u` from the next step on (the torque, the desired
+    /// attitude and the filters do not depend on it).
+    /// Errors: [`ParameterError::OutOfRange`] naming `"thrust_floor"` (see
+    /// [`ThrustMode::validate`]); the mode is unchanged then.
+    pub fn set_thrust_mode(&mut self, mode: ThrustMode<T>) -> Result<(), ParameterError> {
+        mode.validate(&self.vehicle, self.gains.position.saturation)?;
+        self.thrust_mode = mode;
         Ok(())
     }
 
@@ -280,7 +300,10 @@ impl<T: Scalar> Controller<T> {
             &desired.angular_acceleration,
             &self.vehicle.inertia,
         );
-        let thrust = self.vehicle.mass * norm(&position.u);
+        let body_z = rotation.column(2).into_owned();
+        let thrust = self
+            .thrust_mode
+            .thrust(self.vehicle.mass, &position.u, &body_z);
         let propagator = match self.propagator {
             Some(p) if p.dt == dt => p,
             _ => g.position.propagator(dt),

@@ -12,7 +12,8 @@
 //! [`desired_attitude`] (eq:DesiredRotationMatrix, Lemma 1), [`mrp`] (Section II),
 //! [`path_lifting`] (Appendix), [`attitude_control`] (Section V), [`reference`](mod@reference)
 //! (Assumption 1's trajectories), [`bounds`] (Assumption 1, Theorems 1–2, Lemma 1),
-//! [`params`], and [`controller`] which composes them.
+//! [`params`], [`thrust`] (the paper's `T = m|u|` or the no-dive projection), and
+//! [`controller`] which composes them.
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
 
@@ -27,6 +28,7 @@ pub mod position;
 pub mod reference;
 pub mod saturation;
 pub mod scalar;
+pub mod thrust;
 
 pub use bounds::{certify, Bounds, Certificate, Condition, FilterStart, Violation};
 pub use controller::{ControlOutput, Controller, Diagnostics, StepError, VehicleState};
@@ -36,3 +38,4 @@ pub use reference::{
     HeadingProfile, ReferenceSample, ReferenceTrajectory, Trajectory, TrajectoryConstants,
 };
 pub use scalar::Scalar;
+pub use thrust::ThrustMode;

@@ -10,8 +10,13 @@
 //!    noise) and from the 180° starts. Measured: peak `|ω_d|`, `|ω̇_d|`, torque and thrust, and
 //!    samples outside the a-priori bounds (which only the filtered law is promised).
 //!
-//! Both variants run in f64 (the recomposed law of [`crate::controllers::ablated`], which equals
-//! the core's law bit for bit when nothing is ablated).
+//! 3. **No-dive thrust.** The paper's `T = m|u|` against a no-dive thrust (the scenario's
+//!    `[controller] thrust`, or vertical priority; [`crate::no_dive`]): altitude lost from the paper's start, upright, and the seven
+//!    180° starts (on the reference and at hover); chattering under attitude noise.
+//!
+//! The first two run in f64 (the recomposed law of [`crate::controllers::ablated`], which equals
+//! the core's law bit for bit when nothing is ablated); the third at the scenario's precision
+//! (the core's law itself), so its paper-start figure is the main run's.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -29,6 +34,7 @@ use crate::campaign::stats::Distribution;
 use crate::campaign::trace::{trace, TracePoint};
 use crate::campaign::Convergence;
 use crate::controllers::ControllerKind;
+use crate::no_dive::{run_no_dive, NoDiveReport};
 use crate::output::chart::{LegendAt, Panel, Scale, Series};
 use crate::report::fmt_opt;
 use crate::scenario::{Precision, Scenario};
@@ -92,6 +98,8 @@ pub struct AblationReport {
     pub hysteresis: Vec<HysteresisRow>,
     /// Filter ablation.
     pub filters: Vec<FilterRow>,
+    /// No-dive thrust against the paper's.
+    pub no_dive_thrust: NoDiveReport,
 }
 
 const LAWS: [ControllerKind; 2] = [ControllerKind::Paper, ControllerKind::PaperMemoryless];
@@ -225,6 +233,7 @@ pub fn run_ablation(
     seed: u64,
     repeats: u64,
 ) -> Result<(AblationReport, Traces)> {
+    let no_dive_thrust = run_no_dive(scenario, seed, repeats)?;
     let mut scenario = scenario.clone();
     scenario.simulation.precision = Precision::F64;
     let bounds = bound_set(&scenario)?;
@@ -243,6 +252,7 @@ pub fn run_ablation(
             plant: scenario.simulation.plant,
             hysteresis,
             filters,
+            no_dive_thrust,
         },
         traces,
     ))
@@ -326,11 +336,71 @@ pub fn markdown(report: &AblationReport, plots: &[(String, String)]) -> String {
             fmt_opt(r.settling_time_s)
         );
     }
+    no_dive_markdown(&mut md, &report.no_dive_thrust);
     let _ = writeln!(md);
     for (title, file) in plots {
         let _ = writeln!(md, "![{title}]({file})\n");
     }
     md
+}
+
+fn no_dive_markdown(md: &mut String, r: &NoDiveReport) {
+    let _ = writeln!(
+        md,
+        "\n## No-dive thrust: T = m|u| vs {}\n",
+        r.no_dive.thrust.name()
+    );
+    let _ = writeln!(
+        md,
+        "Certified thrust interval with the option: [{:.3}, {:.3}] N. Flip cost (paper start \
+         minus upright start): {:.2} m with T = m|u|, {:.2} m with the option ({:.0} %).\n",
+        r.no_dive_thrust_interval_N[0],
+        r.no_dive_thrust_interval_N[1],
+        r.flip_cost_norm_m,
+        r.flip_cost_no_dive_m,
+        100.0 * r.flip_cost_no_dive_m / r.flip_cost_norm_m
+    );
+    let _ = writeln!(
+        md,
+        "| start | altitude lost, T = m\\|u\\| [m] | altitude lost, no-dive [m] | ratio | settling, T = m\\|u\\| [s] | settling, no-dive [s] |"
+    );
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- |");
+    for a in &r.altitude {
+        let _ = writeln!(
+            md,
+            "| {} | {:.2} | {:.2} | {:.2} | {} | {} |",
+            a.start,
+            a.altitude_loss_norm_m,
+            a.altitude_loss_no_dive_m,
+            a.altitude_loss_no_dive_m / a.altitude_loss_norm_m,
+            fmt_opt(a.settling_norm_s),
+            fmt_opt(a.settling_no_dive_s)
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\nChattering: the seven 180-deg starts at hover under attitude measurement noise.\n"
+    );
+    let _ = writeln!(
+        md,
+        "| thrust | attitude noise [deg] | runs | MRP switches per s (mean) | max switches in 1 s | thrust cut-offs per s (mean) | max cut-offs in 1 s | converged |"
+    );
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- |");
+    for c in &r.chattering {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {:.3} | {} | {:.3} | {} | {}/{} |",
+            c.thrust,
+            c.attitude_noise_deg,
+            c.runs,
+            c.switches_per_s,
+            c.max_switches_in_1s,
+            c.thrust_cutoffs_per_s,
+            c.max_thrust_cutoffs_in_1s,
+            c.converged,
+            c.runs
+        );
+    }
 }
 
 fn write_plots(
@@ -429,6 +499,23 @@ fn write_plots(
         &series,
     )?;
     files.push(("Switches vs noise".into(), file.into()));
+    let file = "no_dive_altitude.png";
+    let r = &report.no_dive_thrust;
+    let panel = Panel {
+        file,
+        title: "Altitude from the paper's start: T = m|u| vs no-dive thrust".into(),
+        y_label: "z [m]".into(),
+        scale: Scale::Linear,
+        series: r
+            .altitude_traces
+            .iter()
+            .enumerate()
+            .map(|(i, (label, points))| Series::line(label, PALETTE[i], points.clone()))
+            .collect(),
+        legend_at: LegendAt::LowerRight,
+    };
+    time_series_png(&dir.join(file), &panel)?;
+    files.push(("Altitude, no-dive thrust".into(), file.into()));
     Ok(files)
 }
 

@@ -19,6 +19,7 @@ pub mod compare;
 pub mod controllers;
 pub mod design;
 pub mod harness;
+pub mod no_dive;
 pub mod output;
 pub mod perturbation;
 pub mod plant;

@@ -24,13 +24,21 @@ pub fn human_summary(title: &str, summary: &Summary) -> String {
         "A-priori bounds (Theorem 1, Lemma 1, Theorem 2) vs observed over {} samples:",
         o.samples
     );
-    let thrust_ok = o.thrust_min_N >= a.thrust_min_N * (1.0 - 1e-5)
-        && o.thrust_max_N <= a.thrust_max_N * (1.0 + 1e-5);
+    // With the no-dive thrust the certified interval is [T_floor, T_max], not Theorem 1's.
+    let [low, high] = a
+        .no_dive_thrust_interval_N
+        .unwrap_or([a.thrust_min_N, a.thrust_max_N]);
+    let thrust_ok = o.thrust_min_N >= low * (1.0 - 1e-5) && o.thrust_max_N <= high * (1.0 + 1e-5);
     let _ = writeln!(
         s,
-        "  thrust      bound [{:.3}, {:.3}] N    observed [{:.3}, {:.3}] N    {}",
-        a.thrust_min_N,
-        a.thrust_max_N,
+        "  thrust      bound [{:.3}, {:.3}] N{}    observed [{:.3}, {:.3}] N    {}",
+        low,
+        high,
+        if a.no_dive_thrust_interval_N.is_some() {
+            " (no-dive)"
+        } else {
+            ""
+        },
         o.thrust_min_N,
         o.thrust_max_N,
         status(thrust_ok)
@@ -92,6 +100,11 @@ pub fn human_summary(title: &str, summary: &Summary) -> String {
         s,
         "Final (t = {:.2} s): position error {:.3e} m, MRP error {:.3e}, angular velocity error {:.3e} rad/s",
         f.time_s, f.position_error_m, f.mrp_error, f.angular_velocity_error_rad_s
+    );
+    let _ = writeln!(
+        s,
+        "Altitude lost (initial minus lowest altitude): {:.3} m",
+        o.altitude_loss_m
     );
     let since =
         |v: Option<f64>| v.map_or_else(|| "never".to_string(), |t| format!("from {t:.2} s"));

@@ -138,6 +138,11 @@ pub struct APriori {
     /// The tight bounds on the same quantities, beside these
     /// ([`crate::tight_certificate`]).
     pub tight: TightReport,
+    /// With the no-dive thrust (`[controller] thrust = "body-axis-projection"`) only: the
+    /// a-priori interval `[T_floor, T_max]` \[N\] of the applied thrust, which replaces
+    /// `[thrust_min_N, thrust_max_N]` in the bound check (absent with the paper's `T = m|u|`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub no_dive_thrust_interval_N: Option<[f64; 2]>,
 }
 
 /// Extremes seen along the run (over the controller samples).
@@ -160,6 +165,9 @@ pub struct Observed {
     pub samples_above_tight_bounds: u64,
     /// Samples taken.
     pub samples: u64,
+    /// Initial altitude minus the lowest altitude of the run \[m\] (over the samples; 0 if
+    /// it never went below its start).
+    pub altitude_loss_m: f64,
 }
 
 /// Errors at the last sample.
@@ -249,7 +257,11 @@ pub fn certificate(scenario: &Scenario) -> Result<Certificate<f64>> {
     .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))
 }
 
-fn a_priori(c: &Certificate<f64>, tight: TightReport) -> APriori {
+fn a_priori(
+    c: &Certificate<f64>,
+    no_dive_thrust_interval: Option<[f64; 2]>,
+    tight: TightReport,
+) -> APriori {
     let b = &c.bounds;
     APriori {
         thrust_min_N: b.thrust_min,
@@ -271,6 +283,7 @@ fn a_priori(c: &Certificate<f64>, tight: TightReport) -> APriori {
             })
             .collect(),
         tight,
+        no_dive_thrust_interval_N: no_dive_thrust_interval,
     }
 }
 
@@ -360,6 +373,9 @@ fn run_generic<T: Scalar>(
     let bounds = &cert.bounds;
     let tight = scenario_tight_bounds(scenario)?;
     let tight_limits = tight_limits(&tight);
+    let [thrust_low, thrust_high] = scenario
+        .thrust_interval(bounds)
+        .map_err(|e| anyhow!("{e}"))?;
     // Rounding slack for the bound checks: f32 carries ~1e-7 relative error.
     let slack = 1e-5;
 
@@ -372,7 +388,9 @@ fn run_generic<T: Scalar>(
         samples_outside_a_priori_bounds: 0,
         samples_above_tight_bounds: 0,
         samples: 0,
+        altitude_loss_m: 0.0,
     };
+    let initial_altitude = scenario.initial_state().position.z;
     let mut settle_p = SettleTracker::new(1e-3);
     let mut settle_m = SettleTracker::new(1e-4);
     let mut last = None;
@@ -394,12 +412,15 @@ fn run_generic<T: Scalar>(
         observed.angular_velocity_d_max_rad_s = observed.angular_velocity_d_max_rad_s.max(w_d);
         observed.angular_acceleration_d_max_rad_s2 =
             observed.angular_acceleration_d_max_rad_s2.max(w_d_dot);
-        let outside = thrust < bounds.thrust_min * (1.0 - slack)
-            || thrust > bounds.thrust_max * (1.0 + slack)
+        let outside = thrust < thrust_low * (1.0 - slack)
+            || thrust > thrust_high * (1.0 + slack)
             || (0..3).any(|i| torque[i].abs() > bounds.torque_max[i] * (1.0 + slack));
         observed.samples_outside_a_priori_bounds += u64::from(outside);
         observed.samples_above_tight_bounds +=
             u64::from(tight_limits.exceeded(&torque, w_d, w_d_dot, slack));
+        observed.altitude_loss_m = observed
+            .altitude_loss_m
+            .max(initial_altitude - state.position.z);
 
         let reference_f64 = trajectory_sample_f64(sample.reference);
         let position_error = (state.position - reference_f64.0).norm();
@@ -456,7 +477,11 @@ fn run_generic<T: Scalar>(
     let last = last.ok_or_else(|| anyhow!("the run produced no sample"))?;
     Ok(Summary {
         precision: scenario.simulation.precision,
-        a_priori: a_priori(&cert, tight_report(&cert, &tight)),
+        a_priori: a_priori(
+            &cert,
+            (!scenario.controller.is_paper()).then_some([thrust_low, thrust_high]),
+            tight_report(&cert, &tight),
+        ),
         observed,
         final_: Final {
             time_s: last.t_s,

@@ -60,7 +60,15 @@ pub fn run_command(args: &CampaignOptions) -> Result<()> {
          wall time {:.1} s ({:.1} runs/s)",
         r.runs,
         report.duration_s,
-        report.controller,
+        if config.scenario.controller.is_paper() {
+            report.controller.clone()
+        } else {
+            format!(
+                "{}, thrust = {}",
+                report.controller,
+                config.scenario.controller.thrust.name()
+            )
+        },
         r.converged,
         100.0 * r.fraction_converged,
         r.half_turn_converged,

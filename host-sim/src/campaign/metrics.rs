@@ -65,9 +65,10 @@ impl Convergence {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 #[allow(non_snake_case)]
 pub struct BoundSet {
-    /// `T_min` of Theorem 1 \[N\].
+    /// Lower end of the certified thrust interval \[N\]: `T_min` of Theorem 1, or `T_floor`
+    /// with the no-dive thrust ([`controller_core::ThrustMode::interval`]).
     pub thrust_min_N: f64,
-    /// `T_max` of Theorem 1 \[N\].
+    /// `T_max` of Theorem 1 \[N\] (upper end with either thrust mode).
     pub thrust_max_N: f64,
     /// Theorem 2's per-axis torque bound [N m].
     pub torque_max_Nm: [f64; 3],
@@ -101,23 +102,24 @@ impl TightLimits {
     }
 }
 
-/// Sliding count of events over the last `window` sample intervals.
+/// Sliding count of events over the last `window` sample intervals: push the running total
+/// at every sample; `max` is the most events within any `window` consecutive intervals.
 #[derive(Clone, Debug)]
-struct WindowMax {
+pub(crate) struct WindowMax {
     window: usize,
     totals: VecDeque<u32>,
-    max: u32,
+    pub(crate) max: u32,
 }
 
 impl WindowMax {
-    fn new(window: usize) -> Self {
+    pub(crate) fn new(window: usize) -> Self {
         Self {
             window: window.max(1),
             totals: VecDeque::new(),
             max: 0,
         }
     }
-    fn push(&mut self, total: u32) {
+    pub(crate) fn push(&mut self, total: u32) {
         self.totals.push_back(total);
         if self.totals.len() > self.window + 1 {
             self.totals.pop_front();

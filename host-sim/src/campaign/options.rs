@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::{bail, Result};
 
 use crate::controllers::ControllerKind;
-use crate::scenario::{PlantKind, Precision, Scenario};
+use crate::scenario::{ControllerOverrides, PlantKind, Precision, Scenario};
 
 /// Options shared by the campaign, the ablations and the comparison: the base scenario and the
 /// seed.
@@ -38,6 +38,8 @@ pub struct BaseOptions {
     /// Motor time constant \[s\], overriding `[perturbations] motor_time_constant_s` (on the
     /// rotor plant it replaces the vehicle's, e.g. twice it for a robustness campaign).
     pub motor_time_constant_s: Option<f64>,
+    /// `[controller]` overrides (the thrust law and its parameters).
+    pub controller: ControllerOverrides,
 }
 
 impl BaseOptions {
@@ -67,11 +69,13 @@ impl BaseOptions {
         if let Some(p) = self.precision {
             s.simulation.precision = p;
         }
-        let s = s.with_plant_overrides(
-            self.vehicle.as_deref(),
-            self.plant,
-            self.motor_time_constant_s,
-        )?;
+        let s = s
+            .with_plant_overrides(
+                self.vehicle.as_deref(),
+                self.plant,
+                self.motor_time_constant_s,
+            )?
+            .with_controller_overrides(&self.controller);
         s.validate().map_err(|e| anyhow::anyhow!("{e}"))?;
         Ok(s)
     }

@@ -49,6 +49,9 @@ pub struct CampaignReport {
     pub precision: crate::scenario::Precision,
     /// The plant flown (`"ideal"` or `"rotors"`).
     pub plant: crate::scenario::PlantKind,
+    /// The law's `[controller]` options (absent: the paper's law, `T = m|u|`).
+    #[serde(skip_serializing_if = "crate::scenario::ControllerConfig::is_paper")]
+    pub controller_options: crate::scenario::ControllerConfig,
     /// Commands clipped to the physical limits before the plant.
     pub clip_to_limits: bool,
     /// The perturbations of every run.
@@ -84,6 +87,7 @@ impl CampaignReport {
             controller_period_s: s.simulation.controller_period_s,
             precision: s.simulation.precision,
             plant: s.simulation.plant,
+            controller_options: s.controller,
             clip_to_limits: s.simulation.clip_to_limits,
             perturbations: s.perturbations.clone(),
             sampler_radii: config.radii,
@@ -94,7 +98,9 @@ impl CampaignReport {
                     (before any clipping) leaves [T_min, T_max] of Theorem 1 or some |tau_i| \
                     exceeds Theorem 2's per-axis bound (relative slack 1e-5); beyond the limits \
                     when T < 0, T > thrust_max_N or |tau_i| > torque_max_Nm. The a-priori bounds \
-                    are the paper law's; for other controllers only the limits are meaningful."
+                    are the paper law's; for other controllers only the limits are meaningful. \
+                    With a no-dive thrust ([controller] thrust), the thrust interval is that \
+                    mode's certified one (bounds.thrust_min_N: T_floor or 0)."
                     .into(),
                 nominal: "nominal runs: no model error, disturbance or motor lag (measurement \
                     noise allowed: the bounds come from the saturations and hold for any \

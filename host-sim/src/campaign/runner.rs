@@ -55,10 +55,12 @@ pub struct RunResult {
     pub error: Option<String>,
 }
 
-/// The bounds of a scenario: the certificate's a-priori bounds, the tight bounds and the
-/// physical limits.
+/// The bounds of a scenario: the certificate's a-priori bounds (with the no-dive thrust, its
+/// thrust interval `[T_floor, T_max]` instead of Theorem 1's), the tight bounds and the physical
+/// limits.
 ///
-/// Errors: the certificate cannot be computed (invalid parameters).
+/// Errors: the certificate cannot be computed (invalid parameters), or the no-dive floor is
+/// above Theorem 1's `T_min`.
 pub fn bound_set(scenario: &Scenario) -> Result<BoundSet> {
     let tight = crate::tight_certificate::scenario_tight_bounds(scenario)?;
     Ok(BoundSet {
@@ -70,12 +72,15 @@ pub fn bound_set(scenario: &Scenario) -> Result<BoundSet> {
 /// [`bound_set`] without the tight bounds (their branch and bound takes about a second): for
 /// the design search, which flies thousands of candidate gains.
 ///
-/// Errors: the certificate cannot be computed (invalid parameters).
+/// Errors: as [`bound_set`].
 pub fn paper_bound_set(scenario: &Scenario) -> Result<BoundSet> {
     let cert = crate::sim::certificate(scenario)?;
+    let [thrust_low, thrust_high] = scenario
+        .thrust_interval(&cert.bounds)
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
     Ok(BoundSet {
-        thrust_min_N: cert.bounds.thrust_min,
-        thrust_max_N: cert.bounds.thrust_max,
+        thrust_min_N: thrust_low,
+        thrust_max_N: thrust_high,
         torque_max_Nm: cert.bounds.torque_max.into(),
         limit_thrust_N: scenario.limits.thrust_max_N,
         limit_torque_Nm: scenario.limits.torque_max_Nm,

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use host_sim::campaign::BaseOptions;
-use host_sim::scenario::{PlantKind, Precision};
+use host_sim::scenario::{ControllerOverrides, PlantKind, Precision, Scenario, ThrustKind};
 
 /// Controller scalar type (the command line's spelling of [`Precision`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -41,6 +41,68 @@ impl From<PlantArg> for PlantKind {
             PlantArg::Ideal => PlantKind::Ideal,
             PlantArg::Rotors => PlantKind::Rotors,
         }
+    }
+}
+
+/// How the thrust is computed from `u` (the command line's spelling of [`ThrustKind`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ThrustArg {
+    /// T = m|u|, the paper's law.
+    Norm,
+    /// No-dive thrust: T = max(m u . R e3, T_floor), the projection of m u on the body z axis.
+    BodyAxisProjection,
+    /// T = max(m|u| max(cos th, 0)^k, T_floor), th the angle between body z and u.
+    AlignmentPower,
+    /// Vertical priority.
+    VerticalPriority,
+}
+
+impl From<ThrustArg> for ThrustKind {
+    fn from(t: ThrustArg) -> Self {
+        match t {
+            ThrustArg::Norm => ThrustKind::Norm,
+            ThrustArg::BodyAxisProjection => ThrustKind::BodyAxisProjection,
+            ThrustArg::AlignmentPower => ThrustKind::AlignmentPower,
+            ThrustArg::VerticalPriority => ThrustKind::VerticalPriority,
+        }
+    }
+}
+
+/// The `[controller]` options every flying command takes: `--thrust` and its parameters.
+#[derive(Debug, Args, Clone, Default)]
+pub struct ThrustArgs {
+    /// Thrust law, overriding the scenario's `[controller] thrust` (default: the scenario's,
+    /// `norm` = the paper's T = m|u|).
+    #[arg(long, value_enum)]
+    pub thrust: Option<ThrustArg>,
+    /// Thrust floor T_floor (N) of the no-dive thrust, in [0, T_min], overriding
+    /// `[controller] thrust_floor_N`.
+    #[arg(long, value_name = "N")]
+    pub thrust_floor_n: Option<f64>,
+    /// Ramp width b0 in (0, 1] of `--thrust vertical-priority` (the vertical component of the
+    /// body z axis below which the thrust cap ramps down to 0), overriding
+    /// `[controller] thrust_ramp`.
+    #[arg(long, value_name = "B0")]
+    pub thrust_ramp: Option<f64>,
+    /// Exponent k > 0 of `--thrust alignment-power`, overriding `[controller] thrust_exponent`.
+    #[arg(long, value_name = "K")]
+    pub thrust_exponent: Option<f64>,
+}
+
+impl ThrustArgs {
+    /// The library's overrides.
+    pub fn overrides(&self) -> ControllerOverrides {
+        ControllerOverrides {
+            thrust: self.thrust.map(ThrustKind::from),
+            thrust_floor_N: self.thrust_floor_n,
+            thrust_ramp: self.thrust_ramp,
+            thrust_exponent: self.thrust_exponent,
+        }
+    }
+
+    /// `scenario` with these overrides ([`Scenario::with_controller_overrides`]).
+    pub fn apply(&self, scenario: Scenario) -> Scenario {
+        scenario.with_controller_overrides(&self.overrides())
     }
 }
 
@@ -86,6 +148,9 @@ pub struct BaseArgs {
     /// Plant and vehicle.
     #[command(flatten)]
     pub plant: PlantArgs,
+    /// Thrust law.
+    #[command(flatten)]
+    pub thrust: ThrustArgs,
 }
 
 impl From<&BaseArgs> for BaseOptions {
@@ -100,6 +165,7 @@ impl From<&BaseArgs> for BaseOptions {
             plant: a.plant.plant.map(PlantKind::from),
             vehicle: a.plant.vehicle.clone(),
             motor_time_constant_s: a.plant.motor_time_constant_s,
+            controller: a.thrust.overrides(),
         }
     }
 }
@@ -115,6 +181,15 @@ mod tests {
             let name = v.to_possible_value().map(|p| p.get_name().to_string());
             let serde_name = serde_json::to_string(&Precision::from(*v)).ok();
             assert_eq!(name.map(|n| format!("\"{n}\"")), serde_name);
+        }
+    }
+
+    /// Every spelling of `--thrust` is the scenario file's name of the same thrust law.
+    #[test]
+    fn thrust_spellings_map_to_their_laws() {
+        for v in ThrustArg::value_variants() {
+            let name = v.to_possible_value().map(|p| p.get_name().to_string());
+            assert_eq!(name.as_deref(), Some(ThrustKind::from(*v).name()));
         }
     }
 

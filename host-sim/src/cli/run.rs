@@ -7,7 +7,7 @@ use clap::Args;
 use host_sim::report::human_summary;
 use host_sim::scenario::Scenario;
 
-use super::common::{PlantArgs, PrecisionArg};
+use super::common::{PlantArgs, PrecisionArg, ThrustArgs};
 
 /// Options of a single run.
 #[derive(Debug, Args, Clone, Default)]
@@ -32,6 +32,9 @@ pub struct RunArgs {
     /// Plant and vehicle.
     #[command(flatten)]
     pub plant: PlantArgs,
+    /// Thrust law.
+    #[command(flatten)]
+    pub thrust: ThrustArgs,
 }
 
 /// Runs one scenario: prints its summary and writes its time series, plots and summary.
@@ -61,6 +64,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         args.plant.plant.map(Into::into),
         args.plant.motor_time_constant_s,
     )?;
+    let scenario = args.thrust.apply(scenario);
     scenario
         .validate()
         .map_err(|e| anyhow::anyhow!("scenario {title}: {e}"))?;
@@ -80,7 +84,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let (summary, records) = host_sim::sim::run(&scenario)?;
     let s = &scenario.simulation;
     let header = format!(
-        "Scenario: {title}; controller precision {:?}, {} s at {:.0} Hz, {}plant RK4 step {} s{}{}",
+        "Scenario: {title}; controller precision {:?}, {} s at {:.0} Hz, {}plant RK4 step {} s{}{}{}",
         s.precision,
         s.duration_s,
         1.0 / s.controller_period_s,
@@ -99,6 +103,11 @@ pub fn run(args: &RunArgs) -> Result<()> {
             String::new()
         } else {
             format!(", [perturbations] applied (seed {})", s.seed)
+        },
+        if scenario.controller.is_paper() {
+            String::new()
+        } else {
+            format!(", thrust = {}", scenario.controller.thrust.name())
         }
     );
     print!("{}", human_summary(&header, &summary));

@@ -28,7 +28,7 @@ use controller_core::path_lifting::PathLifting;
 use controller_core::position::FilterState;
 use controller_core::saturation::tanh_saturation;
 use controller_core::scalar::{lit, to_f64, Scalar};
-use controller_core::{Controller, Gains, ReferenceTrajectory, Trajectory, Vehicle};
+use controller_core::{Controller, Gains, ReferenceTrajectory, ThrustMode, Trajectory, Vehicle};
 use nalgebra::{Quaternion, Vector3};
 
 use super::measure;
@@ -116,6 +116,8 @@ pub struct AblatedLaw<T: Scalar> {
     lifting: LiftingState<T>,
     trajectory: ReferenceTrajectory<T>,
     ablation: Ablation,
+    /// The scenario's `[controller] thrust` (the paper's `T = m|u|` by default).
+    thrust_mode: ThrustMode<T>,
 }
 
 /// The unfiltered position law and its two derivatives along `p̃̈ = ubar_p` (see module docs).
@@ -156,7 +158,9 @@ impl<T: Scalar> AblatedLaw<T> {
         let vehicle = scenario.vehicle::<T>();
         let gains = scenario.gains::<T>();
         // Same validation as the core (the constructed controller is then dropped).
+        let thrust_mode = scenario.thrust_mode::<T>().map_err(|e| anyhow!("{e}"))?;
         Controller::new(vehicle, gains, &trajectory.constants())
+            .and_then(|mut c| c.set_thrust_mode(thrust_mode))
             .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;
         let lifting = match ablation.lifting {
             Lifting::Hybrid => {
@@ -171,6 +175,7 @@ impl<T: Scalar> AblatedLaw<T> {
             lifting,
             trajectory,
             ablation,
+            thrust_mode,
         })
     }
 
@@ -250,7 +255,8 @@ impl<T: Scalar> AblatedLaw<T> {
             &desired.angular_acceleration,
             &self.vehicle.inertia,
         );
-        let thrust = self.vehicle.mass * u.norm();
+        let body_z = rotation.column(2).into_owned();
+        let thrust = self.thrust_mode.thrust(self.vehicle.mass, &u, &body_z);
         if self.ablation.filters {
             self.filter = g.position.propagate(&self.filter, &ubar_p, lit(dt));
         }

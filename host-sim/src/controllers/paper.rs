@@ -12,7 +12,8 @@ use super::{Command, FlightController, SwitchCounts};
 use crate::plant::RigidBodyState;
 use crate::scenario::Scenario;
 
-/// `controller_core::Controller<T>` with the scenario's vehicle, gains and trajectory: samples
+/// `controller_core::Controller<T>` with the scenario's vehicle, gains, trajectory and
+/// `[controller]` thrust mode: samples
 /// the reference at `lit(t)` and measures the state through [`measure`].
 #[derive(Clone, Debug)]
 pub struct PaperLaw<T: Scalar> {
@@ -34,6 +35,11 @@ impl<T: Scalar> PaperLaw<T> {
             &trajectory.constants(),
         )
         .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;
+        let mut controller = controller;
+        let mode = scenario.thrust_mode::<T>().map_err(|e| anyhow!("{e}"))?;
+        controller
+            .set_thrust_mode(mode)
+            .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;
         Ok(Self {
             controller,
             trajectory,

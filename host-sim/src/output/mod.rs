@@ -125,6 +125,7 @@ pub(crate) mod test_support {
                     feasible: true,
                     conditions: vec![],
                 },
+                no_dive_thrust_interval_N: None,
             },
             observed: Observed {
                 thrust_min_N: 4.5,
@@ -135,6 +136,7 @@ pub(crate) mod test_support {
                 samples_outside_a_priori_bounds: 0,
                 samples_above_tight_bounds: 0,
                 samples: 3,
+                altitude_loss_m: 0.25,
             },
             final_: Final {
                 time_s: 0.02,

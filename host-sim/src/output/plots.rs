@@ -251,7 +251,8 @@ fn error_panel(
     }
 }
 
-/// Fig. 2a: thrust with the a-priori interval `[T_min, T_max]` and the actuator limit.
+/// Fig. 2a: thrust with the a-priori interval (`[T_min, T_max]`, or `[T_floor, T_max]` with the
+/// no-dive thrust) and the actuator limit.
 fn thrust_panel(
     scenario: &Scenario,
     summary: &Summary,
@@ -259,15 +260,15 @@ fn thrust_panel(
     span: &Range<f64>,
 ) -> Panel {
     let b = &summary.a_priori;
+    // With the no-dive thrust the certified interval is [T_floor, T_max], not Theorem 1's.
+    let (label, [low, high]) = match b.no_dive_thrust_interval_N {
+        Some(interval) => ("T_floor, T_max (a priori)", interval),
+        None => ("T_min, T_max (a priori)", [b.thrust_min_N, b.thrust_max_N]),
+    };
     let series = vec![
         Series::line("T", C_X, column(records, |r| r.thrust_N)),
-        Series::level(
-            Some("T_min, T_max (a priori)"),
-            C_BOUND,
-            b.thrust_min_N,
-            span,
-        ),
-        Series::level(None, C_BOUND, b.thrust_max_N, span),
+        Series::level(Some(label), C_BOUND, low, span),
+        Series::level(None, C_BOUND, high, span),
         Series::level(
             Some("actuator limit"),
             C_LIMIT,
