@@ -26,4 +26,5 @@ pub mod rotor_plant;
 pub mod scenario;
 pub mod sim;
 pub mod so3;
+pub mod tight_bounds;
 pub mod vehicle;

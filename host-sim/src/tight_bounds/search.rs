@@ -1,0 +1,198 @@
+//! Best-first branch and bound for the suprema of `|ω_d|`, `|ω̇_d|`, `|(ω̇_d1, ω̇_d2)|`, `|ω̇_d3|`.
+//!
+//! The search splits the eight variables `x = (u, u̇, ψ, ψ̇)` of
+//! [`super::confining_set::ConfiningSet::split`]. `ω̇_d` is affine in `y = (ü, ψ̈)` for fixed `x`
+//! (`ρ̈`, `ϖ̈`, `ϋ` are affine in `ü`, `ν̈_d`, and `ν̈_d` in `ψ̈`), and `ω_d` does not depend on `y`;
+//! a squared Euclidean norm of an affine function is convex, so for every `x` its maximum over
+//! the `y` box is reached at one of the 16 vertices. The search therefore maximises
+//! `F_v(x) = |selection of ω̇_d(x, y_v)|²` for each vertex `v` separately (a node is a box of `x`
+//! and a vertex), and the supremum is the largest over the vertices.
+//!
+//! Per node (box `X`, centre `c`, radii `r_j`):
+//! - forward-mode interval differentiation ([`super::gradient`]) encloses `F_v(X)` and
+//!   `∂_j F_v(X)`;
+//! - **monotonicity**: if an enclosure `∂_j F_v(X)` excludes 0, `F_v` is monotone in `x_j` on `X`
+//!   for every value of the other variables, so the supremum over `X` is the supremum over the
+//!   face where `x_j` is at the increasing end; `X_j` is replaced by that end (and `X` is
+//!   re-evaluated);
+//! - **upper bound**: the smaller of the natural enclosure's upper end and the mean-value form
+//!   `F_v(c) + Σ_j |∂_j F_v(X)| r_j` (mean value theorem along the segment from `c`, which lies in
+//!   `X`), all rounded up; `F_v(c)` is an interval evaluation at the point `c`;
+//! - **lower value**: `F_v` in `f64` at `c` and at the vertex of `X` the gradient points to
+//!   (only to decide when to stop; never part of the bound).
+//!
+//! The node with the largest upper bound is split at the midpoint of the variable with the
+//! largest `|∂_j F_v(X)| r_j` (its share of the mean-value form's width). The search stops when
+//! `(upper − lower)/upper ≤` the requested gap, or after the box budget; either way it returns
+//! the largest upper bound of all nodes not split (those in the queue, those discarded because
+//! their upper bound was below the best lower value, those that could not be split), which
+//! bounds the supremum over every box of the initial cover.
+
+use super::arith::Arith;
+use super::branch_bound::{best_first, Node, Outcome};
+use super::confining_set::{ConfiningSet, SPLIT_DIM};
+use super::desired_rates::{desired_rates, Heading};
+use super::gradient::Gradient;
+use super::interval::{next_up, Interval};
+
+/// The quantity a search bounds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Quantity {
+    /// `|ω_d|` [rad/s].
+    AngularVelocity,
+    /// `|ω̇_d|` [rad/s²].
+    AngularAcceleration,
+    /// `|(ω̇_d1, ω̇_d2)|` [rad/s²] (roll and pitch of the desired body frame).
+    HorizontalAcceleration,
+    /// `|ω̇_d3|` [rad/s²] (yaw).
+    YawAcceleration,
+}
+
+impl Quantity {
+    /// Whether the quantity is built from `ω̇_d` (else from `ω_d`), and which components.
+    fn selection(self) -> (bool, core::ops::Range<usize>) {
+        match self {
+            Self::AngularVelocity => (false, 0..3),
+            Self::AngularAcceleration => (true, 0..3),
+            Self::HorizontalAcceleration => (true, 0..2),
+            Self::YawAcceleration => (true, 2..3),
+        }
+    }
+}
+
+/// The squared quantity `F_v(x)`: `x = (u, u̇, ψ, ψ̇)` with `(cos ψ, sin ψ)` given, `y = (ü, ψ̈)`.
+fn squared<T: Arith>(x: &[T; SPLIT_DIM], heading: (T, T), y: &[f64; 4], q: Quantity) -> T {
+    let u = [x[0], x[1], x[2]];
+    let u_dot = [x[3], x[4], x[5]];
+    let u_ddot = [y[0], y[1], y[2]].map(T::constant);
+    let h = Heading {
+        cos: heading.0,
+        sin: heading.1,
+        rate: x[7],
+        acceleration: T::constant(y[3]),
+    };
+    let rates = desired_rates(&u, &u_dot, &u_ddot, &h);
+    let (accel, range) = q.selection();
+    let v = if accel {
+        rates.angular_acceleration
+    } else {
+        rates.angular_velocity
+    };
+    let mut sum = v[range.start].sqr();
+    for i in range.start + 1..range.end {
+        sum = sum + v[i].sqr();
+    }
+    sum
+}
+
+/// `F_v` at a point, in `f64`.
+pub fn point_value(x: &[f64; SPLIT_DIM], y: &[f64; 4], q: Quantity) -> f64 {
+    squared(x, (x[6].cos(), x[6].sin()), y, q).sqrt()
+}
+
+/// Interval enclosure of `F_v` over a box (natural extension).
+pub fn enclosure(region: &[Interval; SPLIT_DIM], y: &[f64; 4], q: Quantity) -> Interval {
+    squared(region, region[6].cos_sin(), y, q).sqrt()
+}
+
+fn gradient_enclosure(
+    region: &[Interval; SPLIT_DIM],
+    y: &[f64; 4],
+    q: Quantity,
+) -> Gradient<SPLIT_DIM> {
+    let x: [Gradient<SPLIT_DIM>; SPLIT_DIM] =
+        core::array::from_fn(|j| Gradient::variable(region[j], j));
+    squared(&x, x[6].cos_sin(), y, q)
+}
+
+/// Bounds `F_v` over `region` (module documentation).
+fn bound(
+    mut region: [Interval; SPLIT_DIM],
+    y: &[f64; 4],
+    vertex: usize,
+    q: Quantity,
+) -> Node<SPLIT_DIM> {
+    let mut g = gradient_enclosure(&region, y, q);
+    for _ in 0..SPLIT_DIM {
+        let mut collapsed = false;
+        for (x, d) in region.iter_mut().zip(g.partial) {
+            if x.lo < x.hi && (d.lo > 0.0 || d.hi < 0.0) {
+                *x = Interval::point(if d.lo > 0.0 { x.hi } else { x.lo });
+                collapsed = true;
+            }
+        }
+        if !collapsed {
+            break;
+        }
+        g = gradient_enclosure(&region, y, q);
+    }
+    let c = region.map(|x| x.mid());
+    let radius = region.map(|x| {
+        let m = x.mid();
+        if x.lo < x.hi {
+            next_up((m - x.lo).max(x.hi - m))
+        } else {
+            0.0
+        }
+    });
+    let point = c.map(Interval::point);
+    let mut mean_value = squared(&point, point[6].cos_sin(), y, q).hi;
+    let mut split = None;
+    let mut widest = 0.0;
+    for j in 0..SPLIT_DIM {
+        if radius[j] > 0.0 {
+            let share = next_up(g.partial[j].mag() * radius[j]);
+            mean_value = next_up(mean_value + share);
+            if share > widest || (split.is_none() && share.is_nan()) {
+                widest = share;
+                split = Some(j);
+            }
+        }
+    }
+    let upper_sq = g.value.hi.min(mean_value);
+    let upper_sq = if upper_sq.is_nan() {
+        f64::INFINITY
+    } else {
+        upper_sq
+    };
+    let toward: [f64; SPLIT_DIM] =
+        core::array::from_fn(|j| if g.partial[j].mid() >= 0.0 { region[j].hi } else { region[j].lo });
+    let at = |x: &[f64; SPLIT_DIM]| squared(x, (x[6].cos(), x[6].sin()), y, q);
+    let lower_sq = at(&c).max(at(&toward));
+    Node {
+        upper: upper_sq,
+        region,
+        tag: vertex,
+        split,
+        lower: lower_sq,
+    }
+}
+
+/// The vertices of the `y = (ü, ψ̈)` box that the quantity needs.
+fn vertices(set: &ConfiningSet, q: Quantity) -> Vec<[f64; 4]> {
+    if q == Quantity::AngularVelocity {
+        return vec![[0.0; 4]];
+    }
+    let (a, h) = (set.u_ddot, set.heading_acceleration);
+    (0..16)
+        .map(|k| {
+            let s = |bit: usize| if k >> bit & 1 == 1 { -1.0 } else { 1.0 };
+            [s(0) * a, s(1) * a, s(2) * a, s(3) * h]
+        })
+        .collect()
+}
+
+/// Upper bound on the supremum of `q` over the confining set, by branch and bound until the
+/// relative gap `(upper − lower)/upper ≤ relative_gap` or `max_boxes` nodes (module
+/// documentation). The outcome is in the quantity's units.
+pub fn maximise(set: &ConfiningSet, q: Quantity, relative_gap: f64, max_boxes: usize) -> Outcome {
+    let ys = vertices(set, q);
+    let roots: Vec<_> = (0..ys.len()).map(|v| (set.split, v)).collect();
+    best_first(
+        &roots,
+        |region, v| bound(region, &ys[v], v, q),
+        f64::sqrt,
+        relative_gap,
+        max_boxes,
+    )
+}
