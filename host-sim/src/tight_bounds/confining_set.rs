@@ -72,7 +72,8 @@ impl ConfiningSet {
         let p = &gains.position;
         let (g, mp) = (vehicle.gravity, p.saturation);
         let k = constants;
-        let floor = Interval::point(g) - Interval::point(mp) - Interval::point(k.vertical_acceleration);
+        let floor =
+            Interval::point(g) - Interval::point(mp) - Interval::point(k.vertical_acceleration);
         if floor.lo <= 0.0 {
             return Err(ParameterError::SaturationTooLarge {
                 saturation: mp,

@@ -1,17 +1,30 @@
-//! `ω_d` and `ω̇_d` as one generic expression, for points, intervals and gradients.
+//! `ω_d` and `ω̇_d` in closed form in the desired body frame, for points, intervals and
+//! gradients.
 //!
-//! The same formulas, in the same order, as `controller_core::desired_attitude`
-//! (eq:DesiredRotationMatrix, eq:DesiredAngularVelocity, eq:DesiredAngularAcceleration, the
-//! proof of Lemma 1): `ρ = u/|u|` with `ρ̇`, `ρ̈`; `ϖ = (ρ₃ν, −ρᵀν*)` (the branch `ρ₃ > 0`,
-//! which holds on the whole confining set because `u₃ ≥ g − M_p − K_a3 > 0`) with `ϖ̇`, `ϖ̈`;
-//! `υ = ϖ/|ϖ|` with `υ̇`, `ϋ`; `R_d = [υ, ρ × υ, ρ]`. The heading is parametrised by its angle:
-//! `ν_d = (cos ψ, sin ψ)`, `ν̇_d = ψ̇ ν⊥`, `ν̈_d = ψ̈ ν⊥ − ψ̇² ν` with `ν⊥ = (−sin ψ, cos ψ)`
-//! (every unit heading signal has this form). Evaluated on `f64` it must agree with
-//! controller-core to rounding (tested in `host-sim/tests/tight_bounds.rs`); on
-//! [`super::interval::Interval`] or [`super::gradient::Gradient`] it gives rigorous
-//! enclosures over a box.
+//! controller-core computes `ω_d`, `ω̇_d` by normalising `u` and `ϖ` and differentiating twice
+//! (eq:DesiredRotationMatrix, eq:DesiredAngularVelocity, eq:DesiredAngularAcceleration). The
+//! same values follow from a shorter chain, which interval arithmetic encloses far more tightly
+//! (fewer repeated occurrences of the same variable):
+//!
+//! Let `n = |u|`, `ρ = u/n`, `ν* = (cos ψ, sin ψ, 0)`, `w = ν* × e₃ = (sin ψ, −cos ψ, 0)`,
+//! `μ = ρ·ν*`, `σ = ρ·w`, `c = √(ρ₃² + μ²)` (`ρ₃² + μ² + σ² = 1`). Then `ϖ = ρ × w`, `|ϖ| = c`,
+//! `υ = (ρ₃ cos ψ, ρ₃ sin ψ, −μ)/c`, `s = ρ × υ = (σρ − w)/c`, and with the body-frame components
+//! `α = (υ, s, ρ)ᵀu̇/n`, `β = (υ, s, ρ)ᵀü/n`:
+//! - `ω_d = (−α₂, α₁, ω₃)`, `ω₃ = υ̇·s = ϖ̇·s/c = (−α₁σ + ψ̇ρ₃/c)/c`
+//!   (`ϖ̇ = ρ̇ × w + ψ̇ ρ × ν*`, `ρ̇ = α₁υ + α₂s`, `ν*·υ = ρ₃/c`);
+//! - `ω̇_d` is the time derivative of the body-frame `ω_d` (controller-core's test checks this
+//!   against differences of `R_d`). With `υ̇ = ω₃s − ω₂ρ`, `ṡ = −ω₃υ + ω₁ρ`, `ṅ/n = α₃`:
+//!   `α̇₁ = ω₃α₂ − 2α₁α₃ + β₁`, `α̇₂ = −ω₃α₁ − 2α₂α₃ + β₂`, so `ω̇₁ = −α̇₂`, `ω̇₂ = α̇₁`;
+//!   with `σ̇ = −α₂c + ψ̇μ` (`s·w = −c`), `ċ = −σσ̇/c`, `ρ̇₃ = (−α₁μ + α₂σρ₃)/c`:
+//!   `ω̇₃ = −α̇₁σ/c − α₁σ̇/c³ + ψ̈ρ₃/c² + ψ̇(ρ̇₃/c² + 2ρ₃σσ̇/c⁴)`.
+//!
+//! Every unit heading signal has the form `ν_d = (cos ψ, sin ψ)`, `ν̇_d = ψ̇ ν⊥`,
+//! `ν̈_d = ψ̈ ν⊥ − ψ̇² ν_d` (`ν⊥ = (−sin ψ, cos ψ)`). The precondition `u₃ > 0` (the branch
+//! `sgn(ρ₃) = 1` of `ϖ`) holds on the whole confining set (`u₃ ≥ g − M_p − K_a3 > 0`).
+//! Evaluated on `f64` these formulas agree with `controller_core::desired_attitude` to
+//! rounding (tested in `host-sim/tests/tight_bounds.rs`), which also checks the derivation.
 
-use super::arith::{add, cross, dot, norm_squared, scale, sub, Arith, V3};
+use super::arith::{cross, dot, norm_squared, Arith, V3};
 
 /// The heading `ν_d = (cos ψ, sin ψ)` and the rate and acceleration of its angle.
 #[derive(Clone, Copy, Debug)]
@@ -35,72 +48,42 @@ pub struct Rates<T> {
     pub angular_acceleration: V3<T>,
 }
 
-/// `(y, ẏ, ÿ)` for `y = x/|x|`: `ẏ = (I − yyᵀ)ẋ/|x|`,
-/// `ÿ = (I − yyᵀ)ẍ/|x| − 2 (yᵀẋ)/|x| ẏ − |ẏ|² y` (as `normalize_with_derivatives`).
-fn normalize<T: Arith>(x: &V3<T>, x_dot: &V3<T>, x_ddot: &V3<T>) -> [V3<T>; 3] {
-    let n = norm_squared(x).sqrt();
-    let y = x.map(|c| c / n);
-    let project = |v: &V3<T>| sub(v, &scale(&y, dot(&y, v)));
-    let rate = project(x_dot).map(|c| c / n);
-    let radial_rate = dot(&y, x_dot) / n;
-    let acceleration = sub(
-        &sub(
-            &project(x_ddot).map(|c| c / n),
-            &scale(&rate, T::constant(2.0) * radial_rate),
-        ),
-        &scale(&y, norm_squared(&rate)),
-    );
-    [y, rate, acceleration]
-}
-
-/// `ω_d`, `ω̇_d` from the control vector `u` [m/s²] with `u̇`, `ü` (inertial) and the heading.
+/// `ω_d`, `ω̇_d` from the control vector `u` [m/s²] with `u̇`, `ü` (inertial) and the heading
+/// (module documentation).
 ///
-/// Precondition (not checked): `|u| > 0` and `u₃ > 0`; on intervals, a violation only makes
-/// the enclosure the whole line. Source: eq:DesiredRotationMatrix,
-/// eq:DesiredAngularVelocity, eq:DesiredAngularAcceleration (as in
-/// `controller_core::desired_attitude`).
+/// Precondition (not checked): `u₃ > 0`; on intervals, a violation only makes the enclosure the
+/// whole line. Source: eq:DesiredRotationMatrix, eq:DesiredAngularVelocity,
+/// eq:DesiredAngularAcceleration, rewritten as in the module documentation.
 pub fn desired_rates<T: Arith>(
     u: &V3<T>,
     u_dot: &V3<T>,
     u_ddot: &V3<T>,
     heading: &Heading<T>,
 ) -> Rates<T> {
-    let [r, rd, rdd] = normalize(u, u_dot, u_ddot);
-    let zero = T::constant(0.0);
     let two = T::constant(2.0);
-    let (c, s, w, a) = (heading.cos, heading.sin, heading.rate, heading.acceleration);
-    let nu = [c, s, zero];
-    let perp = [-s, c, zero];
-    let nu_d = scale(&perp, w);
-    let nu_dd = sub(&scale(&perp, a), &scale(&nu, w.sqr()));
-    // ϖ = (ρ₃ν, −ρᵀν*) and its derivatives by the product rule.
-    let varpi_of = |h: V3<T>, v: T| [h[0], h[1], -v];
-    let varpi = varpi_of(scale(&nu, r[2]), dot(&r, &nu));
-    let varpi_dot = varpi_of(
-        add(&scale(&nu, rd[2]), &scale(&nu_d, r[2])),
-        dot(&rd, &nu) + dot(&r, &nu_d),
-    );
-    let varpi_ddot = varpi_of(
-        add(
-            &add(&scale(&nu, rdd[2]), &scale(&nu_d, two * rd[2])),
-            &scale(&nu_dd, r[2]),
-        ),
-        dot(&rdd, &nu) + two * dot(&rd, &nu_d) + dot(&r, &nu_dd),
-    );
-    let [y, yd, ydd] = normalize(&varpi, &varpi_dot, &varpi_ddot);
-    let second = cross(&r, &y);
-    let omega = [-dot(&rd, &second), dot(&y, &rd), dot(&yd, &second)];
-    let gyro = [
-        omega[1] * omega[2],
-        -(omega[0] * omega[2]),
-        -(omega[0] * omega[1]),
-    ];
-    let omega_dot = add(
-        &gyro,
-        &[-dot(&rdd, &second), dot(&y, &rdd), dot(&ydd, &second)],
-    );
+    let n = norm_squared(u).sqrt();
+    let rho = u.map(|x| x / n);
+    let (cos, sin, rate) = (heading.cos, heading.sin, heading.rate);
+    let mu = rho[0] * cos + rho[1] * sin;
+    let sigma = rho[0] * sin - rho[1] * cos;
+    let c = (rho[2].sqr() + mu.sqr()).sqrt();
+    let ups = [rho[2] * cos / c, rho[2] * sin / c, -mu / c];
+    let s = cross(&rho, &ups);
+    let body = |v: &V3<T>| [dot(&ups, v) / n, dot(&s, v) / n, dot(&rho, v) / n];
+    let a = body(u_dot);
+    let b = body(u_ddot);
+    let rho3_c = rho[2] / c;
+    let w3 = (rate * rho3_c - a[0] * sigma) / c;
+    let a1_dot = w3 * a[1] - two * a[0] * a[2] + b[0];
+    let a2_dot = b[1] - w3 * a[0] - two * a[1] * a[2];
+    let sigma_c = sigma / c;
+    let sigma_dot = rate * mu - a[1] * c;
+    let rho3_dot = (a[1] * sigma * rho[2] - a[0] * mu) / c;
+    let c2 = c.sqr();
+    let w3_dot = heading.acceleration * rho3_c / c - a1_dot * sigma_c - a[0] * sigma_dot / (c2 * c)
+        + rate * (rho3_dot + two * rho3_c * sigma_c * sigma_dot) / c2;
     Rates {
-        angular_velocity: omega,
-        angular_acceleration: omega_dot,
+        angular_velocity: [-a[1], a[0], w3],
+        angular_acceleration: [-a2_dot, a1_dot, w3_dot],
     }
 }

@@ -87,9 +87,8 @@ mod tests {
     fn closed_forms_match_quadrature() {
         for (kf, ks) in [(2.0, 20.0), (3.0, 5.0), (7.0, 2.0)] {
             let hd = |t: f64| ks * (ks * (-ks * t).exp() - kf * (-kf * t).exp()) / (ks - kf);
-            let hc = |t: f64| {
-                -ks * (ks * ks * (-ks * t).exp() - kf * kf * (-kf * t).exp()) / (ks - kf)
-            };
+            let hc =
+                |t: f64| -ks * (ks * ks * (-ks * t).exp() - kf * kf * (-kf * t).exp()) / (ks - kf);
             let horizon = 40.0 / kf.min(ks);
             let (b1, b2) = rate_and_acceleration_bounds(kf, ks, 1.0, FilterStart::Zero);
             let q1 = kf * l1(hd, horizon);

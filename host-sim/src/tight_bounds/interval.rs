@@ -233,7 +233,12 @@ impl Div for Interval {
         if o.lo <= 0.0 && o.hi >= 0.0 {
             return Interval::ENTIRE;
         }
-        let q = [self.lo / o.lo, self.lo / o.hi, self.hi / o.lo, self.hi / o.hi];
+        let q = [
+            self.lo / o.lo,
+            self.lo / o.hi,
+            self.hi / o.lo,
+            self.hi / o.hi,
+        ];
         if q.iter().any(|x| x.is_nan()) {
             return Interval::ENTIRE;
         }
@@ -287,6 +292,9 @@ mod tests {
         }
         let (c, s) = Interval::new(0.2, 0.7).cos_sin();
         assert!(c.contains(0.5f64.cos()) && s.contains(0.5f64.sin()));
-        assert_eq!(Interval::new(1.0, 2.0) / Interval::new(-1.0, 1.0), Interval::ENTIRE);
+        assert_eq!(
+            Interval::new(1.0, 2.0) / Interval::new(-1.0, 1.0),
+            Interval::ENTIRE
+        );
     }
 }

@@ -95,10 +95,23 @@ pub fn tight_bounds(
     }
     let set = ConfiningSet::new(vehicle, gains, constants, filter_start)?;
     let run = |q| maximise(&set, q, options.relative_gap, options.max_boxes);
-    let w = run(Quantity::AngularVelocity);
-    let a = run(Quantity::AngularAcceleration);
-    let h12 = run(Quantity::HorizontalAcceleration);
-    let h3 = run(Quantity::YawAcceleration);
+    let ((w, a), (h12, h3)) = rayon::join(
+        || {
+            rayon::join(
+                || run(Quantity::AngularVelocity),
+                || run(Quantity::AngularAcceleration),
+            )
+        },
+        || {
+            rayon::join(
+                || run(Quantity::HorizontalAcceleration),
+                || run(Quantity::YawAcceleration),
+            )
+        },
+    );
+    // |ω̇_d|² = |(ω̇_d1, ω̇_d2)|² + ω̇_d3² ≤ H₁₂² + H₃²: a second bound, kept if smaller.
+    let p = interval::Interval::point;
+    let composed = (p(h12.upper).sqr() + p(h3.upper).sqr()).sqrt().hi;
     let inertia: [f64; 3] = vehicle.inertia.into();
     let mut boxes = w.boxes + a.boxes + h12.boxes + h3.boxes;
     let mut torque_max = [0.0; 3];
@@ -112,16 +125,18 @@ pub fn tight_bounds(
             horizontal_acceleration: h,
             yaw_acceleration: y,
         };
-        let phi = term(h12.upper, h3.upper).maximise(options.relative_gap, options.max_boxes);
+        // This search is cheap (3-D, no gradients): never looser than 1 %.
+        let phi_gap = options.relative_gap.min(0.01);
+        let phi = term(h12.upper, h3.upper).maximise(phi_gap, options.max_boxes);
         boxes += phi.boxes;
         let omega = gains.attitude.omega_saturation;
         torque_max[axis] = torque_bound(axis, omega, phi.upper, inertia, w.upper);
-        let phi_low = term(h12.lower, h3.lower).maximise(options.relative_gap, options.max_boxes);
+        let phi_low = term(h12.lower, h3.lower).maximise(phi_gap, options.max_boxes);
         torque_lower[axis] = torque_bound(axis, omega, phi_low.lower, inertia, w.lower);
     }
     Ok(TightBounds {
         angular_velocity: w.upper,
-        angular_acceleration: a.upper,
+        angular_acceleration: a.upper.min(composed),
         horizontal_acceleration: h12.upper,
         yaw_acceleration: h3.upper,
         torque_max,

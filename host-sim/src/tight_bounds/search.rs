@@ -155,8 +155,13 @@ fn bound(
     } else {
         upper_sq
     };
-    let toward: [f64; SPLIT_DIM] =
-        core::array::from_fn(|j| if g.partial[j].mid() >= 0.0 { region[j].hi } else { region[j].lo });
+    let toward: [f64; SPLIT_DIM] = core::array::from_fn(|j| {
+        if g.partial[j].mid() >= 0.0 {
+            region[j].hi
+        } else {
+            region[j].lo
+        }
+    });
     let at = |x: &[f64; SPLIT_DIM]| squared(x, (x[6].cos(), x[6].sin()), y, q);
     let lower_sq = at(&c).max(at(&toward));
     Node {
@@ -174,7 +179,13 @@ fn vertices(set: &ConfiningSet, q: Quantity) -> Vec<[f64; 4]> {
         return vec![[0.0; 4]];
     }
     let (a, h) = (set.u_ddot, set.heading_acceleration);
-    (0..16)
+    // ψ̈ enters ω̇_d3 only.
+    let count = if q == Quantity::HorizontalAcceleration {
+        8
+    } else {
+        16
+    };
+    (0..count)
         .map(|k| {
             let s = |bit: usize| if k >> bit & 1 == 1 { -1.0 } else { 1.0 };
             [s(0) * a, s(1) * a, s(2) * a, s(3) * h]
@@ -187,7 +198,22 @@ fn vertices(set: &ConfiningSet, q: Quantity) -> Vec<[f64; 4]> {
 /// documentation). The outcome is in the quantity's units.
 pub fn maximise(set: &ConfiningSet, q: Quantity, relative_gap: f64, max_boxes: usize) -> Outcome {
     let ys = vertices(set, q);
-    let roots: Vec<_> = (0..ys.len()).map(|v| (set.split, v)).collect();
+    let roots: Vec<_> = if q == Quantity::AngularVelocity {
+        // ω_d is linear in z = (u̇, ψ̇) for fixed (u, ψ): its norm is convex in z, so its
+        // maximum over the z box is at one of the box's 16 vertices.
+        (0..16)
+            .map(|k| {
+                let mut region = set.split;
+                for j in 3..SPLIT_DIM {
+                    let x = region[j];
+                    region[j] = Interval::point(if k >> (j - 3) & 1 == 1 { x.lo } else { x.hi });
+                }
+                (region, 0)
+            })
+            .collect()
+    } else {
+        (0..ys.len()).map(|v| (set.split, v)).collect()
+    };
     best_first(
         &roots,
         |region, v| bound(region, &ys[v], v, q),

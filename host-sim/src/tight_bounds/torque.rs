@@ -87,7 +87,11 @@ impl AttitudeTerm {
         let c = region.map(|x| x.mid());
         let norm = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
         // A point of the ball: the centre, or the centre pulled onto the sphere.
-        let shrink = if norm > self.radius { 0.999_999 * self.radius / norm } else { 1.0 };
+        let shrink = if norm > self.radius {
+            0.999_999 * self.radius / norm
+        } else {
+            1.0
+        };
         let lower = self
             .enclosure(&c.map(|x| Interval::point(x * shrink)))
             .map_or(f64::NAN, |v| v.lo);
@@ -102,10 +106,21 @@ impl AttitudeTerm {
     }
 
     /// Upper bound of `sup φ_i` over the ball `|ϑ| ≤ 1 + δ` by branch and bound.
+    ///
+    /// Symmetries shrink the box: `φ₃` depends on `|ϑ₃|`, `ϑ₁² + ϑ₂²` and `|ϑ|²` only, so the
+    /// octant `ϑ ≥ 0` suffices; for `i = 1` the flips `(−ϑ₁, −ϑ₂, ϑ₃)` and `(ϑ₁, −ϑ₂, −ϑ₃)`, for
+    /// `i = 2` the flips `(−ϑ₁, ϑ₂, −ϑ₃)` and `(ϑ₁, −ϑ₂, −ϑ₃)` change at most the sign of `q₃` and
+    /// keep `|ϑ_i|`, `|ϑ|²`, so `ϑ₁, ϑ₂ ≥ 0` suffices.
     pub fn maximise(&self, relative_gap: f64, max_boxes: usize) -> Outcome {
         let r = next_up(self.radius);
+        let half = Interval::new(0.0, r);
+        let third = if self.axis == 2 {
+            half
+        } else {
+            Interval::symmetric(r)
+        };
         best_first(
-            &[([Interval::symmetric(r); 3], 0)],
+            &[([half, half, third], 0)],
             |region, _| self.node(region),
             |x| x,
             relative_gap,
@@ -116,7 +131,13 @@ impl AttitudeTerm {
 
 /// `M_ω + φ + ½|J_jj − J_kk| W²` [N m], rounded up: the per-axis torque bound from the bound
 /// `φ` of the attitude term, the inertia diagonal and the bound `W` of `|ω_d|`.
-pub fn torque_bound(axis: usize, omega_saturation: f64, phi: f64, inertia: [f64; 3], w: f64) -> f64 {
+pub fn torque_bound(
+    axis: usize,
+    omega_saturation: f64,
+    phi: f64,
+    inertia: [f64; 3],
+    w: f64,
+) -> f64 {
     let p = Interval::point;
     let (j, k) = (inertia[(axis + 1) % 3], inertia[(axis + 2) % 3]);
     (p(omega_saturation) + p(phi) + p(0.5) * (p(j) - p(k)).abs() * p(w).sqr()).hi

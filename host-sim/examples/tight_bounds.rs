@@ -1,0 +1,90 @@
+//! Prints the tight a-priori bounds beside the paper's (Lemma 1, Theorem 2) for the paper's
+//! set-up, or for a scenario file: `cargo run --release -p host-sim --example tight_bounds --
+//! [scenario.toml] [relative gap]`.
+
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{anyhow, Context, Result};
+use controller_core::{certify, FilterStart, Trajectory};
+use host_sim::scenario::{describe, Scenario};
+use host_sim::tight_bounds::{tight_bounds, TightOptions};
+
+fn main() -> Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let scenario = match args.first() {
+        Some(path) if path != "paper" => Scenario::load(Path::new(path))?,
+        _ => Scenario::paper(),
+    };
+    let mut options = TightOptions::default();
+    if let Some(gap) = args.get(1) {
+        options.relative_gap = gap
+            .parse()
+            .with_context(|| format!("relative gap {gap:?} is not a number"))?;
+    }
+    let (vehicle, gains) = (scenario.vehicle::<f64>(), scenario.gains::<f64>());
+    let constants = scenario.trajectory::<f64>().constants();
+    let paper = certify(
+        &vehicle,
+        &scenario.limits::<f64>(),
+        &gains,
+        &constants,
+        FilterStart::Zero,
+    )
+    .map_err(|e| anyhow!(describe(&e)))?
+    .bounds;
+    let start = Instant::now();
+    let tight = tight_bounds(&vehicle, &gains, &constants, FilterStart::Zero, &options)
+        .map_err(|e| anyhow!(describe(&e)))?;
+    let elapsed = start.elapsed();
+    println!(
+        "relative gap {}, {} boxes, {:.3} s",
+        options.relative_gap,
+        tight.boxes,
+        elapsed.as_secs_f64()
+    );
+    println!(
+        "{:<22} {:>10} {:>10} {:>8} {:>10} {:>8}",
+        "quantity", "paper", "tight", "ratio", "best seen", "gap"
+    );
+    let row = |name: &str, paper: f64, tight: f64, seen: f64| {
+        println!(
+            "{name:<22} {paper:>10.4} {tight:>10.4} {:>8.3} {seen:>10.4} {:>7.2}%",
+            tight / paper,
+            100.0 * (tight - seen) / tight
+        );
+    };
+    row(
+        "|w_d| [rad/s]",
+        paper.angular_velocity,
+        tight.angular_velocity,
+        tight.lower.angular_velocity,
+    );
+    row(
+        "|w_d dot| [rad/s2]",
+        paper.angular_acceleration,
+        tight.angular_acceleration,
+        tight.lower.angular_acceleration,
+    );
+    row(
+        "H12 [rad/s2]",
+        paper.angular_acceleration,
+        tight.horizontal_acceleration,
+        tight.lower.horizontal_acceleration,
+    );
+    row(
+        "H3 [rad/s2]",
+        paper.angular_acceleration,
+        tight.yaw_acceleration,
+        tight.lower.yaw_acceleration,
+    );
+    for i in 0..3 {
+        row(
+            &format!("tau_{} [N m]", i + 1),
+            paper.torque_max[i],
+            tight.torque_max[i],
+            tight.lower.torque_max[i],
+        );
+    }
+    Ok(())
+}
