@@ -1,6 +1,6 @@
 //! Prints the tight a-priori bounds beside the paper's (Lemma 1, Theorem 2) for the paper's
 //! set-up, or for a scenario file: `cargo run --release -p host-sim --example tight_bounds --
-//! [scenario.toml] [relative gap]`.
+//! [scenario.toml|paper] [relative gap] [boxes per search]`.
 
 use std::path::Path;
 use std::time::Instant;
@@ -17,6 +17,11 @@ fn main() -> Result<()> {
         _ => Scenario::paper(),
     };
     let mut options = TightOptions::default();
+    if let Some(cap) = args.get(2) {
+        options.max_boxes = cap
+            .parse()
+            .with_context(|| format!("box budget {cap:?} is not a whole number"))?;
+    }
     if let Some(gap) = args.get(1) {
         options.relative_gap = gap
             .parse()

@@ -118,7 +118,10 @@ pub fn best_first<const N: usize>(
         for half in [Interval::new(x.lo, m), Interval::new(m, x.hi)] {
             let mut region = top.region;
             region[j] = half;
-            tally.admit(evaluate(region, top.tag), &mut heap);
+            let mut child = evaluate(region, top.tag);
+            // The half lies in the parent, so the parent's bound holds for it too.
+            child.upper = child.upper.min(top.upper);
+            tally.admit(child, &mut heap);
             boxes += 1;
         }
     };

@@ -84,10 +84,18 @@ impl Interval {
         Self::new(-r, r)
     }
 
-    /// `[next_down(lo), next_up(hi)]`: one ulp outward on each side.
+    /// `lo`, `hi` moved outward by `|x|·2⁻⁵² + 2⁻¹⁰⁷⁴`, at least one ulp (an ulp of a normal
+    /// `x` is at most `|x|·2⁻⁵²`; the smallest subnormal covers the rest), without the branches
+    /// of [`next_down`]/[`next_up`]. The subtraction's own rounding cannot undo the step: the
+    /// exact result is at or below the predecessor of `lo`, and rounding is monotone. A NaN
+    /// (from an infinite endpoint on the wrong side) gives [`Interval::ENTIRE`].
     #[inline]
     fn widen(lo: f64, hi: f64) -> Self {
-        Self::new(next_down(lo), next_up(hi))
+        const TINY: f64 = 5e-324;
+        Self::new(
+            lo - (lo.abs() * f64::EPSILON + TINY),
+            hi + (hi.abs() * f64::EPSILON + TINY),
+        )
     }
 
     /// The midpoint (rounded; it lies in the interval for finite endpoints).
