@@ -2,11 +2,16 @@
 //!
 //! The search splits the eight variables `x = (u, u̇, ψ, ψ̇)` of
 //! [`super::confining_set::ConfiningSet::split`]. `ω̇_d` is affine in `y = (ü, ψ̈)` for fixed `x`
-//! (`ρ̈`, `ϖ̈`, `ϋ` are affine in `ü`, `ν̈_d`, and `ν̈_d` in `ψ̈`), and `ω_d` does not depend on `y`;
-//! a squared Euclidean norm of an affine function is convex, so for every `x` its maximum over
-//! the `y` box is reached at one of the 16 vertices. The search therefore maximises
+//! (`ρ̈`, `ϖ̈`, `ϋ` are affine in `ü`, `ν̈_d`, and `ν̈_d` in `ψ̈`; in the closed form of
+//! [`super::desired_rates`], `β` is linear in `ü` and `ψ̈` appears once, in `ω̇_d3`), and `ω_d`
+//! does not depend on `y`; a squared Euclidean norm of an affine function is convex, so for
+//! every `x` its maximum over the `y` box is reached at one of the 16 vertices (8 for
+//! `|(ω̇_d1, ω̇_d2)|`, which does not depend on `ψ̈`). The search therefore maximises
 //! `F_v(x) = |selection of ω̇_d(x, y_v)|²` for each vertex `v` separately (a node is a box of `x`
-//! and a vertex), and the supremum is the largest over the vertices.
+//! and a vertex), and the supremum is the largest over the vertices. For `|ω_d|` the same
+//! argument applies to `z = (u̇, ψ̇)`, in which `ω_d` is linear for fixed `(u, ψ)`
+//! (`ω_d = (−α₂, α₁, (ψ̇ρ₃/c − α₁σ)/c)`, `α` linear in `u̇`): the roots are the 16 vertices of the
+//! `z` box and only `(u, ψ)` is split.
 //!
 //! Per node (box `X`, centre `c`, radii `r_j`):
 //! - forward-mode interval differentiation ([`super::gradient`]) encloses `F_v(X)` and
@@ -78,11 +83,9 @@ fn squared<T: Arith>(x: &[T; SPLIT_DIM], heading: (T, T), y: &[f64; 4], q: Quant
     } else {
         rates.angular_velocity
     };
-    let mut sum = v[range.start].sqr();
-    for i in range.start + 1..range.end {
-        sum = sum + v[i].sqr();
-    }
-    sum
+    let mut parts = v[range].iter().map(|x| x.sqr());
+    let first = parts.next().unwrap_or_else(|| T::constant(0.0));
+    parts.fold(first, |sum, x| sum + x)
 }
 
 /// `F_v` at a point, in `f64`.
@@ -139,9 +142,9 @@ fn bound(
     let mut mean_value = squared(&point, point[6].cos_sin(), y, q).hi;
     let mut split = None;
     let mut widest = 0.0;
-    for j in 0..SPLIT_DIM {
-        if radius[j] > 0.0 {
-            let share = next_up(g.partial[j].mag() * radius[j]);
+    for (j, (r, d)) in radius.iter().zip(g.partial).enumerate() {
+        if *r > 0.0 {
+            let share = next_up(d.mag() * r);
             mean_value = next_up(mean_value + share);
             if share > widest || (split.is_none() && share.is_nan()) {
                 widest = share;
@@ -204,9 +207,8 @@ pub fn maximise(set: &ConfiningSet, q: Quantity, relative_gap: f64, max_boxes: u
         (0..16)
             .map(|k| {
                 let mut region = set.split;
-                for j in 3..SPLIT_DIM {
-                    let x = region[j];
-                    region[j] = Interval::point(if k >> (j - 3) & 1 == 1 { x.lo } else { x.hi });
+                for (bit, x) in region[3..].iter_mut().enumerate() {
+                    *x = Interval::point(if k >> bit & 1 == 1 { x.lo } else { x.hi });
                 }
                 (region, 0)
             })
