@@ -324,3 +324,58 @@ fn larger_saturation_never_bounds_below_the_smaller_sets_values() {
         assert!(hi.torque_max[i] >= lo.lower.torque_max[i]);
     }
 }
+
+/// Filters started anywhere in the saturation box reach at least what the zero start reaches.
+#[test]
+fn saturation_box_start_bounds_the_zero_starts_values() {
+    let k = ReferenceTrajectory::paper_helix().constants();
+    let (v, g) = (Vehicle::paper(), Gains::<f64>::paper());
+    let (z, b) = (
+        ConfiningSet::new(&v, &g, &k, FilterStart::Zero).unwrap(),
+        ConfiningSet::new(&v, &g, &k, FilterStart::InSaturationBox).unwrap(),
+    );
+    assert!(z.u_ddot < b.u_ddot && z.split[3].hi < b.split[3].hi);
+    let zero = tight_bounds(&v, &g, &k, FilterStart::Zero, &quick()).unwrap();
+    let any = tight_bounds(&v, &g, &k, FilterStart::InSaturationBox, &quick()).unwrap();
+    assert!(any.angular_velocity >= zero.lower.angular_velocity);
+    assert!(any.angular_acceleration >= zero.lower.angular_acceleration);
+}
+
+/// Bad inputs are refused with the parameter's name, never a panic.
+#[test]
+fn refuses_bad_inputs_with_names() {
+    let k = ReferenceTrajectory::paper_helix().constants();
+    let (v, g) = (Vehicle::paper(), Gains::<f64>::paper());
+    let bad_gap = TightOptions {
+        relative_gap: f64::NAN,
+        ..quick()
+    };
+    let e = tight_bounds(&v, &g, &k, FilterStart::Zero, &bad_gap).unwrap_err();
+    assert!(matches!(
+        e,
+        controller_core::ParameterError::OutOfRange {
+            name: "relative_gap",
+            ..
+        }
+    ));
+    let mut big = g;
+    big.position.saturation = 9.7;
+    let e = tight_bounds(&v, &big, &k, FilterStart::Zero, &quick()).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            controller_core::ParameterError::SaturationTooLarge { .. }
+        ),
+        "{e:?}"
+    );
+    let mut k2 = k;
+    k2.snap = -1.0;
+    let e = tight_bounds(&v, &g, &k2, FilterStart::Zero, &quick()).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            controller_core::ParameterError::BadTrajectoryConstant { name: "K_s", .. }
+        ),
+        "{e:?}"
+    );
+}
