@@ -12,24 +12,34 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 use super::arith::Arith;
 use super::interval::Interval;
 
-/// Enclosures of a function value and of its partial derivatives with respect to `N`
+/// Enclosures of a function value and of its partial derivatives with respect to `N ≤ 16`
 /// variables over a box.
 #[derive(Clone, Copy, Debug)]
 pub struct Gradient<const N: usize> {
     /// Encloses `f` over the box.
     pub value: Interval,
-    /// `partial[j]` encloses `∂f/∂x_j` over the box.
+    /// `partial[j]` encloses `∂f/∂x_j` over the box (exactly 0 where `active` has no bit `j`).
     pub partial: [Interval; N],
+    /// Bit `j` set when `partial[j]` may be non-zero; the others are skipped (a variable fixed
+    /// at a point, or a constant, has no active bit).
+    active: u16,
 }
 
+const ZERO: Interval = Interval { lo: 0.0, hi: 0.0 };
+
 impl<const N: usize> Gradient<N> {
-    /// The variable `x_j` ranging over `range`: value `range`, gradient `e_j`.
+    /// The variable `x_j` ranging over `range`: value `range`, gradient `e_j` (no partial at
+    /// all when `range` is a point: the variable is then a constant of the box).
     pub fn variable(range: Interval, j: usize) -> Self {
-        let mut partial = [Interval::point(0.0); N];
+        let mut partial = [ZERO; N];
+        if range.lo == range.hi {
+            return Self::fixed(range);
+        }
         partial[j] = Interval::point(1.0);
         Self {
             value: range,
             partial,
+            active: 1 << j,
         }
     }
 
@@ -37,7 +47,8 @@ impl<const N: usize> Gradient<N> {
     pub fn fixed(value: Interval) -> Self {
         Self {
             value,
-            partial: [Interval::point(0.0); N],
+            partial: [ZERO; N],
+            active: 0,
         }
     }
 
@@ -45,9 +56,16 @@ impl<const N: usize> Gradient<N> {
     /// `self.value`.
     #[inline]
     fn chain(self, f: Interval, df: Interval) -> Self {
+        let mut partial = self.partial;
+        for (j, p) in partial.iter_mut().enumerate() {
+            if self.active >> j & 1 == 1 {
+                *p = *p * df;
+            }
+        }
         Self {
             value: f,
-            partial: self.partial.map(|p| p * df),
+            partial,
+            active: self.active,
         }
     }
 
@@ -56,20 +74,41 @@ impl<const N: usize> Gradient<N> {
         let (c, s) = self.value.cos_sin();
         (self.chain(c, -s), self.chain(s, c))
     }
+
+    /// Combines the partials of `self` (`p`) and `o` (`q`) per active variable: `both(p, q)`
+    /// where both are active, `left(p)` or `right(q)` where only one is.
+    #[inline]
+    fn combine(
+        &self,
+        o: &Self,
+        value: Interval,
+        both: impl Fn(Interval, Interval) -> Interval,
+        left: impl Fn(Interval) -> Interval,
+        right: impl Fn(Interval) -> Interval,
+    ) -> Self {
+        let active = self.active | o.active;
+        let mut partial = [ZERO; N];
+        for (j, r) in partial.iter_mut().enumerate() {
+            *r = match (self.active >> j & 1, o.active >> j & 1) {
+                (1, 1) => both(self.partial[j], o.partial[j]),
+                (1, _) => left(self.partial[j]),
+                (_, 1) => right(o.partial[j]),
+                _ => continue,
+            };
+        }
+        Self {
+            value,
+            partial,
+            active,
+        }
+    }
 }
 
 impl<const N: usize> Add for Gradient<N> {
     type Output = Self;
     #[inline]
     fn add(self, o: Self) -> Self {
-        let mut partial = self.partial;
-        for (p, q) in partial.iter_mut().zip(o.partial) {
-            *p = *p + q;
-        }
-        Self {
-            value: self.value + o.value,
-            partial,
-        }
+        self.combine(&o, self.value + o.value, |p, q| p + q, |p| p, |q| q)
     }
 }
 
@@ -77,14 +116,7 @@ impl<const N: usize> Sub for Gradient<N> {
     type Output = Self;
     #[inline]
     fn sub(self, o: Self) -> Self {
-        let mut partial = self.partial;
-        for (p, q) in partial.iter_mut().zip(o.partial) {
-            *p = *p - q;
-        }
-        Self {
-            value: self.value - o.value,
-            partial,
-        }
+        self.combine(&o, self.value - o.value, |p, q| p - q, |p| p, |q| -q)
     }
 }
 
@@ -95,6 +127,7 @@ impl<const N: usize> Neg for Gradient<N> {
         Self {
             value: -self.value,
             partial: self.partial.map(|p| -p),
+            active: self.active,
         }
     }
 }
@@ -103,14 +136,8 @@ impl<const N: usize> Mul for Gradient<N> {
     type Output = Self;
     #[inline]
     fn mul(self, o: Self) -> Self {
-        let mut partial = self.partial;
-        for (p, q) in partial.iter_mut().zip(o.partial) {
-            *p = *p * o.value + self.value * q;
-        }
-        Self {
-            value: self.value * o.value,
-            partial,
-        }
+        let (a, b) = (self.value, o.value);
+        self.combine(&o, a * b, |p, q| p * b + a * q, |p| p * b, |q| a * q)
     }
 }
 
@@ -119,12 +146,9 @@ impl<const N: usize> Div for Gradient<N> {
     #[inline]
     fn div(self, o: Self) -> Self {
         // (a/b)' = (a' − (a/b) b') / b: one division per partial.
-        let value = self.value / o.value;
-        let mut partial = self.partial;
-        for (p, q) in partial.iter_mut().zip(o.partial) {
-            *p = (*p - value * q) / o.value;
-        }
-        Self { value, partial }
+        let b = o.value;
+        let v = self.value / b;
+        self.combine(&o, v, |p, q| (p - v * q) / b, |p| p / b, |q| -(v * q) / b)
     }
 }
 
