@@ -134,6 +134,8 @@ impl<const N: usize> Neg for Gradient<N> {
 
 impl<const N: usize> Mul for Gradient<N> {
     type Output = Self;
+    // The product rule needs `+` inside `mul`.
+    #[allow(clippy::suspicious_arithmetic_impl)]
     #[inline]
     fn mul(self, o: Self) -> Self {
         let (a, b) = (self.value, o.value);
@@ -143,6 +145,8 @@ impl<const N: usize> Mul for Gradient<N> {
 
 impl<const N: usize> Div for Gradient<N> {
     type Output = Self;
+    // The quotient rule needs `−` and `×` inside `div`.
+    #[allow(clippy::suspicious_arithmetic_impl)]
     #[inline]
     fn div(self, o: Self) -> Self {
         // (a/b)' = (a' − (a/b) b') / b: one division per partial.
