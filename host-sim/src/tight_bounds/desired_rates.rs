@@ -61,27 +61,38 @@ pub fn desired_rates<T: Arith>(
     heading: &Heading<T>,
 ) -> Rates<T> {
     let two = T::constant(2.0);
-    let n = norm_squared(u).sqrt();
-    let rho = u.map(|x| x / n);
+    let one = T::constant(1.0);
+    // Reciprocals once, products after: divisions are the costly interval operation.
+    let inv_n = one / norm_squared(u).sqrt();
+    let rho = u.map(|x| x * inv_n);
     let (cos, sin, rate) = (heading.cos, heading.sin, heading.rate);
     let mu = rho[0] * cos + rho[1] * sin;
     let sigma = rho[0] * sin - rho[1] * cos;
     let c = (rho[2].sqr() + mu.sqr()).sqrt();
-    let ups = [rho[2] * cos / c, rho[2] * sin / c, -mu / c];
+    let inv_c = one / c;
+    let ups = [rho[2] * cos * inv_c, rho[2] * sin * inv_c, -mu * inv_c];
     let s = cross(&rho, &ups);
-    let body = |v: &V3<T>| [dot(&ups, v) / n, dot(&s, v) / n, dot(&rho, v) / n];
+    let body = |v: &V3<T>| {
+        [
+            dot(&ups, v) * inv_n,
+            dot(&s, v) * inv_n,
+            dot(&rho, v) * inv_n,
+        ]
+    };
     let a = body(u_dot);
     let b = body(u_ddot);
-    let rho3_c = rho[2] / c;
-    let w3 = (rate * rho3_c - a[0] * sigma) / c;
+    let rho3_c = rho[2] * inv_c;
+    let sigma_c = sigma * inv_c;
+    let w3 = (rate * rho3_c - a[0] * sigma) * inv_c;
     let a1_dot = w3 * a[1] - two * a[0] * a[2] + b[0];
     let a2_dot = b[1] - w3 * a[0] - two * a[1] * a[2];
-    let sigma_c = sigma / c;
     let sigma_dot = rate * mu - a[1] * c;
-    let rho3_dot = (a[1] * sigma * rho[2] - a[0] * mu) / c;
-    let c2 = c.sqr();
-    let w3_dot = heading.acceleration * rho3_c / c - a1_dot * sigma_c - a[0] * sigma_dot / (c2 * c)
-        + rate * (rho3_dot + two * rho3_c * sigma_c * sigma_dot) / c2;
+    let rho3_dot = (a[1] * sigma * rho[2] - a[0] * mu) * inv_c;
+    let inv_c2 = inv_c.sqr();
+    let w3_dot = heading.acceleration * rho3_c * inv_c
+        - a1_dot * sigma_c
+        - a[0] * sigma_dot * inv_c2 * inv_c
+        + rate * (rho3_dot + two * rho3_c * sigma_c * sigma_dot) * inv_c2;
     Rates {
         angular_velocity: [-a[1], a[0], w3],
         angular_acceleration: [-a2_dot, a1_dot, w3_dot],

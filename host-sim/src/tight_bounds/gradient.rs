@@ -152,7 +152,9 @@ impl<const N: usize> Div for Gradient<N> {
         // (a/b)' = (a' − (a/b) b') / b: one division per partial.
         let b = o.value;
         let v = self.value / b;
-        self.combine(&o, v, |p, q| (p - v * q) / b, |p| p / b, |q| -(v * q) / b)
+        // One interval division; the partials multiply by the reciprocal.
+        let r = Interval::point(1.0) / b;
+        self.combine(&o, v, |p, q| (p - v * q) * r, |p| p * r, |q| -(v * q) * r)
     }
 }
 
