@@ -223,14 +223,29 @@ impl Mul for Interval {
     #[inline]
     fn mul(self, o: Interval) -> Interval {
         let p = [
-            endpoint_product(self.lo, o.lo),
-            endpoint_product(self.lo, o.hi),
-            endpoint_product(self.hi, o.lo),
-            endpoint_product(self.hi, o.hi),
+            self.lo * o.lo,
+            self.lo * o.hi,
+            self.hi * o.lo,
+            self.hi * o.hi,
         ];
-        let lo = p[0].min(p[1]).min(p[2].min(p[3]));
-        let hi = p[0].max(p[1]).max(p[2].max(p[3]));
-        Interval::widen(lo, hi)
+        // NaN only from 0·∞ (rare): then the endpoint convention 0·∞ = 0.
+        let p = if p.iter().any(|x| x.is_nan()) {
+            [
+                endpoint_product(self.lo, o.lo),
+                endpoint_product(self.lo, o.hi),
+                endpoint_product(self.hi, o.lo),
+                endpoint_product(self.hi, o.hi),
+            ]
+        } else {
+            p
+        };
+        // Plain comparisons (no NaN left): cheaper than f64::min/max.
+        let min = |a: f64, b: f64| if a < b { a } else { b };
+        let max = |a: f64, b: f64| if a > b { a } else { b };
+        Interval::widen(
+            min(min(p[0], p[1]), min(p[2], p[3])),
+            max(max(p[0], p[1]), max(p[2], p[3])),
+        )
     }
 }
 
