@@ -52,10 +52,18 @@ fn main() -> Result<()> {
         "{:<22} {:>10} {:>10} {:>8} {:>10} {:>8}",
         "quantity", "paper", "tight", "ratio", "best seen", "gap"
     );
+    // Four significant digits, whatever the scale (the small vehicles' torques are ~1e-3 N m).
+    let sig = |x: f64| {
+        let decimals = (3 - x.abs().log10().floor() as i32).clamp(0, 9) as usize;
+        format!("{x:.decimals$}")
+    };
     let row = |name: &str, paper: f64, tight: f64, seen: f64| {
         println!(
-            "{name:<22} {paper:>10.4} {tight:>10.4} {:>8.3} {seen:>10.4} {:>7.2}%",
+            "{name:<22} {:>10} {:>10} {:>8.3} {:>10} {:>7.2}%",
+            sig(paper),
+            sig(tight),
             tight / paper,
+            sig(seen),
             100.0 * (tight - seen) / tight
         );
     };
