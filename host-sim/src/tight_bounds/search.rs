@@ -20,9 +20,11 @@
 //!   for every value of the other variables, so the supremum over `X` is the supremum over the
 //!   face where `x_j` is at the increasing end; `X_j` is replaced by that end (and `X` is
 //!   re-evaluated);
-//! - **upper bound**: the smaller of the natural enclosure's upper end and the mean-value form
+//! - **upper bound**: the smallest of the natural enclosure's upper end, the mean-value form
 //!   `F_v(c) + Σ_j |∂_j F_v(X)| r_j` (mean value theorem along the segment from `c`, which lies in
-//!   `X`), all rounded up; `F_v(c)` is an interval evaluation at the point `c`;
+//!   `X`), and `Σ_i max(v_i²)` over the per-component mean-value forms
+//!   `v_i(X) ⊆ v_i(c) + Σ_j ∂_j v_i(X)[−r_j, r_j]` of the selected components `v_i`, all rounded
+//!   up; `F_v(c)`, `v_i(c)` are interval evaluations at the point `c`;
 //! - **lower value**: `F_v` in `f64` at `c` and at the vertex of `X` the gradient points to
 //!   (only to decide when to stop; never part of the bound).
 //!
@@ -38,7 +40,7 @@ use super::branch_bound::{best_first, Node, Outcome};
 use super::confining_set::{ConfiningSet, SPLIT_DIM};
 use super::desired_rates::{desired_rates, Heading};
 use super::gradient::Gradient;
-use super::interval::{next_up, Interval};
+use super::interval::{next_down, next_up, Interval};
 
 /// The quantity a search bounds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -65,8 +67,14 @@ impl Quantity {
     }
 }
 
-/// The squared quantity `F_v(x)`: `x = (u, u̇, ψ, ψ̇)` with `(cos ψ, sin ψ)` given, `y = (ü, ψ̈)`.
-fn squared<T: Arith>(x: &[T; SPLIT_DIM], heading: (T, T), y: &[f64; 4], q: Quantity) -> T {
+/// The components of `ω_d` or `ω̇_d` that the quantity selects (the first `count` entries),
+/// at `x = (u, u̇, ψ, ψ̇)` with `(cos ψ, sin ψ)` given and `y = (ü, ψ̈)`.
+fn components<T: Arith>(
+    x: &[T; SPLIT_DIM],
+    heading: (T, T),
+    y: &[f64; 4],
+    q: Quantity,
+) -> ([T; 3], usize) {
     let u = [x[0], x[1], x[2]];
     let u_dot = [x[3], x[4], x[5]];
     let u_ddot = [y[0], y[1], y[2]].map(T::constant);
@@ -83,9 +91,24 @@ fn squared<T: Arith>(x: &[T; SPLIT_DIM], heading: (T, T), y: &[f64; 4], q: Quant
     } else {
         rates.angular_velocity
     };
-    let mut parts = v[range].iter().map(|x| x.sqr());
+    let mut out = [T::constant(0.0); 3];
+    for (o, x) in out.iter_mut().zip(&v[range.clone()]) {
+        *o = *x;
+    }
+    (out, range.len())
+}
+
+/// The sum of squares of the first `count` entries.
+fn sum_of_squares<T: Arith>(v: &[T; 3], count: usize) -> T {
+    let mut parts = v[..count].iter().map(|x| x.sqr());
     let first = parts.next().unwrap_or_else(|| T::constant(0.0));
     parts.fold(first, |sum, x| sum + x)
+}
+
+/// The squared quantity `F_v(x)`.
+fn squared<T: Arith>(x: &[T; SPLIT_DIM], heading: (T, T), y: &[f64; 4], q: Quantity) -> T {
+    let (v, count) = components(x, heading, y, q);
+    sum_of_squares(&v, count)
 }
 
 /// `F_v` at a point, in `f64`.
@@ -98,14 +121,17 @@ pub fn enclosure(region: &[Interval; SPLIT_DIM], y: &[f64; 4], q: Quantity) -> I
     squared(region, region[6].cos_sin(), y, q).sqrt()
 }
 
+/// The selected components and `F_v`, with their gradients, over a box.
 fn gradient_enclosure(
     region: &[Interval; SPLIT_DIM],
     y: &[f64; 4],
     q: Quantity,
-) -> Gradient<SPLIT_DIM> {
+) -> ([Gradient<SPLIT_DIM>; 3], usize, Gradient<SPLIT_DIM>) {
     let x: [Gradient<SPLIT_DIM>; SPLIT_DIM] =
         core::array::from_fn(|j| Gradient::variable(region[j], j));
-    squared(&x, x[6].cos_sin(), y, q)
+    let (v, count) = components(&x, x[6].cos_sin(), y, q);
+    let f = sum_of_squares(&v, count);
+    (v, count, f)
 }
 
 /// Bounds `F_v` over `region` (module documentation).
@@ -115,7 +141,7 @@ fn bound(
     vertex: usize,
     q: Quantity,
 ) -> Node<SPLIT_DIM> {
-    let mut g = gradient_enclosure(&region, y, q);
+    let (mut v, count, mut g) = gradient_enclosure(&region, y, q);
     for _ in 0..SPLIT_DIM {
         let mut collapsed = false;
         for (x, d) in region.iter_mut().zip(g.partial) {
@@ -127,7 +153,7 @@ fn bound(
         if !collapsed {
             break;
         }
-        g = gradient_enclosure(&region, y, q);
+        (v, _, g) = gradient_enclosure(&region, y, q);
     }
     let c = region.map(|x| x.mid());
     let radius = region.map(|x| {
@@ -139,7 +165,22 @@ fn bound(
         }
     });
     let point = c.map(Interval::point);
-    let mut mean_value = squared(&point, point[6].cos_sin(), y, q).hi;
+    let (at_centre, _) = components(&point, point[6].cos_sin(), y, q);
+    let mut mean_value = sum_of_squares(&at_centre, count).hi;
+    // The mean-value form per component, then the norm of the resulting box: often tighter
+    // than the form of the squared norm, whose gradient multiplies two wide enclosures.
+    let mut per_component = Interval::point(0.0);
+    for (vi, ci) in v[..count].iter().zip(&at_centre[..count]) {
+        let mut spread = 0.0;
+        for (r, d) in radius.iter().zip(vi.partial) {
+            if *r > 0.0 {
+                spread = next_up(spread + next_up(d.mag() * r));
+            }
+        }
+        let form = Interval::new(next_down(ci.lo - spread), next_up(ci.hi + spread));
+        let enclosed = Interval::new(form.lo.max(vi.value.lo), form.hi.min(vi.value.hi));
+        per_component = per_component + enclosed.sqr();
+    }
     let mut split = None;
     let mut widest = 0.0;
     for (j, (r, d)) in radius.iter().zip(g.partial).enumerate() {
@@ -152,7 +193,7 @@ fn bound(
             }
         }
     }
-    let upper_sq = g.value.hi.min(mean_value);
+    let upper_sq = g.value.hi.min(mean_value).min(per_component.hi);
     let upper_sq = if upper_sq.is_nan() {
         f64::INFINITY
     } else {
