@@ -17,7 +17,7 @@ use serde::Serialize;
 use crate::scenario::Scenario;
 use crate::tight_bounds::setup::Setup;
 use crate::tight_bounds::witness::{witnesses, Quantity, WitnessBudget};
-use crate::tight_certificate::{scenario_tight_bounds, tight_report, TightCondition};
+use crate::tight_certificate::{relative_gap, scenario_tight_bounds, tight_report, TightCondition};
 
 /// One row of the table.
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -120,7 +120,7 @@ pub fn bounds_table(options: &BoundsOptions) -> Result<BoundsTable> {
         scenario: name,
         rows,
         conditions: report.conditions,
-        relative_gap: tight.relative_gap,
+        relative_gap: relative_gap(&tight),
         witness_evaluations: found.as_ref().map_or(0, |w| w.evaluations),
     })
 }

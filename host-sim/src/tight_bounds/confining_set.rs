@@ -1,0 +1,103 @@
+//! The boxes that enclose the confining set of the law's arguments.
+//!
+//! Per inertial component `i` (see [`super::filter_l1`] for `b₁`, `b₂`):
+//! - `u = u_f + g e₃ + p̈_d` with `|u_f,i| ≤ M_p` (the filter is a positive system with unit DC
+//!   gain, and the saturation box is invariant) and `|p̈_d,i| ≤ K_a12` (horizontal; the disc
+//!   `|(p̈_d1, p̈_d2)| ≤ K_a12` lies in that square) or `≤ K_a3` (vertical):
+//!   `u_i ∈ [−M_p − K_a12, M_p + K_a12]` (i = 1, 2), `u₃ ∈ [g − M_p − K_a3, g + M_p + K_a3]`;
+//! - `u̇_i ∈ [−b₁ − K_j, b₁ + K_j]`, `ü_i ∈ [−b₂ − K_s, b₂ + K_s]` (`|p⁽³⁾_i| ≤ |p⁽³⁾| ≤ K_j`);
+//! - heading `ν_d = (cos ψ, sin ψ)`, `ψ̇ ∈ [−K_ν̇, K_ν̇]` (`|ν̇_d| = |ψ̇|`),
+//!   `ψ̈ ∈ [−K_ν̈, K_ν̈]` (`|ν̈_d|² = ψ̈² + ψ̇⁴ ≥ ψ̈²`).
+//!
+//! Treating the components and `u`, `u̇`, `ü` as independent drops correlations (they share the
+//! filter states), so the product of the boxes is a superset of the confining set: sound.
+//!
+//! **Symmetries** (used to shrink the `ψ` and `ψ̇` ranges, proven in [`super`]'s documentation):
+//! the box product is invariant under the dihedral group of the square acting on the horizontal
+//! components (rotations by 90° about `e₃` and the reflections), which maps `ψ` to `ψ + k π/2`
+//! and `ψ ↦ π/2 − ψ`, `ψ ↦ −ψ`; and under time reversal `(u̇, ψ̇) ↦ −(u̇, ψ̇)`. So
+//! `ψ ∈ [0, π/4]` and `ψ̇ ∈ [0, K_ν̇]` suffice.
+
+use controller_core::{FilterStart, Gains, ParameterError, TrajectoryConstants, Vehicle};
+
+use super::filter_l1::rate_and_acceleration_bounds;
+use super::interval::{next_up, Interval};
+
+/// Number of variables the search splits: `u` (3), `u̇` (3), `ψ`, `ψ̇`.
+pub const SPLIT_DIM: usize = 8;
+
+/// The boxes of the confining set (module documentation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConfiningSet {
+    /// Box of `(u₁, u₂, u₃, u̇₁, u̇₂, u̇₃, ψ, ψ̇)` [m/s², m/s³, rad, rad/s] after the symmetry
+    /// reductions (`ψ ∈ [0, π/4]`, `ψ̇ ≥ 0`).
+    pub split: [Interval; SPLIT_DIM],
+    /// Half-width of the box of each `ü_i` [m/s⁴].
+    pub u_ddot: f64,
+    /// `K_ν̈`: half-width of the range of `ψ̈` [rad/s²].
+    pub heading_acceleration: f64,
+}
+
+fn check_constants(k: &TrajectoryConstants<f64>) -> Result<(), ParameterError> {
+    for (name, value) in [
+        ("K_a12", k.horizontal_acceleration),
+        ("K_a3", k.vertical_acceleration),
+        ("K_j", k.jerk),
+        ("K_s", k.snap),
+        ("K_nu_dot", k.heading_rate),
+        ("K_nu_ddot", k.heading_acceleration),
+    ] {
+        if !(value.is_finite() && value >= 0.0) {
+            return Err(ParameterError::BadTrajectoryConstant { name, value });
+        }
+    }
+    Ok(())
+}
+
+impl ConfiningSet {
+    /// The boxes for one set-up.
+    ///
+    /// Errors: [`ParameterError`] for a non-positive or non-finite vehicle parameter or gain, a
+    /// negative trajectory constant, or `M_p ≥ g − K_a3` (then `u₃` may vanish and `ω_d` is
+    /// unbounded; same refusal as `certify`).
+    pub fn new(
+        vehicle: &Vehicle<f64>,
+        gains: &Gains<f64>,
+        constants: &TrajectoryConstants<f64>,
+        filter_start: FilterStart,
+    ) -> Result<Self, ParameterError> {
+        vehicle.validate()?;
+        gains.validate()?;
+        check_constants(constants)?;
+        let p = &gains.position;
+        let (g, mp) = (vehicle.gravity, p.saturation);
+        let k = constants;
+        let floor =
+            Interval::point(g) - Interval::point(mp) - Interval::point(k.vertical_acceleration);
+        if floor.lo <= 0.0 {
+            return Err(ParameterError::SaturationTooLarge {
+                saturation: mp,
+                limit: g - k.vertical_acceleration,
+            });
+        }
+        let (b1, b2) = rate_and_acceleration_bounds(p.kf, p.ks, mp, filter_start);
+        let sum = |a: f64, b: f64| (Interval::point(a) + Interval::point(b)).hi;
+        let horizontal = Interval::symmetric(sum(mp, k.horizontal_acceleration));
+        let vertical = Interval::new(floor.lo, sum(sum(g, mp), k.vertical_acceleration));
+        let rate = Interval::symmetric(sum(b1, k.jerk));
+        Ok(Self {
+            split: [
+                horizontal,
+                horizontal,
+                vertical,
+                rate,
+                rate,
+                rate,
+                Interval::new(0.0, next_up(core::f64::consts::FRAC_PI_4)),
+                Interval::new(0.0, k.heading_rate),
+            ],
+            u_ddot: sum(b2, k.snap),
+            heading_acceleration: k.heading_acceleration,
+        })
+    }
+}
