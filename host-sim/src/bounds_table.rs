@@ -139,7 +139,8 @@ pub fn markdown(table: &BoundsTable) -> String {
         let _ = writeln!(
             s,
             "| {} [{}] | {:.4} | {:.4} | {} | {:.3} | {} |",
-            r.quantity,
+            // A bare `|` would end the table cell.
+            r.quantity.replace('|', "\\|"),
             r.unit,
             r.paper,
             r.tight,
