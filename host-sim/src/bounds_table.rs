@@ -127,7 +127,7 @@ pub fn bounds_table(options: &BoundsOptions) -> Result<BoundsTable> {
 
 /// The table as Markdown.
 pub fn markdown(table: &BoundsTable) -> String {
-    let opt = |x: Option<f64>, digits: usize| x.map_or("–".into(), |v| format!("{v:.digits$}"));
+    let opt = |x: Option<f64>, f: fn(f64) -> String| x.map_or("–".into(), f);
     let mut s = String::new();
     let _ = writeln!(s, "# A-priori bounds of `{}`\n", table.scenario);
     let _ = writeln!(
@@ -138,15 +138,15 @@ pub fn markdown(table: &BoundsTable) -> String {
     for r in &table.rows {
         let _ = writeln!(
             s,
-            "| {} [{}] | {:.4} | {:.4} | {} | {:.3} | {} |",
+            "| {} [{}] | {} | {} | {} | {:.3} | {} |",
             // A bare `|` would end the table cell.
             r.quantity.replace('|', "\\|"),
             r.unit,
-            r.paper,
-            r.tight,
-            opt(r.witness, 4),
+            significant(r.paper),
+            significant(r.tight),
+            opt(r.witness, significant),
             r.tight_over_paper(),
-            opt(r.witness_over_tight(), 3),
+            opt(r.witness_over_tight(), |v| format!("{v:.3}")),
         );
     }
     let _ = writeln!(
@@ -163,15 +163,26 @@ pub fn markdown(table: &BoundsTable) -> String {
     for c in &table.conditions {
         let _ = writeln!(
             s,
-            "| `{}` | {:.4} | {:.4} | {:.4} | {} |",
+            "| `{}` | {} | {} | {} | {} |",
             c.name,
-            c.lhs,
-            c.rhs_paper,
-            c.rhs_tight,
+            significant(c.lhs),
+            significant(c.rhs_paper),
+            significant(c.rhs_tight),
             c.verdict()
         );
     }
     s
+}
+
+/// `x` with four significant digits (a Crazyflie's torques are a thousandth of a newton metre).
+fn significant(x: f64) -> String {
+    let magnitude = if x == 0.0 || !x.is_finite() {
+        0
+    } else {
+        x.abs().log10().floor() as i32
+    };
+    let decimals = (3 - magnitude).max(0) as usize;
+    format!("{x:.decimals$}")
 }
 
 /// Writes `bounds.json` and `bounds.md` into `dir` (created if missing); returns their paths.
@@ -185,4 +196,42 @@ pub fn write_table(dir: &Path, table: &BoundsTable) -> Result<Vec<PathBuf>> {
     let md = dir.join("bounds.md");
     std::fs::write(&md, markdown(table)).with_context(|| format!("writing {}", md.display()))?;
     Ok(vec![json, md])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The paper's set-up: every tight bound below the paper's, and the yaw condition reported
+    /// as failing with the paper's bounds only.
+    #[test]
+    fn paper_table_ranks_the_bounds_and_reports_the_yaw_condition() {
+        let table = bounds_table(&BoundsOptions {
+            scenario: None,
+            witness_seed: None,
+        })
+        .expect("the paper's set-up has bounds");
+        assert_eq!(table.rows.len(), 5);
+        for r in &table.rows {
+            assert!(
+                r.tight < r.paper,
+                "{}: {} vs {}",
+                r.quantity,
+                r.tight,
+                r.paper
+            );
+            assert!(r.witness.is_none());
+        }
+        let md = markdown(&table);
+        let yaw = md
+            .lines()
+            .find(|l| l.contains("theorem2.torque_max_yaw"))
+            .expect("the yaw condition is listed");
+        assert!(
+            yaw.ends_with("| fails with the paper's bounds, holds with the tight ones |"),
+            "{yaw}"
+        );
+        assert_eq!(significant(0.001_431_2), "0.001431");
+        assert_eq!(significant(96.303_856), "96.30");
+    }
 }
