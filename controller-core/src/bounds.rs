@@ -160,25 +160,6 @@ pub(crate) fn strictly_less<T: Scalar>(a: T, b: T) -> bool {
     a.partial_cmp(&b) == Some(core::cmp::Ordering::Less)
 }
 
-fn check_constants<T: Scalar>(k: &TrajectoryConstants<T>) -> Result<(), ParameterError> {
-    for (name, v) in [
-        ("K_a12", k.horizontal_acceleration),
-        ("K_a3", k.vertical_acceleration),
-        ("K_j", k.jerk),
-        ("K_s", k.snap),
-        ("K_nu_dot", k.heading_rate),
-        ("K_nu_ddot", k.heading_acceleration),
-    ] {
-        if !(v.is_finite() && v >= T::zero()) {
-            return Err(ParameterError::BadTrajectoryConstant {
-                name,
-                value: to_f64(v),
-            });
-        }
-    }
-    Ok(())
-}
-
 /// Computes every bound and condition of the paper for this set-up.
 ///
 /// Inputs: vehicle (`m` \[kg\], `J` [kg m²], `g` [m/s²]), limits (`T_max` \[N\], `τ_max` [N m]),
@@ -198,7 +179,7 @@ pub fn certify<T: Scalar>(
     vehicle.validate()?;
     limits.validate()?;
     gains.validate()?;
-    check_constants(constants)?;
+    constants.validate()?;
     let (m, g, inertia) = (vehicle.mass, vehicle.gravity, vehicle.inertia);
     let p = &gains.position;
     let (mp, kf, ks) = (p.saturation, p.kf, p.ks);

@@ -9,7 +9,8 @@
 
 use nalgebra::{Vector2, Vector3};
 
-use crate::scalar::{lit, Scalar};
+use crate::params::ParameterError;
+use crate::scalar::{lit, to_f64, Scalar};
 
 /// One sample of the reference at time `t`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -85,6 +86,29 @@ pub struct TrajectoryConstants<T: Scalar> {
 }
 
 impl<T: Scalar> TrajectoryConstants<T> {
+    /// `Ok` when every constant is finite and non-negative.
+    ///
+    /// Errors: [`ParameterError::BadTrajectoryConstant`] naming the first that is not
+    /// (`K_a12`, `K_a3`, `K_j`, `K_s`, `K_nu_dot`, `K_nu_ddot`, in that order).
+    pub fn validate(&self) -> Result<(), ParameterError> {
+        for (name, v) in [
+            ("K_a12", self.horizontal_acceleration),
+            ("K_a3", self.vertical_acceleration),
+            ("K_j", self.jerk),
+            ("K_s", self.snap),
+            ("K_nu_dot", self.heading_rate),
+            ("K_nu_ddot", self.heading_acceleration),
+        ] {
+            if !(v.is_finite() && v >= T::zero()) {
+                return Err(ParameterError::BadTrajectoryConstant {
+                    name,
+                    value: to_f64(v),
+                });
+            }
+        }
+        Ok(())
+    }
+
     /// All constants zero: a hover reference.
     pub fn zero() -> Self {
         Self {

@@ -38,22 +38,6 @@ pub struct ConfiningSet {
     pub heading_acceleration: f64,
 }
 
-fn check_constants(k: &TrajectoryConstants<f64>) -> Result<(), ParameterError> {
-    for (name, value) in [
-        ("K_a12", k.horizontal_acceleration),
-        ("K_a3", k.vertical_acceleration),
-        ("K_j", k.jerk),
-        ("K_s", k.snap),
-        ("K_nu_dot", k.heading_rate),
-        ("K_nu_ddot", k.heading_acceleration),
-    ] {
-        if !(value.is_finite() && value >= 0.0) {
-            return Err(ParameterError::BadTrajectoryConstant { name, value });
-        }
-    }
-    Ok(())
-}
-
 impl ConfiningSet {
     /// The boxes for one set-up.
     ///
@@ -68,7 +52,7 @@ impl ConfiningSet {
     ) -> Result<Self, ParameterError> {
         vehicle.validate()?;
         gains.validate()?;
-        check_constants(constants)?;
+        constants.validate()?;
         let p = &gains.position;
         let (g, mp) = (vehicle.gravity, p.saturation);
         let k = constants;

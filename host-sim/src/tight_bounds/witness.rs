@@ -224,18 +224,7 @@ fn evolve(
     let mut sigma = 0.05;
     while used < evaluations && sigma > 1e-9 {
         let fraction = rng.random_range(0.05..0.5);
-        let y: Vec<f64> = x
-            .iter()
-            .map(|v| {
-                if rng.random_bool(fraction) {
-                    let n: f64 = rng.sample(StandardNormal);
-                    v + sigma * n
-                } else {
-                    *v
-                }
-            })
-            .collect();
-        let y = project(setup, &y);
+        let y = project(setup, &perturb(&x, fraction, sigma, rng));
         if y == x {
             sigma *= 0.84;
             continue;
@@ -252,6 +241,21 @@ fn evolve(
         }
     }
     (x, best, used)
+}
+
+/// `x` with each coordinate, with probability `fraction`, moved by `scale` times a standard
+/// normal draw (parameters are in `[0, 1]`, so `scale` is a fraction of a parameter's range).
+fn perturb(x: &[f64], fraction: f64, scale: f64, rng: &mut ChaCha8Rng) -> Vec<f64> {
+    x.iter()
+        .map(|v| {
+            if rng.random_bool(fraction) {
+                let n: f64 = rng.sample(StandardNormal);
+                v + scale * n
+            } else {
+                *v
+            }
+        })
+        .collect()
 }
 
 /// Local improvement of one restart: compass search, then the evolution strategy, then
@@ -273,17 +277,7 @@ fn improve(
     while used < evaluations {
         let kick = rng.random_range(0.05..0.5);
         let fraction = rng.random_range(0.05..0.3);
-        let y: Vec<f64> = x
-            .iter()
-            .map(|v| {
-                if rng.random_bool(fraction) {
-                    let n: f64 = rng.sample(StandardNormal);
-                    v + kick * n
-                } else {
-                    *v
-                }
-            })
-            .collect();
+        let y = perturb(&x, fraction, kick, &mut rng);
         let (y, v, d) = compass(setup, quantity, &y, HOP_EVALUATIONS.min(evaluations - used));
         used += d;
         if v > best {
