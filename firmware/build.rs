@@ -5,7 +5,9 @@
 //! the shared `src/vehicle_file/`) plus `[limits]`, `[gains]`, `[trajectory]` (read by the
 //! shared `src/flight_tables.rs`) and `[design]`.
 //! `build/flight.rs` writes it to `OUT_DIR/flight.rs`, which `src/built_flight.rs` includes
-//! (`FlightConfig::built()`). The paper's set-up (`[vehicle] real_propeller = false`) is refused
+//! (`FlightConfig::built()`). The control law's rate is the file's `[design] control_rate_hz`
+//! (100 Hz if absent), or env `FIRMWARE_CONTROL_RATE_HZ` when set (the same vehicle at another
+//! rate, e.g. the 1 kHz processor-in-the-loop build). The paper's set-up (`[vehicle] real_propeller = false`) is refused
 //! unless the `uncertified-paper` feature is on.
 //!
 //! **The board's memory map** (bare-metal builds only). cortex-m-rt's `link.x` does
@@ -37,6 +39,11 @@ mod vehicle_file;
 // library (`firmware::flight_tables`) and host-sim's scenario files.
 #[path = "src/flight_tables.rs"]
 mod flight_tables;
+
+// The allowed control-law rates, shared with the firmware library (`firmware::control_rate`).
+#[allow(dead_code)]
+#[path = "src/control_rate.rs"]
+mod control_rate;
 
 #[path = "build/flight.rs"]
 mod flight;

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Size budget of the release firmware: flash (vector table + text + rodata + the load image of
-# .data) <= 128 KiB, static RAM (.data + .bss + .uninit, stack excluded) <= 32 KiB.
+# .data) <= 256 KiB, static RAM (.data + .bss + .uninit, stack excluded) <= 64 KiB. Our budget,
+# not the chip's: the STM32F405RG has 1 MiB of flash and 128 KiB of SRAM (boards/stm32f405/
+# memory.x); half the RAM is left to the stack. Per-package opt-levels: the workspace Cargo.toml.
 #
 #   bash firmware/check-size.sh            # builds the release ELF (cargo fw-build), then checks it
 #   bash firmware/check-size.sh PATH/ELF   # checks an ELF that is already built
@@ -8,8 +10,8 @@
 # Reads the section table with binutils' `size -A` (installed with gcc); exits 1 over budget.
 set -euo pipefail
 
-FLASH_BUDGET=$((128 * 1024))
-RAM_BUDGET=$((32 * 1024))
+FLASH_BUDGET=$((256 * 1024))
+RAM_BUDGET=$((64 * 1024))
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 if [ $# -ge 1 ]; then

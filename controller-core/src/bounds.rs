@@ -9,6 +9,7 @@
 
 use nalgebra::Vector3;
 
+use crate::integral_stability::{local_stability_conditions, STABILITY_CONDITION_COUNT};
 use crate::params::{Gains, Limits, ParameterError, Vehicle};
 use crate::reference::TrajectoryConstants;
 use crate::scalar::{lit, to_f64, Scalar};
@@ -35,6 +36,19 @@ pub struct Condition<T: Scalar> {
     pub rhs: T,
     /// Whether `lhs > rhs` (or `lhs ≥ rhs` for non-strict conditions) holds.
     pub holds: bool,
+}
+
+impl<T: Scalar> Condition<T> {
+    /// The strict inequality `lhs > rhs` named `name`, stated as `statement`.
+    pub fn strict(name: &'static str, statement: &'static str, lhs: T, rhs: T) -> Self {
+        Self {
+            name,
+            statement,
+            lhs,
+            rhs,
+            holds: lhs > rhs,
+        }
+    }
 }
 
 /// A violated condition: its name, statement and numbers.
@@ -80,17 +94,23 @@ pub struct AssumptionBounds<T: Scalar> {
 }
 
 /// Every bound of the paper for one set-up.
+///
+/// With the integral action on ([`Gains::integral`]), `L = M_p + M_i` per axis and the bounds
+/// are the extended ones (extension, docs/integral-action.md), as noted per field.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bounds<T: Scalar> {
-    /// `T_min = m(g − M_p − K_a3)` \[N\] (eq:LowerBoundT).
+    /// `T_min = m(g − M_p − K_a3)` \[N\] (eq:LowerBoundT); with the integral action
+    /// `m(g − K_a3 − L_z)`.
     pub thrust_min: T,
-    /// `T_max = m(√3 M_p + sqrt(K_a12² + (K_a3 + g)²))` \[N\] (eq:UpperBoundT).
+    /// `T_max = m(√3 M_p + sqrt(K_a12² + (K_a3 + g)²))` \[N\] (eq:UpperBoundT); with the integral
+    /// action `m sqrt((sqrt(L_x² + L_y²) + K_a12)² + (g + K_a3 + L_z)²)`.
     pub thrust_max: T,
     /// `U_l` of Lemma 1 (dimensionless).
     pub filter_overshoot: T,
-    /// `U_u̇ = 2√3 k_f U_l M_p + K_j` [m/s³].
+    /// `U_u̇ = 2√3 k_f U_l M_p + K_j` [m/s³]; with the integral action `+ 2 k_η |M_i|`.
     pub u_rate: T,
-    /// `U_ü = 2√3 k_f M_p (k_f U_l + k_s) + K_s` [m/s⁴].
+    /// `U_ü = 2√3 k_f M_p (k_f U_l + k_s) + K_s` [m/s⁴]; with the integral action
+    /// `+ k_η (2 k_η |M_i| + |R_i|)`.
     pub u_acceleration: T,
     /// `U_ρ̇ = m U_u̇ / T_min` [1/s].
     pub thrust_direction_rate: T,
@@ -117,19 +137,37 @@ pub struct Bounds<T: Scalar> {
 /// Number of conditions checked.
 pub const CONDITION_COUNT: usize = 10;
 
+/// What the integral action adds to the certificate (extension, docs/integral-action.md).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IntegralCertificate<T: Scalar> {
+    /// `L = M_p + M_i` [m/s²] per inertial axis: the bound on `|u_f,i + η_f,i|`.
+    pub level_sum: Vector3<T>,
+    /// `2 k_η |M_i|` [m/s³], the term added to `U_u̇`.
+    pub u_rate_term: T,
+    /// `k_η (2 k_η |M_i| + |R_i|)` [m/s⁴], the term added to `U_ü`.
+    pub u_acceleration_term: T,
+    /// `[a₀, a₁, a₂, a₃, 1]` of the per-axis linearisation's characteristic polynomial
+    /// ([`crate::integral_stability::characteristic_polynomial`]).
+    pub polynomial: [T; 5],
+    /// The Routh–Hurwitz conditions for local exponential stability.
+    pub conditions: [Condition<T>; STABILITY_CONDITION_COUNT],
+}
+
 /// The bounds and the conditions for one set-up.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Certificate<T: Scalar> {
     /// Every bound.
     pub bounds: Bounds<T>,
-    /// Every condition, in the order of the paper.
+    /// Every condition, in the order of the paper (extended where the integral action is on).
     pub conditions: [Condition<T>; CONDITION_COUNT],
+    /// The integral action's terms and conditions; `None` when it is off.
+    pub integral: Option<IntegralCertificate<T>>,
 }
 
 impl<T: Scalar> Certificate<T> {
     /// `Ok` if every condition holds; otherwise the first violated one as an error value.
     pub fn require_feasible(&self) -> Result<(), Violation> {
-        match self.conditions.iter().find(|c| !c.holds) {
+        match self.violations().next() {
             None => Ok(()),
             Some(c) => Err(Violation {
                 name: c.name,
@@ -140,9 +178,18 @@ impl<T: Scalar> Certificate<T> {
         }
     }
 
-    /// The violated conditions.
+    /// The violated conditions (the paper's, then the integral action's).
     pub fn violations(&self) -> impl Iterator<Item = &Condition<T>> {
-        self.conditions.iter().filter(|c| !c.holds)
+        self.all_conditions().filter(|c| !c.holds)
+    }
+
+    /// Every condition: the paper's, then the integral action's when it is on.
+    pub fn all_conditions(&self) -> impl Iterator<Item = &Condition<T>> {
+        let extra: &[Condition<T>] = match &self.integral {
+            Some(i) => &i.conditions,
+            None => &[],
+        };
+        self.conditions.iter().chain(extra.iter())
     }
 }
 
@@ -160,12 +207,27 @@ pub(crate) fn strictly_less<T: Scalar>(a: T, b: T) -> bool {
     a.partial_cmp(&b) == Some(core::cmp::Ordering::Less)
 }
 
+/// The refusal when `M_p + M_i,z < g − K_a3` fails (extended Theorem 1: `T_min` would not be
+/// positive); `total = M_p + M_i,z`, `limit = g − K_a3` [m/s²].
+pub(crate) fn integral_margin_error<T: Scalar>(total: T, limit: T) -> ParameterError {
+    ParameterError::OutOfRange {
+        name: "M_p + M_i_z (must be < g - K_a3)",
+        value: to_f64(total),
+        low: 0.0,
+        high: to_f64(limit),
+    }
+}
+
 /// Computes every bound and condition of the paper for this set-up.
 ///
 /// Inputs: vehicle (`m` \[kg\], `J` [kg m²], `g` [m/s²]), limits (`T_max` \[N\], `τ_max` [N m]),
 /// gains (Table I), trajectory constants (Assumption 1) and where the filters start.
 /// Errors: [`ParameterError`] if an input is not positive and finite or `M_p ≥ g − K_a3` makes
-/// `T_min ≤ 0` (every later bound divides by it). A violated *feasibility* condition is not an
+/// `T_min ≤ 0` (every later bound divides by it); with the integral action, `M_p + M_i,z ≥
+/// g − K_a3` is refused likewise ([`ParameterError::OutOfRange`] naming `"M_p + M_i_z"`).
+/// With the integral action the bounds are the extended ones ([`Bounds`],
+/// [`IntegralCertificate`]; extension, docs/integral-action.md); without it every number is the
+/// paper's. A violated *feasibility* condition is not an
 /// error here: it is reported in the certificate ([`Certificate::require_feasible`]).
 /// Source: Assumption 1 (eq:ThrustConditions, eq:TorqueMaxCondition), Theorem 1
 /// (eq:BoundsT), Lemma 1, Theorem 2 (eq:TorqueMaxConditionsTheorem).
@@ -191,13 +253,31 @@ pub fn certify<T: Scalar>(
             limit: to_f64(g - ka3),
         });
     }
+    let level_sum = gains.integral.map(|i| i.level.add_scalar(mp));
+    if let Some(l) = &level_sum {
+        if !strictly_less(l.z, g - ka3) {
+            return Err(integral_margin_error(l.z, g - ka3));
+        }
+    }
     let two = lit::<T>(2.0);
     let three = lit::<T>(3.0);
     let sqrt3 = three.sqrt();
 
-    // Theorem 1.
-    let thrust_min = m * (g - mp - ka3);
-    let thrust_max = m * (sqrt3 * mp + (ka12 * ka12 + (ka3 + g) * (ka3 + g)).sqrt());
+    // Theorem 1; extended: the horizontal and vertical parts of u are bounded separately.
+    let (thrust_min, thrust_max) = match &level_sum {
+        None => (
+            m * (g - mp - ka3),
+            m * (sqrt3 * mp + (ka12 * ka12 + (ka3 + g) * (ka3 + g)).sqrt()),
+        ),
+        Some(l) => {
+            let horizontal = (l.x * l.x + l.y * l.y).sqrt() + ka12;
+            let vertical = g + ka3 + l.z;
+            (
+                m * (g - ka3 - l.z),
+                m * (horizontal * horizontal + vertical * vertical).sqrt(),
+            )
+        }
+    };
 
     // Lemma 1.
     let filter_overshoot = match filter_start {
@@ -211,12 +291,28 @@ pub fn certify<T: Scalar>(
             }
         }
     };
-    let u_rate = two * sqrt3 * kf * filter_overshoot * mp + k.jerk;
-    let u_acceleration = two * sqrt3 * kf * mp * (kf * filter_overshoot + ks) + k.snap;
+    let mut u_rate = two * sqrt3 * kf * filter_overshoot * mp + k.jerk;
+    let mut u_acceleration = two * sqrt3 * kf * mp * (kf * filter_overshoot + ks) + k.snap;
+    // |η̇_f,i| ≤ 2 k_η M_i,i and |η̈_f,i| ≤ k_η (2 k_η M_i,i + R_i,i) (crate::integral).
+    let integral_terms = gains.integral.map(|i| {
+        let rate_term = two * i.bandwidth * i.level.norm();
+        let acceleration_term = i.bandwidth * (two * i.bandwidth * i.level.norm() + i.rate.norm());
+        (rate_term, acceleration_term)
+    });
+    if let Some((rate_term, acceleration_term)) = integral_terms {
+        u_rate += rate_term;
+        u_acceleration += acceleration_term;
+    }
     let rho_d = m * u_rate / thrust_min;
     let rho_dd = m * u_acceleration / thrust_min + three * rho_d * rho_d;
     let a = thrust_min / m;
-    let lateral = two * mp * mp + ka12 * ka12 + two * two.sqrt() * mp * ka12;
+    let lateral = match &level_sum {
+        None => two * mp * mp + ka12 * ka12 + two * two.sqrt() * mp * ka12,
+        Some(l) => {
+            let lxy = (l.x * l.x + l.y * l.y).sqrt();
+            lxy * lxy + ka12 * ka12 + two * lxy * ka12
+        }
+    };
     let heading_projection_min = a / (a * a + lateral).sqrt();
     let ups_d = (rho_d + k.heading_rate) / heading_projection_min;
     let ups_dd = (rho_dd + two * rho_d * k.heading_rate + k.heading_acceleration)
@@ -258,13 +354,7 @@ pub fn certify<T: Scalar>(
         assumption.angular_velocity,
     );
 
-    let strict = |name, statement, lhs: T, rhs: T| Condition {
-        name,
-        statement,
-        lhs,
-        rhs,
-        holds: lhs > rhs,
-    };
+    let strict = Condition::strict;
     let tau = &limits.torque_max;
     let conditions = [
         strict(
@@ -297,15 +387,26 @@ pub fn certify<T: Scalar>(
             tau[2],
             assumption_torque[2],
         ),
-        strict(
-            "theorem1.saturation_margin",
-            "g - K_a3 > M_p (Section IV, so that T_min > 0)",
-            margin,
-            mp,
-        ),
+        match &level_sum {
+            None => strict(
+                "theorem1.saturation_margin",
+                "g - K_a3 > M_p (Section IV, so that T_min > 0)",
+                margin,
+                mp,
+            ),
+            Some(l) => strict(
+                "theorem1.saturation_margin",
+                "g - K_a3 > M_p + M_i,z (extended Theorem 1, docs/integral-action.md)",
+                margin,
+                l.z,
+            ),
+        },
         Condition {
             name: "theorem1.thrust_bound_within_actuator",
-            statement: "T_max (actuator) >= m (sqrt(3) M_p + sqrt(K_a12^2 + (K_a3 + g)^2)) (eq:UpperBoundT)",
+            statement: match &level_sum {
+                None => "T_max (actuator) >= m (sqrt(3) M_p + sqrt(K_a12^2 + (K_a3 + g)^2)) (eq:UpperBoundT)",
+                Some(_) => "T_max (actuator) >= m sqrt((|L_xy| + K_a12)^2 + (g + K_a3 + L_z)^2), L = M_p + M_i (extended Theorem 1, docs/integral-action.md)",
+            },
             lhs: limits.thrust_max,
             rhs: thrust_max,
             holds: limits.thrust_max >= thrust_max,
@@ -348,6 +449,16 @@ pub fn certify<T: Scalar>(
             assumption,
         },
         conditions,
+        integral: match (gains.integral, level_sum, integral_terms) {
+            (Some(i), Some(l), Some((rate_term, acceleration_term))) => Some(IntegralCertificate {
+                level_sum: l,
+                u_rate_term: rate_term,
+                u_acceleration_term: acceleration_term,
+                polynomial: crate::integral_stability::characteristic_polynomial(p, &i),
+                conditions: local_stability_conditions(p, &i),
+            }),
+            _ => None,
+        },
     })
 }
 
@@ -357,7 +468,41 @@ mod tests {
     use crate::reference::{ReferenceTrajectory, Trajectory};
     use approx::assert_relative_eq;
 
-    fn paper() -> Certificate<f64> {
+    /// The paper's set-up and its helix's constants, written out from Section VI (not read
+    /// from the code), for the hand evaluations here and in `integral_tests`.
+    pub(super) struct Hand {
+        pub m: f64,
+        pub g: f64,
+        pub mp: f64,
+        pub kf: f64,
+        pub ks: f64,
+        /// Helix frequency [rad/s].
+        pub f: f64,
+        pub ka12: f64,
+        pub ka3: f64,
+        pub kj: f64,
+        pub kss: f64,
+    }
+
+    impl Hand {
+        pub fn paper() -> Self {
+            let f = 2.0 * core::f64::consts::PI / 15.0;
+            Self {
+                m: 0.46,
+                g: 9.81,
+                mp: 2.0,
+                kf: 2.0,
+                ks: 20.0,
+                f,
+                ka12: f * f,
+                ka3: f * f,
+                kj: f.powi(3) * 2f64.sqrt(),
+                kss: f.powi(4) * 2f64.sqrt(),
+            }
+        }
+    }
+
+    pub(super) fn paper() -> Certificate<f64> {
         certify(
             &Vehicle::paper(),
             &Limits::paper(),
@@ -380,15 +525,19 @@ mod tests {
     /// written out step by step from the paper's formulas with the helix's constants.
     #[test]
     fn lemma1_and_theorem2_match_a_hand_evaluation() {
+        let Hand {
+            m,
+            g,
+            mp,
+            kf,
+            ks,
+            f,
+            ka12,
+            ka3,
+            kj,
+            kss,
+        } = Hand::paper();
         use core::f64::consts::PI;
-        let (m, g, mp, kf, ks) = (0.46f64, 9.81f64, 2.0f64, 2.0f64, 20.0f64);
-        let f = 2.0 * PI / 15.0;
-        let (ka12, ka3, kj, kss) = (
-            f * f,
-            f * f,
-            f.powi(3) * 2f64.sqrt(),
-            f.powi(4) * 2f64.sqrt(),
-        );
         let (knd, kndd) = (PI * f, PI * PI * f * f);
         let tmin = m * (g - mp - ka3);
         let ul = (kf / ks).powf(kf / (ks - kf));
@@ -485,3 +634,7 @@ mod tests {
         );
     }
 }
+
+#[cfg(test)]
+#[path = "bounds_integral_tests.rs"]
+mod integral_tests;

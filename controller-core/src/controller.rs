@@ -16,12 +16,13 @@ use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 use crate::attitude_control::AttitudeGains;
 use crate::desired_attitude::{desired_attitude, DesiredAttitudeError};
+use crate::integral::IntegralState;
 use crate::mrp::rotation_from_quaternion;
 use crate::params::{Gains, ParameterError, Vehicle};
 use crate::path_lifting::{JumpCounters, PathLifting};
 use crate::position::{FilterPropagator, FilterState};
 use crate::reference::{ReferenceSample, TrajectoryConstants};
-use crate::scalar::{to_f64, Scalar};
+use crate::scalar::{finite_probe, to_f64, Scalar};
 use crate::thrust::ThrustMode;
 
 /// The measured rigid-body state `x = (p, v, R, ω)` of Problem 1.
@@ -50,6 +51,9 @@ pub struct Diagnostics<T: Scalar> {
     pub u_f: Vector3<T>,
     /// Filter state `u_s` at the sample [m/s²], inertial.
     pub u_s: Vector3<T>,
+    /// Filtered integral estimate `η_f` applied at the sample [m/s²], inertial (zero when the
+    /// integral action is off; extension, docs/integral-action.md).
+    pub integral: Vector3<T>,
     /// Control vector `u` [m/s²], inertial.
     pub u: Vector3<T>,
     /// Thrust direction `ρ = u/|u|`, inertial.
@@ -128,6 +132,10 @@ pub struct Controller<T: Scalar> {
     /// The filter propagation of the last `dt`, reused while the rate does not change.
     propagator: Option<FilterPropagator<T>>,
     thrust_mode: ThrustMode<T>,
+    /// `(η, η_f)` of the integral action; stays zero when it is off.
+    integral: IntegralState<T>,
+    /// Failsafe: the estimate is held (still applied) while set.
+    integral_frozen: bool,
 }
 
 fn finite3<T: Scalar>(v: &Vector3<T>, field: &'static str) -> Result<(), StepError> {
@@ -160,13 +168,17 @@ impl<T: Scalar> Controller<T> {
             lifting: PathLifting::new(gains.hysteresis, gains.reset_threshold),
             propagator: None,
             thrust_mode: ThrustMode::Norm,
+            integral: IntegralState::zero(),
+            integral_frozen: false,
         };
         c.accept_reference(constants)?;
         Ok(c)
     }
 
-    /// Checks that a new reference with these constants keeps `M_p < g − K_a3`.
-    /// Errors: [`ParameterError::SaturationTooLarge`] or `BadTrajectoryConstant`.
+    /// Checks that a new reference with these constants keeps `M_p < g − K_a3`, and with the
+    /// integral action `M_p + M_i,z < g − K_a3` (so that `u_z > 0` whatever `η_f` is).
+    /// Errors: [`ParameterError::SaturationTooLarge`], [`ParameterError::OutOfRange`] naming
+    /// `"M_p + M_i_z"` (bounds `(0, g − K_a3)`), or `BadTrajectoryConstant`.
     pub fn accept_reference(
         &mut self,
         constants: &TrajectoryConstants<T>,
@@ -184,6 +196,12 @@ impl<T: Scalar> Controller<T> {
                 saturation: to_f64(self.gains.position.saturation),
                 limit: to_f64(limit),
             });
+        }
+        if let Some(i) = &self.gains.integral {
+            let total = self.gains.position.saturation + i.level.z;
+            if !crate::bounds::strictly_less(total, limit) {
+                return Err(crate::bounds::integral_margin_error(total, limit));
+            }
         }
         Ok(())
     }
@@ -220,6 +238,27 @@ impl<T: Scalar> Controller<T> {
         Ok(())
     }
 
+    /// The integral action's state `(η, η_f)` [m/s²], inertial (zero when it is off).
+    pub fn integral_state(&self) -> IntegralState<T> {
+        self.integral
+    }
+
+    /// Resets the integral action's state to zero (arming). Extension, docs/integral-action.md.
+    pub fn reset_integral(&mut self) {
+        self.integral = IntegralState::zero();
+    }
+
+    /// Freezes (`true`) or releases the integral estimate: while frozen it is held, not
+    /// integrated, and still applied (failsafe). Extension, docs/integral-action.md.
+    pub fn set_integral_frozen(&mut self, frozen: bool) {
+        self.integral_frozen = frozen;
+    }
+
+    /// Whether the integral estimate is frozen.
+    pub fn integral_frozen(&self) -> bool {
+        self.integral_frozen
+    }
+
     /// How the thrust is computed from `u` ([`ThrustMode::Norm`], the paper's, unless set).
     pub fn thrust_mode(&self) -> ThrustMode<T> {
         self.thrust_mode
@@ -228,9 +267,14 @@ impl<T: Scalar> Controller<T> {
     /// Sets how the thrust is computed from `u` from the next step on (the torque, the desired
     /// attitude and the filters do not depend on it).
     /// Errors: [`ParameterError::OutOfRange`] naming `"thrust_floor"` (see
-    /// [`ThrustMode::validate`]); the mode is unchanged then.
+    /// [`ThrustMode::validate`], with `M_p + M_i,z` in place of `M_p` when the integral action
+    /// is on: the vertical part of `u` can drop by that much); the mode is unchanged then.
     pub fn set_thrust_mode(&mut self, mode: ThrustMode<T>) -> Result<(), ParameterError> {
-        mode.validate(&self.vehicle, self.gains.position.saturation)?;
+        let drop = match &self.gains.integral {
+            None => self.gains.position.saturation,
+            Some(i) => self.gains.position.saturation + i.level.z,
+        };
+        mode.validate(&self.vehicle, drop)?;
         self.thrust_mode = mode;
         Ok(())
     }
@@ -252,15 +296,21 @@ impl<T: Scalar> Controller<T> {
         reference: &ReferenceSample<T>,
         dt: T,
     ) -> Result<ControlOutput<T>, StepError> {
-        finite3(&state.position, "state.position")?;
-        finite3(&state.velocity, "state.velocity")?;
-        finite3(&state.angular_velocity, "state.angular_velocity")?;
-        if !state.attitude.coords.iter().all(|x| x.is_finite()) {
-            return Err(StepError::NonFiniteInput {
-                field: "state.attitude",
-            });
+        // One probe over all inputs; the field-by-field checks only name the culprit.
+        let mut probe = T::zero();
+        for v in [&state.position, &state.velocity, &state.angular_velocity] {
+            probe = finite_probe(probe, v);
         }
-        if !reference.is_finite() {
+        probe = finite_probe(probe, &state.attitude.coords);
+        if !(probe.is_finite() && reference.is_finite()) {
+            finite3(&state.position, "state.position")?;
+            finite3(&state.velocity, "state.velocity")?;
+            finite3(&state.angular_velocity, "state.angular_velocity")?;
+            if !state.attitude.coords.iter().all(|x| x.is_finite()) {
+                return Err(StepError::NonFiniteInput {
+                    field: "state.attitude",
+                });
+            }
             return Err(StepError::NonFiniteInput { field: "reference" });
         }
         if !(dt.is_finite() && dt > T::zero()) {
@@ -268,7 +318,7 @@ impl<T: Scalar> Controller<T> {
         }
 
         let g = &self.gains;
-        let position = g.position.evaluate(
+        let mut position = g.position.evaluate(
             &(state.position - reference.position),
             &(state.velocity - reference.velocity),
             &self.filter,
@@ -277,6 +327,16 @@ impl<T: Scalar> Controller<T> {
             &reference.snap,
             self.vehicle.gravity,
         );
+        // The integral action adds η_f and its closed-form derivatives to u, u̇, ü after the
+        // paper's sums are formed, so that with it off every value is the paper's, bit for bit.
+        let integral = g.integral.as_ref().map(|ig| {
+            let rate = ig.rate_of(&self.integral, &position.z1, self.integral_frozen);
+            let out = ig.output(&self.integral, &rate);
+            position.u += out.filtered;
+            position.u_dot += out.filtered_dot;
+            position.u_ddot += out.filtered_ddot;
+            (ig, rate)
+        });
         let desired = desired_attitude(
             &position.u,
             &position.u_dot,
@@ -309,14 +369,21 @@ impl<T: Scalar> Controller<T> {
             _ => g.position.propagator(dt),
         };
         let next_filter = propagator.apply(&self.filter, &position.ubar_p);
+        let next_integral = match integral {
+            Some((ig, rate)) => ig.advance(&self.integral, &rate, dt),
+            None => self.integral,
+        };
 
-        // (Two `all`s, not a `chain`: the chained iterator's `try_fold` is an out-of-line call
-        // of about 120 instructions on the MCU.)
-        let finite = thrust.is_finite()
-            && torque.torque.iter().all(|x| x.is_finite())
-            && next_filter.u_f.iter().all(|x| x.is_finite())
-            && next_filter.u_s.iter().all(|x| x.is_finite());
-        if !finite {
+        let mut probe = thrust * T::zero();
+        for v in [
+            &torque.torque,
+            &next_filter.u_f,
+            &next_filter.u_s,
+            &next_integral.filtered,
+        ] {
+            probe = finite_probe(probe, v);
+        }
+        if !probe.is_finite() {
             return Err(StepError::NonFiniteOutput);
         }
         let diagnostics = Diagnostics {
@@ -325,6 +392,7 @@ impl<T: Scalar> Controller<T> {
             ubar_p: position.ubar_p,
             u_f: self.filter.u_f,
             u_s: self.filter.u_s,
+            integral: self.integral.filtered,
             u: position.u,
             thrust_direction: desired.thrust_direction.unit,
             desired_rotation: desired.rotation,
@@ -340,6 +408,7 @@ impl<T: Scalar> Controller<T> {
         };
         self.lifting = lifting;
         self.filter = next_filter;
+        self.integral = next_integral;
         self.propagator = Some(propagator);
         Ok(ControlOutput {
             thrust,

@@ -12,6 +12,8 @@
 //! [`desired_attitude`] (eq:DesiredRotationMatrix, Lemma 1), [`mrp`] (Section II),
 //! [`path_lifting`] (Appendix), [`attitude_control`] (Section V), [`reference`](mod@reference)
 //! (Assumption 1's trajectories), [`bounds`] (Assumption 1, Theorems 1–2, Lemma 1),
+//! [`integral`] and [`integral_stability`] (bounded integral action, an extension:
+//! docs/integral-action.md),
 //! [`params`], [`thrust`] (the paper's `T = m|u|` or the no-dive projection), and
 //! [`controller`] which composes them.
 #![cfg_attr(not(test), no_std)]
@@ -21,6 +23,8 @@ pub mod attitude_control;
 pub mod bounds;
 pub mod controller;
 pub mod desired_attitude;
+pub mod integral;
+pub mod integral_stability;
 pub mod mrp;
 pub mod params;
 pub mod path_lifting;
@@ -29,9 +33,13 @@ pub mod reference;
 pub mod saturation;
 pub mod scalar;
 pub mod thrust;
+pub mod trig;
 
-pub use bounds::{certify, Bounds, Certificate, Condition, FilterStart, Violation};
+pub use bounds::{
+    certify, Bounds, Certificate, Condition, FilterStart, IntegralCertificate, Violation,
+};
 pub use controller::{ControlOutput, Controller, Diagnostics, StepError, VehicleState};
+pub use integral::{IntegralGains, IntegralState};
 pub use params::{Gains, Limits, ParameterError, Vehicle};
 pub use path_lifting::JumpCounters;
 pub use reference::{

@@ -3,6 +3,7 @@
 use nalgebra::Vector3;
 
 use crate::attitude_control::AttitudeGains;
+use crate::integral::IntegralGains;
 use crate::position::PositionGains;
 use crate::scalar::{lit, to_f64, Scalar};
 
@@ -37,6 +38,9 @@ pub struct Gains<T: Scalar> {
     pub hysteresis: T,
     /// Memory reset threshold `α ∈ (0, 1)` of the path lifting (Appendix).
     pub reset_threshold: T,
+    /// Bounded integral action (extension, docs/integral-action.md): `None` is the paper's law,
+    /// bit for bit.
+    pub integral: Option<IntegralGains<T>>,
 }
 
 impl<T: Scalar> Vehicle<T> {
@@ -63,7 +67,7 @@ impl<T: Scalar> Limits<T> {
 
 impl<T: Scalar> Gains<T> {
     /// Table I: `k_p = 9, k_v = 6, k_f = 2, k_s = 20, k_ϑ = 100, k_ω = 0.1, M_p = 2,
-    /// M_ϑ = 0.206, M_ω = 0.045, δ = 0.02, α = 0.25`.
+    /// M_ϑ = 0.206, M_ω = 0.045, δ = 0.02, α = 0.25`; no integral action.
     pub fn paper() -> Self {
         Self {
             position: PositionGains {
@@ -81,6 +85,7 @@ impl<T: Scalar> Gains<T> {
             },
             hysteresis: lit(0.02),
             reset_threshold: lit(0.25),
+            integral: None,
         }
     }
 }
@@ -184,8 +189,11 @@ impl<T: Scalar> Gains<T> {
     /// Checks every gain and level `> 0`, `δ > 0` and `0 < α < 1`.
     /// Errors: [`ParameterError::NotPositive`] or [`ParameterError::OutOfRange`].
     /// Source: Section IV (`k_p, k_v, k_f, k_s, M_p > 0`), Section V (`k_ϑ, k_ω, M_ϑ, M_ω > 0`),
-    /// Appendix (`δ > 0`, `α ∈ (0, 1)`).
+    /// Appendix (`δ > 0`, `α ∈ (0, 1)`); with the integral action, [`IntegralGains::validate`].
     pub fn validate(&self) -> Result<(), ParameterError> {
+        if let Some(i) = &self.integral {
+            i.validate()?;
+        }
         let p = &self.position;
         let a = &self.attitude;
         for (name, v) in [

@@ -55,16 +55,25 @@ impl<T: Scalar> ReferenceSample<T> {
 
     /// True when every field is finite.
     pub fn is_finite(&self) -> bool {
-        let v3 = |v: &Vector3<T>| v.iter().all(|x| x.is_finite());
-        let v2 = |v: &Vector2<T>| v.iter().all(|x| x.is_finite());
-        v3(&self.position)
-            && v3(&self.velocity)
-            && v3(&self.acceleration)
-            && v3(&self.jerk)
-            && v3(&self.snap)
-            && v2(&self.heading)
-            && v2(&self.heading_rate)
-            && v2(&self.heading_acceleration)
+        use crate::scalar::finite_probe;
+        let mut p = T::zero();
+        for v in [
+            &self.position,
+            &self.velocity,
+            &self.acceleration,
+            &self.jerk,
+            &self.snap,
+        ] {
+            p = finite_probe(p, v);
+        }
+        for v in [
+            &self.heading,
+            &self.heading_rate,
+            &self.heading_acceleration,
+        ] {
+            p = finite_probe(p, v);
+        }
+        p.is_finite()
     }
 }
 
@@ -181,7 +190,7 @@ impl<T: Scalar> HeadingProfile<T> {
             } => {
                 let (s, c) = match known {
                     Some((w, sc)) if w == frequency && w != T::zero() => sc,
-                    _ => (frequency * t).sin_cos(),
+                    _ => (frequency * t).sin_cos_bounded(),
                 };
                 (
                     offset + amplitude * s,
@@ -195,7 +204,7 @@ impl<T: Scalar> HeadingProfile<T> {
     /// `(ν_d, ν̇_d, ν̈_d)` at `t`: `ν̇ = ψ̇ ν⊥`, `ν̈ = ψ̈ ν⊥ − ψ̇² ν` with `ν⊥ = (−sin ψ, cos ψ)`.
     fn heading(&self, t: T, known: Option<(T, (T, T))>) -> (Vector2<T>, Vector2<T>, Vector2<T>) {
         let (psi, rate, acc) = self.yaw(t, known);
-        let (s, c) = psi.sin_cos();
+        let (s, c) = psi.sin_cos_bounded();
         let nu = Vector2::new(c, s);
         let perp = Vector2::new(-s, c);
         (nu, perp * rate, perp * acc - nu * (rate * rate))
@@ -262,7 +271,7 @@ pub enum ReferenceTrajectory<T: Scalar> {
 
 /// `d^n/dt^n [A sin(w t)]` and `d^n/dt^n [A cos(w t)]` for `n = 0..=4`.
 fn sin_cos_derivatives<T: Scalar>(amplitude: T, w: T, t: T) -> ([T; 5], [T; 5]) {
-    derivatives_of_sin_cos(amplitude, w, (w * t).sin_cos())
+    derivatives_of_sin_cos(amplitude, w, (w * t).sin_cos_bounded())
 }
 
 /// [`sin_cos_derivatives`] from `(s, c) = sin_cos(w t)` already computed (one `sin_cos` for the
@@ -324,7 +333,7 @@ impl<T: Scalar> Trajectory<T> for ReferenceTrajectory<T> {
             } => {
                 // One sin_cos(f t) for the three axes and, when its frequency is the same, the
                 // heading (the paper's helix): 2 sin_cos per sample instead of 5.
-                let sc = (frequency * t).sin_cos();
+                let sc = (frequency * t).sin_cos_bounded();
                 known = Some((frequency, sc));
                 let (_, xr) = derivatives_of_sin_cos(radius, frequency, sc);
                 let (yr, _) = derivatives_of_sin_cos(radius, frequency, sc);

@@ -17,6 +17,14 @@ pub trait Scalar: RealField + Copy {
     /// The control law uses this for every square root and norm on the step's path
     /// ([`norm`], [`normalize`], [`normalize_quaternion`]).
     fn sqrt_ieee(self) -> Self;
+
+    /// `(sin self, cos self)` for the reference trajectory's sinusoids (not the law):
+    /// `ComplexField::sin_cos` (correctly rounded), except for `f32` with the crate feature
+    /// `sin-cos-f32`: [`crate::trig::sin_cos_f32`], within `2⁻²³` of the exact values in
+    /// `f32` arithmetic only (`libm`'s `sincosf` runs in soft `f64` on the Cortex-M4F, about
+    /// 1 900 instructions). The firmware's bare-metal build turns the feature on; host builds
+    /// (the paper run in `f32`, SIL) keep the exact functions.
+    fn sin_cos_bounded(self) -> (Self, Self);
 }
 
 impl Scalar for f32 {
@@ -24,12 +32,29 @@ impl Scalar for f32 {
     fn sqrt_ieee(self) -> Self {
         sqrt_f32(self)
     }
+
+    #[inline(always)]
+    fn sin_cos_bounded(self) -> (Self, Self) {
+        #[cfg(feature = "sin-cos-f32")]
+        {
+            crate::trig::sin_cos_f32(self)
+        }
+        #[cfg(not(feature = "sin-cos-f32"))]
+        {
+            ComplexField::sin_cos(self)
+        }
+    }
 }
 
 impl Scalar for f64 {
     #[inline(always)]
     fn sqrt_ieee(self) -> Self {
         ComplexField::sqrt(self)
+    }
+
+    #[inline(always)]
+    fn sin_cos_bounded(self) -> (Self, Self) {
+        ComplexField::sin_cos(self)
     }
 }
 
@@ -92,6 +117,19 @@ pub fn fmax(x: f32, y: f32) -> f32 {
     }
 }
 
+/// Adds `0 · x` for every entry `x` of `m` to `probe`. Starting from zero, the probe stays `±0`
+/// while every value added is finite and becomes NaN at the first infinite or NaN one
+/// (`0 · ∞` and `0 · NaN` are NaN, and NaN propagates through the sum), so `probe.is_finite()`
+/// answers "all finite" for many values at once: one multiply-add per value on the
+/// Cortex-M4F (`vmla.f32`) instead of a move, mask, compare and branch per value.
+#[inline(always)]
+pub fn finite_probe<T: Scalar, R: Dim, C: Dim, S: Storage<T, R, C>>(
+    probe: T,
+    m: &Matrix<T, R, C, S>,
+) -> T {
+    m.iter().fold(probe, |p, &x| p + x * T::zero())
+}
+
 /// Euclidean norm of a vector (Frobenius norm of a matrix) with [`Scalar::sqrt_ieee`]: the same
 /// bits as nalgebra's `norm()` (which is `norm_squared().sqrt()`), without `libm`'s software
 /// square root on the MCU.
@@ -134,6 +172,28 @@ pub fn to_f64<T: Scalar>(x: T) -> f64 {
 mod tests {
     use super::*;
     use nalgebra::{Vector3, Vector4};
+
+    /// `finite_probe` is finite exactly when every value is, for every position of one
+    /// special value (±∞, NaN) among large, tiny and zero finite ones, in f32 and f64.
+    #[test]
+    fn finite_probe_flags_any_non_finite_value() {
+        let finite = [3.0e38f32, -3.0e38, 1e-45, -0.0, 0.0, 1.0, -7.5];
+        for special in [f32::INFINITY, f32::NEG_INFINITY, f32::NAN] {
+            for at in 0..=finite.len() {
+                let mut v = [0.0f32; 8];
+                let (before, after) = finite.split_at(at);
+                v[..at].copy_from_slice(before);
+                v[at] = special;
+                v[at + 1..].copy_from_slice(after);
+                let m = nalgebra::SVector::<f32, 8>::from(v);
+                assert!(!finite_probe(0.0, &m).is_finite(), "{v:?}");
+                assert!(!finite_probe(0.0, &m.map(f64::from)).is_finite(), "{v:?}");
+            }
+        }
+        let m = nalgebra::SVector::<f32, 7>::from(finite);
+        assert_eq!(finite_probe(0.0f32, &m), 0.0);
+        assert!(finite_probe(0.0, &m.map(f64::from)).is_finite());
+    }
 
     /// The helpers give the same bits as nalgebra's own norm / normalize / from_quaternion,
     /// and `sqrt_f32` equals the correctly rounded square root on a sweep of inputs

@@ -2,7 +2,8 @@
 //! the vehicle file tables (`[vehicle]`, `[rotors]`, optional `[drag]`, parsed and checked by
 //! the shared `vehicle_file` module) plus `[limits]`, `[gains]`, `[trajectory]` (the certified
 //! demo mission; the scenario files' tables, from the shared `flight_tables` module) and
-//! `[design]` (free-text fields, the box-fit `margin` and `smoothing_rate_per_s`).
+//! `[design]` (free-text fields, the box-fit `margin`, `smoothing_rate_per_s` and
+//! `control_rate_hz`, which env `FIRMWARE_CONTROL_RATE_HZ` overrides).
 //! Written to `OUT_DIR/flight.rs` as Rust source, which `src/built_flight.rs` includes.
 //!
 //! Every error panics with the file, the key and the reason: a build must not quietly fly
@@ -16,14 +17,18 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
+use crate::control_rate::ControlRate;
 use crate::flight_tables::{GainsTable, HeadingTable, LimitsTable, TrajectoryTable};
 use crate::vehicle_file::VehicleFile;
 
 /// The environment variable naming the flight file.
 const ENV: &str = "FIRMWARE_FLIGHT_FILE";
 
-/// The flight file's own tables; `[design]` is free text except `margin` and
-/// `smoothing_rate_per_s` (numbers).
+/// The environment variable that overrides the flight file's `[design] control_rate_hz`.
+const RATE_ENV: &str = "FIRMWARE_CONTROL_RATE_HZ";
+
+/// The flight file's own tables; `[design]` is free text except `margin`,
+/// `smoothing_rate_per_s` and `control_rate_hz` (numbers).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct FlightTables {
@@ -42,6 +47,29 @@ const DEFAULT_MARGIN: f64 = 0.05;
 /// torque bound with them, so a slow filter is what an unknown design can most likely certify
 /// for setpoints of a metre or so (the gate refuses what it cannot).
 const DEFAULT_SMOOTHING_RATE: f64 = 0.5;
+
+/// The control law's rate: env [`RATE_ENV`] if set, else the flight file's
+/// `[design] control_rate_hz` (a number), else 100 Hz. Anything but 100, 250, 500 or 1000 Hz
+/// fails the build with the source and the allowed rates.
+fn control_rate(file: &str, key: Option<toml::Value>) -> ControlRate {
+    println!("cargo:rerun-if-env-changed={RATE_ENV}");
+    if let Some(v) = env::var_os(RATE_ENV) {
+        let text = v.to_string_lossy();
+        return text
+            .trim()
+            .parse::<f64>()
+            .map_err(|e| format!("{text:?} is not a number: {e}"))
+            .and_then(|hz| ControlRate::from_hz(hz).map_err(|e| e.to_string()))
+            .unwrap_or_else(|e| panic!("env {RATE_ENV}: {e}"));
+    }
+    match key {
+        None => ControlRate::default(),
+        Some(v) => design_number(&v)
+            .ok_or_else(|| format!("{v} is not a number [Hz]"))
+            .and_then(|hz| ControlRate::from_hz(hz).map_err(|e| e.to_string()))
+            .unwrap_or_else(|e| fail(file, "design.control_rate_hz", e)),
+    }
+}
 
 fn fail(file: &str, key: &str, reason: impl std::fmt::Display) -> ! {
     panic!("flight file {file}: {key}: {reason}")
@@ -249,6 +277,11 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
             g.alpha,
         ],
     );
+    if let Some(i) = &g.integral {
+        finite(file, "gains.integral.M_i_m_s2", &i.M_i_m_s2);
+        finite(file, "gains.integral.rate_m_s3", &i.rate_m_s3);
+        finite(file, "gains.integral", &[i.k_i, i.k_eta]);
+    }
     let mut design = tables.design;
     let margin = match design.remove("margin") {
         None => DEFAULT_MARGIN,
@@ -272,6 +305,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
             ),
         },
     };
+    let rate = control_rate(file, design.remove("control_rate_hz"));
     let fields: Vec<String> = design
         .iter()
         .map(|(k, v)| {
@@ -307,7 +341,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
          controller_core::Gains {{\n        \
          position: controller_core::position::PositionGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {} }},\n        \
          attitude: controller_core::attitude_control::AttitudeGains {{ k_mrp: {}, k_omega: {}, mrp_saturation: {}, omega_saturation: {} }},\n        \
-         hysteresis: {},\n        reset_threshold: {},\n    }}\n}}",
+         hysteresis: {},\n        reset_threshold: {},\n        integral: {},\n    }}\n}}",
         lit(g.kp),
         lit(g.kv),
         lit(g.kf),
@@ -318,7 +352,18 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         lit(g.M_theta),
         lit(g.M_omega),
         lit(g.delta),
-        lit(g.alpha)
+        lit(g.alpha),
+        // `[gains.integral]` (absent = None, the paper's law).
+        match &g.integral {
+            None => "None".to_string(),
+            Some(i) => format!(
+                "Some(controller_core::IntegralGains {{ gain: {}, level: {}, rate: {}, bandwidth: {} }})",
+                lit(i.k_i),
+                vec3(i.M_i_m_s2),
+                vec3(i.rate_m_s3),
+                lit(i.k_eta)
+            ),
+        }
     ));
     put(format!(
         "/// `[trajectory]`: the demo mission.\n\
@@ -334,6 +379,11 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         "/// `[design] smoothing_rate_per_s`: the setpoint filter's bandwidth λ [1/s].\n\
          pub(crate) const SMOOTHING_RATE: f32 = {};",
         lit(smoothing)
+    ));
+    put(format!(
+        "/// `[design] control_rate_hz` or `{RATE_ENV}`: the control law's rate.\n\
+         pub(crate) const CONTROL_RATE: crate::control_rate::ControlRate = \
+         crate::control_rate::ControlRate::{rate:?};"
     ));
     put(format!(
         "/// The other `[design]` fields, in key order.\n\

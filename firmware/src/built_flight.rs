@@ -7,7 +7,7 @@ use crate::airframe::Airframe;
 use crate::config::{FlightConfig, FlightIdentity, ReferenceConfig};
 
 /// The generated items: `FILE`, `airframe()`, `limits()`, `gains()`, `mission()`, `MARGIN`,
-/// `SMOOTHING_RATE`, `DESIGN`.
+/// `SMOOTHING_RATE`, `CONTROL_RATE`, `DESIGN`.
 // Literals written from a file, not by hand: a value that happens to be π is the file's.
 #[allow(clippy::approx_constant, clippy::excessive_precision)]
 mod generated {
@@ -20,7 +20,9 @@ pub const UNCERTIFIED_BUILD: bool = cfg!(feature = "uncertified-paper");
 impl FlightConfig {
     /// The build's flight file: its vehicle and rotors, `[limits]`, `[gains]`, the demo mission
     /// (`[trajectory]`), the box-fit margin, the setpoint filter's bandwidth
-    /// (`[design] smoothing_rate_per_s`, 0.5/s if absent) and the `[design]` fields; safety,
+    /// (`[design] smoothing_rate_per_s`, 0.5/s if absent), the control law's rate
+    /// (`[design] control_rate_hz` or the build's `FIRMWARE_CONTROL_RATE_HZ`, 100 Hz if
+    /// neither) and the `[design]` fields; safety,
     /// telemetry, estimator and the other reference settings as [`FlightConfig::paper`].
     /// `allow_uncertified` is set only in the `uncertified-paper` build.
     pub fn built() -> Self {
@@ -40,6 +42,7 @@ impl FlightConfig {
             rotors: a.rotors,
             limits: generated::limits(),
             gains: generated::gains(),
+            control_rate: generated::CONTROL_RATE,
             reference: ReferenceConfig {
                 smoothing_rate: generated::SMOOTHING_RATE,
                 ..paper.reference

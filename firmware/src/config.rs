@@ -8,6 +8,7 @@ use controller_core::scalar::sqrt_f32;
 use controller_core::{Gains, Limits, ReferenceTrajectory, Vehicle};
 
 use crate::airframe::Airframe;
+use crate::control_rate::ControlRate;
 
 /// Position and spin of one rotor.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -157,9 +158,11 @@ pub struct LandedConfig {
     /// ... and the specific force `|f|` is above this fraction of `g` \[dimensionless\] (the
     /// ground carries the weight; in free fall it would read near 0).
     pub failsafe_specific_force_ratio: f32,
-    /// Consecutive control ticks the conditions must hold before the vehicle counts as landed
-    /// \[ticks\]: a bounce or one noisy estimate does not disarm it.
-    pub confirm_ticks: u32,
+    /// How long the conditions must hold, on consecutive control ticks, before the vehicle
+    /// counts as landed \[µs\] (counted in ticks of the law's rate, rounded up: see
+    /// [`crate::control_rate::ControlRate::ticks_in`]): a bounce or one noisy estimate does not
+    /// disarm it.
+    pub confirm_us: u64,
 }
 
 /// Telemetry rates of [`crate::pipeline::FlightPipeline::telemetry`].
@@ -229,10 +232,11 @@ pub struct FlightConfig {
     pub landed: LandedConfig,
     /// Telemetry rates.
     pub telemetry: TelemetryConfig,
-    /// Nominal control period \[s\] (100 Hz).
-    pub control_period: f32,
+    /// The control law's rate (100 Hz, the paper's, unless the flight file's
+    /// `[design] control_rate_hz` says otherwise); its period is the law's nominal `dt`.
+    pub control_rate: ControlRate,
     /// The control step `dt` measured between ticks is clamped to `[lo, hi] ·`
-    /// `control_period` \[dimensionless\], so a late, early or repeated tick (timer jitter, a
+    /// [`FlightConfig::control_period`] \[dimensionless\], so a late, early or repeated tick (timer jitter, a
     /// stall) cannot feed the filters a zero or huge step.
     pub control_dt_ratio: [f32; 2],
     /// Known latency of the motion-capture pose \[µs\], subtracted from the arrival time.
@@ -257,6 +261,12 @@ pub struct FlightConfig {
 }
 
 impl FlightConfig {
+    /// The law's nominal sampling period \[s\] ([`ControlRate::period_s`] of
+    /// [`FlightConfig::control_rate`]; 0.01 s at the paper's 100 Hz).
+    pub fn control_period(&self) -> f32 {
+        self.control_rate.period_s()
+    }
+
     /// The paper's vehicle and rotors ([`Airframe::paper`]: Section VI's rigid body on an X
     /// quad sized to the paper's limits, arm 0.25 m, 0 to 3 N per rotor, yaw torque 0.1 m per
     /// newton, about five times a real propeller's), its limits (`T_max = 7 N`,
@@ -307,13 +317,13 @@ impl FlightConfig {
                 failsafe_vertical_speed: 0.15,
                 failsafe_thrust_ratio: 0.9,
                 failsafe_specific_force_ratio: 0.95,
-                confirm_ticks: 30,
+                confirm_us: 300_000,
             },
             telemetry: TelemetryConfig {
                 heartbeat_period_us: 1_000_000,
                 state_period_us: 50_000,
             },
-            control_period: 0.01,
+            control_rate: ControlRate::Hz100,
             control_dt_ratio: [0.2, 5.0],
             mocap_latency_us: 10_000,
             gyro_calibration_samples: 1000,

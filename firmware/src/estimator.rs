@@ -12,7 +12,7 @@
 //!
 //! No allocation: the gyro and acceleration histories are fixed rings.
 
-use controller_core::scalar::{fmin, norm, normalize_quaternion};
+use controller_core::scalar::{finite_probe, fmin, norm, normalize_quaternion};
 use nalgebra::{Matrix2, Quaternion, UnitQuaternion, Vector2, Vector3};
 
 /// Gyro increments kept for the latency correction: 128 samples = 128 ms at 1 kHz.
@@ -62,6 +62,9 @@ struct TimedRing<T: Copy> {
     len: usize,
     /// Adjacent pairs `(i, i + 1)` with `t[i + 1] < t[i]` currently in the ring.
     descents: u32,
+    /// Entries ever pushed (wrapping): names an entry by its sequence number, which stays the
+    /// same as older entries leave (see [`TimedRing::mark`]).
+    pushes: usize,
 }
 
 /// Index mask of the ring (`HISTORY` is a power of two).
@@ -76,6 +79,7 @@ impl<T: Copy> TimedRing<T> {
             head: 0,
             len: 0,
             descents: 0,
+            pushes: 0,
         }
     }
 
@@ -85,10 +89,12 @@ impl<T: Copy> TimedRing<T> {
         self.time[(self.head + i) & MASK]
     }
 
-    /// Appends `(time_us, value)`, dropping the oldest entry when full.
-    fn push(&mut self, time_us: u64, value: T) {
-        if self.len == HISTORY {
-            if self.time_at(1) < self.time_at(0) {
+    /// Appends `(time_us, value)`, dropping the oldest entry when full; true if it dropped one.
+    fn push(&mut self, time_us: u64, value: T) -> bool {
+        let full = self.len == HISTORY;
+        if full {
+            // (With no descent in the ring, the dropped pair is none: skip the comparison.)
+            if self.descents > 0 && self.time_at(1) < self.time_at(0) {
                 self.descents -= 1;
             }
             self.head = (self.head + 1) & MASK;
@@ -101,12 +107,39 @@ impl<T: Copy> TimedRing<T> {
         self.time[i] = time_us;
         self.value[i] = value;
         self.len += 1;
+        self.pushes = self.pushes.wrapping_add(1);
+        full
+    }
+
+    /// [`TimedRing::count_until`] as a sequence number (the number of entries ever pushed
+    /// before the first entry after `x`), for [`TimedRing::for_each_in`]'s hints; `hint` is
+    /// returned at once when it is still the answer (two comparisons instead of a search).
+    fn mark(&self, x: u64, hint: usize) -> usize {
+        let first = self.pushes.wrapping_sub(self.len);
+        first.wrapping_add(self.count_until_hinted(x, hint))
+    }
+
+    /// [`TimedRing::count_until`], trying the sequence number `hint` first: it is the answer
+    /// when the entry before it is at or before `x` and the entry at it is after `x` (in a
+    /// sorted ring, the definition of the prefix's end).
+    fn count_until_hinted(&self, x: u64, hint: usize) -> usize {
+        let i = hint.wrapping_sub(self.pushes.wrapping_sub(self.len));
+        if i <= self.len
+            && (i == 0 || self.time_at(i - 1) <= x)
+            && (i == self.len || self.time_at(i) > x)
+        {
+            return i;
+        }
+        self.count_until(x)
     }
 
     /// Number of entries at or before `x` (the ring must be sorted: they are a prefix).
-    #[inline(never)]
     fn count_until(&self, x: u64) -> usize {
-        let (mut lo, mut hi) = (0, self.len);
+        // The windows asked for mostly end at the newest entry (`now`, or open-ended).
+        if self.len == 0 || self.time_at(self.len - 1) <= x {
+            return self.len;
+        }
+        let (mut lo, mut hi) = (0, self.len - 1);
         while lo < hi {
             let mid = (lo + hi) / 2;
             if self.time_at(mid) <= x {
@@ -118,15 +151,29 @@ impl<T: Copy> TimedRing<T> {
         lo
     }
 
-    /// Calls `f` on every value with `after < t ≤ until`, oldest first.
-    fn for_each_in(&self, after: u64, until: u64, mut f: impl FnMut(&T)) {
+    /// Calls `f` on every value with `after.0 < t ≤ until.0`, oldest first, among the entries
+    /// from the `from`-th oldest on (`from = 0`: all). The second element of `after` and
+    /// `until` is a hint, the [`TimedRing::mark`] of that time when it was last asked for (any
+    /// value: a wrong hint only costs the search).
+    fn for_each_in(
+        &self,
+        from: usize,
+        after: (u64, usize),
+        until: (u64, usize),
+        mut f: impl FnMut(&T),
+    ) {
+        let ((after, after_hint), (until, until_hint)) = (after, until);
         // Sorted: exactly the run [lo, hi). Otherwise: every entry, filtered.
         let sorted = self.descents == 0;
         let (lo, hi) = if sorted {
-            (self.count_until(after), self.count_until(until))
+            (
+                self.count_until_hinted(after, after_hint),
+                self.count_until_hinted(until, until_hint),
+            )
         } else {
             (0, self.len)
         };
+        let lo = lo.max(from);
         let mut i = lo;
         while i < hi {
             let j = (self.head + i) & MASK;
@@ -134,13 +181,36 @@ impl<T: Copy> TimedRing<T> {
                 f(&self.value[j]);
             }
             i += 1;
-            // Never taken (hi ≤ len ≤ HISTORY), but a second exit keeps LLVM from unrolling
-            // the loop: the unrolled copies cost about 1 KiB of flash, which is tight.
-            if i > HISTORY {
-                break;
-            }
         }
     }
+}
+
+/// `q ⊗ (1, h)`: `q` times the unnormalised gyro increment `(1, h)`, `h = ½ ω dt` (the
+/// first-order quaternion of a rotation by `ω dt`; `q̇ = ½ q ⊗ (0, ω)`), with the product's
+/// terms in nalgebra's order and its four products by the scalar part 1 left out: the same
+/// bits as `q * Quaternion::new(1.0, h.x, h.y, h.z)` (`x · 1 = x` exactly) in 12 multiplications
+/// instead of 16.
+#[inline(always)]
+pub(crate) fn mul_increment(q: &Quaternion<f32>, h: &Vector3<f32>) -> Quaternion<f32> {
+    let (w, i, j, k) = (q.w, q.i, q.j, q.k);
+    Quaternion::new(
+        w - i * h.x - j * h.y - k * h.z,
+        w * h.x + i + j * h.z - k * h.y,
+        w * h.y - i * h.z + j + k * h.x,
+        w * h.z + i * h.y - j * h.x + k,
+    )
+}
+
+/// What the estimator keeps of one IMU sample, under the sample's time stamp in one ring (one
+/// time array and one push for both, instead of a ring each).
+#[derive(Clone, Copy, Debug)]
+struct ImuRecord {
+    /// Gyro increment over the sample: the vector part `½ ω dt` of `(1, ½ ω dt)` (see
+    /// [`mul_increment`]), for the latency correction.
+    half: Vector3<f32>,
+    /// Inertial acceleration `R a − g e₃` [m/s²], NWU; meaningful only once an attitude is
+    /// known (see [`Estimator::accel_missing`]).
+    accel: Vector3<f32>,
 }
 
 /// What the pose looked like when it arrived.
@@ -222,15 +292,22 @@ pub struct Estimator {
     bias: Option<Vector3<f32>>,
     // IMU.
     last_imu_us: Option<u64>,
+    imu_interval_s: f32,
     omega: Vector3<f32>,
     accel: Vector3<f32>,
-    history: TimedRing<Quaternion<f32>>,
-    accel_history: TimedRing<Vector3<f32>>,
+    history: TimedRing<ImuRecord>,
+    /// The oldest `accel_missing` records of `history` were taken before any attitude was
+    /// known and have no inertial acceleration (the attitude, once known, stays known, so they
+    /// are always the oldest).
+    accel_missing: usize,
     // Attitude.
     attitude: Option<UnitQuaternion<f32>>,
     // Position and velocity.
     axes: [Axis; 3],
     filter_time_us: Option<u64>,
+    /// [`TimedRing::mark`] of `filter_time_us` in `history` when it was set: the windows that
+    /// start there then need no search.
+    filter_mark: usize,
     poses_used: u32,
     last_pose_rx_us: Option<u64>,
     last_pose_bad: bool,
@@ -250,14 +327,19 @@ impl Estimator {
             cal_count: 0,
             bias: None,
             last_imu_us: None,
+            imu_interval_s: 0.0,
             omega: Vector3::zeros(),
             accel: Vector3::zeros(),
             // Zero fill (never read: only the `len` newest entries are): a plain memory clear.
-            history: TimedRing::new(Quaternion::new(0.0, 0.0, 0.0, 0.0)),
-            accel_history: TimedRing::new(Vector3::zeros()),
+            history: TimedRing::new(ImuRecord {
+                half: Vector3::zeros(),
+                accel: Vector3::zeros(),
+            }),
+            accel_missing: 0,
             attitude: None,
             axes: [axis; 3],
             filter_time_us: None,
+            filter_mark: 0,
             poses_used: 0,
             last_pose_rx_us: None,
             last_pose_bad: false,
@@ -280,6 +362,13 @@ impl Estimator {
         self.omega
     }
 
+    /// Time \[s\] from the previous accepted IMU sample to the latest, unclamped (0 for the
+    /// first sample and for a time stamp that did not advance); the attitude integration uses
+    /// it clamped to 10 ms, the pipeline's Mahony filter to its own limit.
+    pub fn imu_interval_s(&self) -> f32 {
+        self.imu_interval_s
+    }
+
     /// Latest specific force [m/s²], FLU.
     pub fn specific_force(&self) -> Vector3<f32> {
         self.accel
@@ -288,15 +377,14 @@ impl Estimator {
     /// One IMU sample: gyro [rad/s] and accelerometer [m/s²] (FLU) at `time_us`.
     /// Returns false (and changes nothing) if a value is non-finite.
     pub fn on_imu(&mut self, gyro: &Vector3<f32>, accel: &Vector3<f32>, time_us: u64) -> bool {
-        // (Two `all`s rather than a `chain`: the same test, a third of the instructions.)
-        if !(gyro.iter().all(|x| x.is_finite()) && accel.iter().all(|x| x.is_finite())) {
+        if !finite_probe(finite_probe(0.0, gyro), accel).is_finite() {
             return false;
         }
-        let dt = match self.last_imu_us {
-            Some(t) if time_us > t => fmin(micros_f32(time_us - t) * 1e-6, 0.01),
-            Some(_) => 0.0,
-            None => 0.0,
+        self.imu_interval_s = match self.last_imu_us {
+            Some(t) if time_us > t => micros_f32(time_us - t) * 1e-6,
+            _ => 0.0,
         };
+        let dt = fmin(self.imu_interval_s, 0.01);
         self.last_imu_us = Some(time_us);
         self.accel = *accel;
         match self.bias {
@@ -320,24 +408,39 @@ impl Estimator {
         }
         // Gyro increment over the sample, recorded for the latency correction.
         let half = self.omega * (0.5 * dt);
-        let dq = Quaternion::new(1.0, half.x, half.y, half.z);
-        self.history.push(time_us, dq);
-        if let Some(q) = self.attitude {
-            self.attitude = Some(normalize_quaternion(q.into_inner() * dq));
-            // Inertial acceleration R a − g e₃, for the velocity filter and dead reckoning.
-            let a = q * self.accel - Vector3::z() * self.cfg.gravity;
-            self.accel_history.push(time_us, a);
-            self.vertical_velocity += a.z * dt;
+        let accel = match self.attitude {
+            Some(q) => {
+                self.attitude = Some(normalize_quaternion(mul_increment(&q, &half)));
+                // Inertial acceleration R a − g e₃, for the velocity filter and dead reckoning.
+                let a = q * self.accel - Vector3::z() * self.cfg.gravity;
+                self.vertical_velocity += a.z * dt;
+                Some(a)
+            }
+            None => None,
+        };
+        let dropped = self.history.push(
+            time_us,
+            ImuRecord {
+                half,
+                accel: accel.unwrap_or_else(Vector3::zeros),
+            },
+        );
+        if dropped && self.accel_missing > 0 {
+            self.accel_missing -= 1;
+        }
+        if accel.is_none() {
+            self.accel_missing += 1;
         }
         true
     }
 
     /// Mean inertial acceleration [m/s²] of the samples in `(t0, t1]` (zero if none).
-    fn mean_accel(&self, t0: u64, t1: u64) -> Vector3<f32> {
+    /// `t0` and `t1` come with [`TimedRing::mark`] hints.
+    fn mean_accel(&self, t0: (u64, usize), t1: (u64, usize)) -> Vector3<f32> {
         let mut sum = Vector3::zeros();
         let mut n = 0u32;
-        self.accel_history.for_each_in(t0, t1, |a| {
-            sum += a;
+        self.history.for_each_in(self.accel_missing, t0, t1, |r| {
+            sum += r.accel;
             n += 1;
         });
         if n == 0 {
@@ -374,10 +477,19 @@ impl Estimator {
         self.last_pose_bad = false;
         self.last_pose_rx_us = Some(rx_us);
 
+        // Where the measurement time falls in the history, searched once: the end of the
+        // velocity filter's window, the start of the attitude's carry-forward, and the start
+        // of the next windows.
+        let end = self.history.pushes;
+        let meas_mark = self.history.mark(t_meas, end);
+
         // Attitude: the measured one, carried forward through the gyro increments recorded
         // after the measurement time.
         let mut q = attitude / n;
-        self.history.for_each_in(t_meas, u64::MAX, |dq| q *= *dq);
+        self.history
+            .for_each_in(0, (t_meas, meas_mark), (u64::MAX, end), |r| {
+                q = mul_increment(&q, &r.half)
+            });
         self.attitude = Some(normalize_quaternion(q));
 
         // Position and velocity at the measurement time.
@@ -391,7 +503,7 @@ impl Estimator {
             }
             Some(t) => {
                 let dt = micros_f32(t_meas - t) * 1e-6;
-                let accel = self.mean_accel(t, t_meas);
+                let accel = self.mean_accel((t, self.filter_mark), (t_meas, meas_mark));
                 for (i, a) in self.axes.iter_mut().enumerate() {
                     a.predict(dt, self.cfg.accel_psd, accel[i]);
                     a.update(position[i], r);
@@ -399,6 +511,7 @@ impl Estimator {
             }
         }
         self.filter_time_us = Some(t_meas);
+        self.filter_mark = meas_mark;
         self.poses_used = self.poses_used.saturating_add(1);
         self.vertical_velocity = self.axes[2].x[1];
         PoseCheck::Used
@@ -441,7 +554,8 @@ impl Estimator {
         let t = self.filter_time_us?;
         // Extrapolate over at most 0.2 s: beyond, the failsafe has taken over anyway.
         let dt = fmin(micros_f32(now_us.saturating_sub(t)) * 1e-6, 0.2);
-        let a = self.mean_accel(t, now_us);
+        let end = self.history.pushes;
+        let a = self.mean_accel((t, self.filter_mark), (now_us, end));
         let position = Vector3::from_fn(|i, _| {
             self.axes[i].x[0] + self.axes[i].x[1] * dt + 0.5 * a[i] * dt * dt
         });
@@ -531,6 +645,34 @@ mod tests {
         assert!((yaw - 0.03).abs() < 2e-4, "{yaw}");
     }
 
+    /// The samples taken before the first pose (no attitude, so no inertial acceleration) share
+    /// the history with the later ones but stay out of the acceleration mean: over a window
+    /// holding 10 such samples and 5 later ones at 2 m/s² up, the mean is 2 m/s² (it would be
+    /// 2/3 if the early ones counted as zeros).
+    #[test]
+    fn samples_before_the_first_pose_stay_out_of_the_acceleration_mean() {
+        let mut c = cfg();
+        c.calibration_samples = 1;
+        let mut e = Estimator::new(c);
+        let still = Vector3::new(0.0, 0.0, 9.81);
+        for k in 1..=30u64 {
+            e.on_imu(&Vector3::zeros(), &still, k * 1000);
+        }
+        // Measured at 20 ms (latency 10 ms), level: the window (20, 35] ms starts here.
+        let q = Quaternion::identity();
+        assert_eq!(e.on_pose(&Vector3::zeros(), &q, 30_000), PoseCheck::Used);
+        for k in 31..=35u64 {
+            e.on_imu(&Vector3::zeros(), &Vector3::new(0.0, 0.0, 11.81), k * 1000);
+        }
+        let s = e.estimate(35_000).unwrap();
+        // v = 0 + ā dt over dt = 15 ms.
+        assert!(
+            (s.velocity.z - 2.0 * 0.015).abs() < 1e-6,
+            "{}",
+            s.velocity.z
+        );
+    }
+
     /// Non-finite poses and bad quaternions are refused and flagged.
     #[test]
     fn refuses_bad_poses() {
@@ -553,6 +695,28 @@ mod tests {
         );
         assert!(e.estimate(20_000).is_some());
         assert!(!e.on_imu(&Vector3::new(f32::INFINITY, 0.0, 0.0), &Vector3::z(), 1));
+    }
+
+    /// `mul_increment` is nalgebra's product with `(1, h)`, bit for bit, over random values of
+    /// both signs and many magnitudes.
+    #[test]
+    fn increment_product_is_nalgebras() {
+        let mut x = 0x2545_f491u32;
+        let mut rnd = || {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            (x as f32 / u32::MAX as f32 - 0.5) * 10f32.powi((x % 7) as i32 - 3)
+        };
+        for _ in 0..10_000 {
+            let q = Quaternion::new(rnd(), rnd(), rnd(), rnd());
+            let h = Vector3::new(rnd(), rnd(), rnd());
+            let want = q * Quaternion::new(1.0, h.x, h.y, h.z);
+            let got = mul_increment(&q, &h);
+            for (a, b) in got.coords.iter().zip(want.coords.iter()) {
+                assert_eq!(a.to_bits(), b.to_bits(), "{q:?} {h:?}");
+            }
+        }
     }
 
     /// The ring's window visits exactly the entries a full scan would, in the same order, for
@@ -586,9 +750,18 @@ mod tests {
                 let after = t.saturating_sub(u64::from(rnd(140_000)));
                 let until = after + u64::from(rnd(150_000));
                 let mut got = Vec::new();
-                ring.for_each_in(after, until, |v| got.push(*v));
+                let from = rnd(8) as usize;
+                // Hints: right, wrong or stale ones (the answer must not depend on them).
+                let mut hint = |x: u64| match rnd(3) {
+                    0 => ring.mark(x, 0),
+                    1 => rnd(400) as usize,
+                    _ => ring.pushes.wrapping_sub(rnd(20) as usize),
+                };
+                let (ha, hu) = (hint(after), hint(until));
+                ring.for_each_in(from, (after, ha), (until, hu), |v| got.push(*v));
                 let want: Vec<u32> = kept
                     .iter()
+                    .skip(from)
                     .filter(|(tt, _)| *tt > after && *tt <= until)
                     .map(|(_, v)| *v)
                     .collect();

@@ -51,6 +51,25 @@ pub struct GainsTable {
     pub delta: f64,
     /// Reset threshold `α`.
     pub alpha: f64,
+    /// `[gains.integral]`: the bounded integral action (absent = off, the paper's law;
+    /// extension, docs/integral-action.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub integral: Option<IntegralTable>,
+}
+
+/// `[gains.integral]`: the bounded integral action (extension, docs/integral-action.md).
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct IntegralTable {
+    /// `k_i` [1/s³]: integral gain on `z₁`.
+    pub k_i: f64,
+    /// `M_i` [m/s²] per inertial axis: saturation level of the estimate.
+    pub M_i_m_s2: [f64; 3],
+    /// `R_i` [m/s³] per inertial axis: rate limit of the estimate.
+    pub rate_m_s3: [f64; 3],
+    /// `k_η` [1/s]: bandwidth of the estimate's output filter.
+    pub k_eta: f64,
 }
 
 /// `[trajectory]`, tagged by `kind`.

@@ -28,9 +28,7 @@ use mavlink::dialects::common::{
     MavCmd, MavFrame, MavMessage, ATT_POS_MOCAP_DATA, COMMAND_LONG_DATA, ODOMETRY_DATA,
     SET_POSITION_TARGET_LOCAL_NED_DATA,
 };
-use mavlink::{
-    calculate_crc, MAVLinkV2MessageRaw, MavHeader, MavlinkVersion, Message, MessageData,
-};
+use mavlink::{MAVLinkV2MessageRaw, MavHeader, MavlinkVersion, Message, MessageData};
 use nalgebra::{Quaternion, Vector3};
 
 use crate::frames;
@@ -150,7 +148,8 @@ pub struct LinkCounters {
 
 /// Result of looking at the head of the buffer.
 enum Step {
-    NeedMore,
+    /// Nothing to do until the buffer holds this many bytes.
+    NeedMore(usize),
     /// Drop `n` bytes from the front; `Some` when they were a frame accepted as this message.
     Consume(usize, Option<Inbound>),
 }
@@ -160,6 +159,9 @@ enum Step {
 pub struct Decoder {
     buf: [u8; MAX_FRAME],
     len: usize,
+    /// The buffer length the head frame needs before [`Decoder::poll`] can make progress (0:
+    /// look now). Saves re-parsing the header on every byte of a frame.
+    need: usize,
     system_id: u8,
     counters: LinkCounters,
 }
@@ -175,6 +177,7 @@ impl Decoder {
         Self {
             buf: [0; MAX_FRAME],
             len: 0,
+            need: 0,
             system_id,
             counters: LinkCounters::default(),
         }
@@ -188,11 +191,43 @@ impl Decoder {
     /// Feeds bytes (any chunking); calls `accept` for every message accepted, in order, as soon
     /// as the byte that completes it is in. Nothing is buffered between messages, so a burst of
     /// frames released at once (after a corrupted length byte held them back) loses none.
-    pub fn push(&mut self, bytes: &[u8], mut accept: impl FnMut(Inbound)) {
-        for &b in bytes {
-            self.push_byte(b);
-            while let Some(m) = self.poll() {
-                accept(m);
+    pub fn push(&mut self, mut bytes: &[u8], mut accept: impl FnMut(Inbound)) {
+        while let (used, Some(m)) = self.feed(bytes) {
+            bytes = &bytes[used..];
+            accept(m);
+        }
+    }
+
+    /// Feeds bytes from the front of `bytes` until one completes a message: returns how many
+    /// it took and that message, or `(bytes.len(), None)` when all of them completed none.
+    /// Call again with the rest after a message. Exactly as [`Decoder::push_byte`] then
+    /// [`Decoder::poll`] per byte, but the bytes a frame still needs go in as one copy and its
+    /// header is parsed once, not once per byte.
+    pub fn feed(&mut self, bytes: &[u8]) -> (usize, Option<Inbound>) {
+        let mut used = 0;
+        loop {
+            if let Some(m) = self.poll() {
+                return (used, Some(m));
+            }
+            let rest = &bytes[used..];
+            if rest.is_empty() {
+                return (used, None);
+            }
+            // `poll` cannot progress before `need` bytes; a full buffer (which `poll` always
+            // empties in part, since no frame is longer) goes through `push_byte`.
+            let n = self
+                .need
+                .saturating_sub(self.len)
+                .max(1)
+                .min(MAX_FRAME - self.len)
+                .min(rest.len());
+            if n == 0 {
+                self.push_byte(rest[0]);
+                used += 1;
+            } else {
+                self.buf[self.len..self.len + n].copy_from_slice(&rest[..n]);
+                self.len += n;
+                used += n;
             }
         }
     }
@@ -205,6 +240,7 @@ impl Decoder {
         if self.len == MAX_FRAME {
             self.buf.copy_within(1.., 0);
             self.len -= 1;
+            self.need = 0;
             self.counters.bytes_discarded = self.counters.bytes_discarded.saturating_add(1);
         }
         self.buf[self.len] = b;
@@ -214,10 +250,14 @@ impl Decoder {
     /// The next message the bytes fed so far complete, in stream order, or `None` when more
     /// bytes are needed. Every frame looked at is counted (ok, dropped, malformed).
     pub fn poll(&mut self) -> Option<Inbound> {
-        while self.len > 0 {
+        while self.len > 0 && self.len >= self.need {
             match self.step() {
-                Step::NeedMore => return None,
+                Step::NeedMore(n) => {
+                    self.need = n;
+                    return None;
+                }
                 Step::Consume(n, message) => {
+                    self.need = 0;
                     let n = n.min(self.len);
                     self.buf.copy_within(n..self.len, 0);
                     self.len -= n;
@@ -233,7 +273,7 @@ impl Decoder {
     fn step(&mut self) -> Step {
         let buf = &self.buf[..self.len];
         if buf.is_empty() {
-            return Step::NeedMore;
+            return Step::NeedMore(1);
         }
         if buf[0] != STX {
             let skip = buf.iter().position(|&b| b == STX).unwrap_or(buf.len());
@@ -242,7 +282,7 @@ impl Decoder {
             return Step::Consume(skip, None);
         }
         if buf.len() < 3 {
-            return Step::NeedMore;
+            return Step::NeedMore(3);
         }
         let incompat = buf[2];
         if incompat & !0x01 != 0 {
@@ -254,7 +294,7 @@ impl Decoder {
         let signed = incompat & 0x01 != 0;
         let total = 1 + HEADER + payload_len + 2 + if signed { SIGNATURE } else { 0 };
         if buf.len() < total {
-            return Step::NeedMore;
+            return Step::NeedMore(total);
         }
         let msgid = u32::from_le_bytes([buf[7], buf[8], buf[9], 0]);
         let extra = MavMessage::extra_crc(msgid);
@@ -268,7 +308,7 @@ impl Decoder {
         }
         let crc_at = 1 + HEADER + payload_len;
         let crc = u16::from_le_bytes([buf[crc_at], buf[crc_at + 1]]);
-        if calculate_crc(&buf[1..crc_at], extra) != crc {
+        if crate::link_crc::frame_crc(&buf[1..crc_at], extra) != crc {
             self.counters.frames_malformed += 1;
             // A false marker or a corrupted frame: look again from the next byte.
             return Step::Consume(1, None);
@@ -647,6 +687,50 @@ mod tests {
         assert!(collect(&mut d, &f[..n]).is_empty());
         assert_eq!(d.counters().frames_dropped, 1);
         assert_eq!(d.counters().frames_malformed, 0);
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(512))]
+        /// `push` (whole runs of bytes through `feed`) gives the same messages, in the same
+        /// order, and the same counters as the byte-at-a-time `push_byte` + `poll` loop, for
+        /// any mix of valid frames, frames with one corrupted byte (length bytes included) and
+        /// junk, in any chunking.
+        #[test]
+        fn feed_equals_byte_by_byte(
+            pieces in proptest::collection::vec(
+                (0u8..3, -1e3f32..1e3, proptest::collection::vec(proptest::prelude::any::<u8>(), 0..40),
+                 0usize..48, proptest::prelude::any::<u8>()),
+                1..12,
+            ),
+            chunk in 1usize..70,
+        ) {
+            let mut stream = Vec::new();
+            for (seq, (kind, x, junk, at, flip)) in pieces.into_iter().enumerate() {
+                let (mut f, n) = frame(&mocap(x), seq as u8);
+                match kind {
+                    0 => {}
+                    1 => f[at % n] ^= flip | 1,
+                    _ => stream.extend_from_slice(&junk),
+                }
+                stream.extend_from_slice(&f[..n]);
+            }
+            let mut bytewise = Decoder::new(1);
+            let mut want = Vec::new();
+            for &b in &stream {
+                bytewise.push_byte(b);
+                while let Some(m) = bytewise.poll() {
+                    want.push(m);
+                }
+            }
+            let mut fed = Decoder::new(1);
+            let mut got = Vec::new();
+            for c in stream.chunks(chunk) {
+                got.extend(collect(&mut fed, c));
+            }
+            proptest::prop_assert_eq!(got, want);
+            proptest::prop_assert_eq!(fed.counters(), bytewise.counters());
+            proptest::prop_assert_eq!(&fed.buf[..fed.len], &bytewise.buf[..bytewise.len]);
+        }
     }
 
     /// Encoding into a buffer that is too small writes nothing.

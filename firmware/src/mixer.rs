@@ -18,6 +18,7 @@
 //!
 //! Nothing is clipped silently: what was given up is returned in [`MixOutput`].
 
+use controller_core::scalar::{fmax, fmin};
 use nalgebra::{Matrix4, Vector3, Vector4};
 
 use crate::config::RotorConfig;
@@ -69,9 +70,9 @@ fn max_scale(base: &Vector4<f32>, d: &Vector4<f32>, lo: f32, hi: f32) -> f32 {
     let mut s = 1.0f32;
     for k in 0..4 {
         if d[k] > 0.0 {
-            s = s.min(((hi - base[k]) / d[k]).max(0.0));
+            s = fmin(s, fmax((hi - base[k]) / d[k], 0.0));
         } else if d[k] < 0.0 {
-            s = s.min(((lo - base[k]) / d[k]).max(0.0));
+            s = fmin(s, fmax((lo - base[k]) / d[k], 0.0));
         }
     }
     s
@@ -83,8 +84,8 @@ fn shift_bounds(base: &Vector4<f32>, u_t: &Vector4<f32>, lo: f32, hi: f32) -> (f
     let (mut s_lo, mut s_hi) = (f32::NEG_INFINITY, f32::INFINITY);
     for k in 0..4 {
         if u_t[k] > 0.0 {
-            s_lo = s_lo.max((lo - base[k]) / u_t[k]);
-            s_hi = s_hi.min((hi - base[k]) / u_t[k]);
+            s_lo = fmax(s_lo, (lo - base[k]) / u_t[k]);
+            s_hi = fmin(s_hi, (hi - base[k]) / u_t[k]);
         }
     }
     (s_lo, s_hi)
@@ -173,7 +174,7 @@ impl Mixer {
         let base = u_t * thrust + rp;
         let (shift, yaw_scale, f) = match shift_interval(&(base + yaw), &u_t, lo, hi) {
             Some((s_lo, s_hi)) => {
-                let shift = 0.0f32.max(s_lo).min(s_hi);
+                let shift = fmin(fmax(0.0, s_lo), s_hi);
                 (shift, 1.0, base + yaw + u_t * shift)
             }
             None => {
@@ -181,18 +182,18 @@ impl Mixer {
                 // says otherwise, take the middle of the (empty) interval.
                 let (s_lo, s_hi) = shift_bounds(&base, &u_t, lo, hi);
                 let shift = if s_lo <= s_hi {
-                    0.0f32.max(s_lo).min(s_hi)
+                    fmin(fmax(0.0, s_lo), s_hi)
                 } else {
                     0.5 * (s_lo + s_hi)
                 };
-                let base = (base + u_t * shift).map(|f| f.max(lo).min(hi));
+                let base = (base + u_t * shift).map(|f| fmin(fmax(f, lo), hi));
                 // 3. Yaw with the headroom left.
                 let yaw_scale = max_scale(&base, &yaw, lo, hi);
                 (shift, yaw_scale, base + yaw * yaw_scale)
             }
         };
         // Rounding can leave a rotor an ulp outside the range.
-        let f = f.map(|f| f.max(lo).min(hi));
+        let f = f.map(|f| fmin(fmax(f, lo), hi));
         let achieved = self.effectiveness * f;
         MixOutput {
             thrust: [f[0], f[1], f[2], f[3]],

@@ -1,5 +1,6 @@
 //! Step-time statistics of the control task, from the DWT cycle counter: mean and maximum step
-//! cycles per reporting window, and deadline overruns.
+//! cycles per reporting window, the longest step on the board's clock (µs; on QEMU, where the
+//! cycle counter reads 0, the only duration there is), and deadline overruns.
 //!
 //! The arithmetic is here (pure, host-tested); `main.rs` reads `DWT.CYCCNT` and the tick times.
 //! `CYCCNT` is a free-running 32-bit counter at the core clock (168 MHz: it wraps every 25.6 s),
@@ -31,6 +32,7 @@ pub struct StepStats {
     steps: u32,
     sum_cycles: u64,
     max_cycles: u32,
+    max_step_us: u64,
     window_overruns: u32,
     total_overruns: u32,
     total_steps: u64,
@@ -45,6 +47,8 @@ pub struct WindowReport {
     pub mean_cycles: u32,
     /// Longest step \[cycles\].
     pub max_cycles: u32,
+    /// Longest step on the board's clock \[µs\] (the duration the overrun rule uses).
+    pub max_step_us: u64,
     /// Overruns in the window.
     pub overruns: u32,
     /// Overruns since boot.
@@ -60,18 +64,21 @@ impl StepStats {
             steps: 0,
             sum_cycles: 0,
             max_cycles: 0,
+            max_step_us: 0,
             window_overruns: 0,
             total_overruns: 0,
             total_steps: 0,
         }
     }
 
-    /// Records one step of `cycles`; `overrun` from [`is_overrun`].
-    pub fn record(&mut self, cycles: u32, overrun: bool) {
+    /// Records one step of `cycles` that took `step_us` \[µs\] on the board's clock; `overrun`
+    /// from [`is_overrun`].
+    pub fn record(&mut self, cycles: u32, step_us: u64, overrun: bool) {
         self.steps = self.steps.saturating_add(1);
         self.total_steps = self.total_steps.saturating_add(1);
         self.sum_cycles = self.sum_cycles.saturating_add(cycles as u64);
         self.max_cycles = self.max_cycles.max(cycles);
+        self.max_step_us = self.max_step_us.max(step_us);
         if overrun {
             self.window_overruns = self.window_overruns.saturating_add(1);
             self.total_overruns = self.total_overruns.saturating_add(1);
@@ -105,6 +112,7 @@ impl StepStats {
                 (self.sum_cycles / self.steps as u64) as u32
             },
             max_cycles: self.max_cycles,
+            max_step_us: self.max_step_us,
             overruns: self.window_overruns,
             total_overruns: self.total_overruns,
             total_steps: self.total_steps,
@@ -112,6 +120,7 @@ impl StepStats {
         self.steps = 0;
         self.sum_cycles = 0;
         self.max_cycles = 0;
+        self.max_step_us = 0;
         self.window_overruns = 0;
         report
     }
@@ -145,10 +154,10 @@ mod tests {
     fn windows_mean_max_and_overruns() {
         let mut s = StepStats::new();
         assert_eq!(s.take_window(), WindowReport::default());
-        for c in [100, 300, 200] {
-            s.record(c, false);
+        for (c, us) in [(100, 7), (300, 2), (200, 5)] {
+            s.record(c, us, false);
         }
-        s.record(1000, true);
+        s.record(1000, 3, true);
         assert_eq!(s.window_steps(), 4);
         let w = s.take_window();
         assert_eq!(
@@ -157,14 +166,16 @@ mod tests {
                 steps: 4,
                 mean_cycles: 400,
                 max_cycles: 1000,
+                max_step_us: 7,
                 overruns: 1,
                 total_overruns: 1,
                 total_steps: 4,
             }
         );
-        s.record(50, true);
+        s.record(50, 1, true);
         let w = s.take_window();
         assert_eq!((w.steps, w.mean_cycles, w.max_cycles), (1, 50, 50));
+        assert_eq!(w.max_step_us, 1);
         assert_eq!((w.overruns, w.total_overruns, w.total_steps), (1, 2, 5));
         assert_eq!(s.total_overruns(), 2);
         // Skipped ticks are overruns, not steps.
@@ -175,7 +186,10 @@ mod tests {
         assert_eq!(s.total_overruns(), 5);
         // A new window starts empty, the totals stay.
         let w = s.take_window();
-        assert_eq!((w.steps, w.max_cycles, w.overruns), (0, 0, 0));
+        assert_eq!(
+            (w.steps, w.max_cycles, w.max_step_us, w.overruns),
+            (0, 0, 0, 0)
+        );
         assert_eq!(w.total_overruns, 5);
     }
 }

@@ -1,5 +1,7 @@
 //! Benchmarks: one controller step (f32 and f64) at a representative state, and the whole 30 s
-//! Section VI closed-loop simulation (f32 and f64 controller), without any file output.
+//! Section VI closed-loop simulation (f32 and f64 controller), without any file output: with a
+//! [`Record`](host_sim::sim::Record) per sample handed to an observer (what the main run writes
+//! to `timeseries.csv`), and for the summary only.
 //!
 //! Run with `cargo bench -p host-sim`; sample sizes and times are kept small so the run takes
 //! well under two minutes on two cores (after the build).
@@ -15,7 +17,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use host_sim::controllers::measure;
 use host_sim::plant::PlantInput;
 use host_sim::scenario::{Precision, Scenario};
-use host_sim::sim::run_with;
+use host_sim::sim::{run_summary, run_with};
 use nalgebra::Vector3;
 
 /// The controller, the measured state and the reference of the paper scenario at
@@ -109,5 +111,25 @@ fn paper_scenario(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, controller_step, paper_scenario);
+/// The same 30 s run for its summary only (`sim::run_summary`: no per-sample record).
+fn paper_scenario_summary(c: &mut Criterion) {
+    let mut group = c.benchmark_group("paper_scenario_30s_summary");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(4));
+    for (name, precision) in [("f32", Precision::F32), ("f64", Precision::F64)] {
+        let mut s = Scenario::paper();
+        s.simulation.precision = precision;
+        group.bench_function(name, |b| b.iter(|| run_summary(black_box(&s))));
+    }
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    controller_step,
+    paper_scenario,
+    paper_scenario_summary
+);
 criterion_main!(benches);

@@ -13,10 +13,14 @@
 //! 3. **No-dive thrust.** The paper's `T = m|u|` against a no-dive thrust (the scenario's
 //!    `[controller] thrust`, or vertical priority; [`crate::no_dive`]): altitude lost from the paper's start, upright, and the seven
 //!    180° starts (on the reference and at hover); chattering under attitude noise.
+//! 4. **Integral action.** The paper's law with and without the bounded integral action under
+//!    mass errors, a constant force, gusts and all of them together
+//!    ([`crate::integral_ablation`]): steady error, convergence, samples outside the (extended)
+//!    a-priori bounds, and recovery from the 180° starts.
 //!
 //! The first two run in f64 (the recomposed law of [`crate::controllers::ablated`], which equals
-//! the core's law bit for bit when nothing is ablated); the third at the scenario's precision
-//! (the core's law itself), so its paper-start figure is the main run's.
+//! the core's law bit for bit when nothing is ablated); the third and fourth at the scenario's
+//! precision (the core's law itself), so the third's paper-start figure is the main run's.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -34,6 +38,7 @@ use crate::campaign::stats::Distribution;
 use crate::campaign::trace::{trace, TracePoint};
 use crate::campaign::Convergence;
 use crate::controllers::ControllerKind;
+use crate::integral_ablation::{run_integral, IntegralReport};
 use crate::no_dive::{run_no_dive, NoDiveReport};
 use crate::output::chart::{LegendAt, Panel, Scale, Series};
 use crate::report::fmt_opt;
@@ -100,6 +105,8 @@ pub struct AblationReport {
     pub filters: Vec<FilterRow>,
     /// No-dive thrust against the paper's.
     pub no_dive_thrust: NoDiveReport,
+    /// The paper's law with and without the integral action.
+    pub integral_action: IntegralReport,
 }
 
 const LAWS: [ControllerKind; 2] = [ControllerKind::Paper, ControllerKind::PaperMemoryless];
@@ -225,15 +232,27 @@ fn row(case: &str, law: ControllerKind, runs: &[RunMetrics]) -> FilterRow {
     }
 }
 
-/// Runs both ablations on `scenario` (precision forced to f64).
+/// How many runs the integral action's cells fly (`--integral-runs`,
+/// `--integral-combined-runs`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct IntegralRuns {
+    /// Runs per cell.
+    pub runs: u64,
+    /// Runs per cell of the combined case.
+    pub combined: u64,
+}
+
+/// Runs the ablations on `scenario` (precision forced to f64 for the first two).
 ///
 /// Errors: the scenario is invalid or a traced run fails.
 pub fn run_ablation(
     scenario: &Scenario,
     seed: u64,
     repeats: u64,
+    integral_runs: IntegralRuns,
 ) -> Result<(AblationReport, Traces)> {
     let no_dive_thrust = run_no_dive(scenario, seed, repeats)?;
+    let integral_action = run_integral(scenario, seed, integral_runs.runs, integral_runs.combined)?;
     let mut scenario = scenario.clone();
     scenario.simulation.precision = Precision::F64;
     let bounds = bound_set(&scenario)?;
@@ -253,6 +272,7 @@ pub fn run_ablation(
             hysteresis,
             filters,
             no_dive_thrust,
+            integral_action,
         },
         traces,
     ))
@@ -337,6 +357,7 @@ pub fn markdown(report: &AblationReport, plots: &[(String, String)]) -> String {
         );
     }
     no_dive_markdown(&mut md, &report.no_dive_thrust);
+    crate::integral_ablation::markdown(&mut md, &report.integral_action);
     let _ = writeln!(md);
     for (title, file) in plots {
         let _ = writeln!(md, "![{title}]({file})\n");
@@ -526,6 +547,8 @@ pub struct AblationOptions {
     pub out: PathBuf,
     /// Repetitions of the seven 180° starts per noise level, hysteresis ablation (4).
     pub repeats: u64,
+    /// Runs of the integral action's cells (200 each).
+    pub integral_runs: IntegralRuns,
     /// Scenario, seed and overrides.
     pub base: BaseOptions,
 }
@@ -535,7 +558,8 @@ pub struct AblationOptions {
 /// Errors: invalid scenario, a failed run, or a file that cannot be written.
 pub fn run_command(args: &AblationOptions) -> Result<()> {
     let scenario = args.base.scenario()?;
-    let (report, traces) = run_ablation(&scenario, args.base.seed, args.repeats)?;
+    let (report, traces) =
+        run_ablation(&scenario, args.base.seed, args.repeats, args.integral_runs)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let plots = write_plots(&args.out, &report, &traces)?;

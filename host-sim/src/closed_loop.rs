@@ -64,9 +64,10 @@ impl Step<'_> {
     /// With the rotor plant, what it will make of `command` (clipped as the loop will clip it):
     /// the rotor thrusts now and the mixer's report; `None` with the ideal plant.
     pub fn rotors(&self, command: &Wrench) -> Option<RotorSample> {
-        let applied = clipped(command, self.clip);
-        self.rotors
-            .map(|p| p.sample(applied.thrust, &applied.torque))
+        self.rotors.map(|p| {
+            let applied = clipped(command, self.clip);
+            p.sample(applied.thrust, &applied.torque)
+        })
     }
 }
 

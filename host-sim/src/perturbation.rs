@@ -12,8 +12,9 @@
 //! - model errors: the plant's mass and inertia diagonal are scaled by `1 + e` with `e` drawn
 //!   uniformly in `±max_fraction` once per run (each inertia axis independently); the controller
 //!   keeps the nominal values;
-//! - disturbances on the plant: constant force (inertial) and torque (body) plus gusts, each a
-//!   first-order Gauss–Markov process `ẋ = −x/τ_g + w` with stationary standard deviation `σ`,
+//! - disturbances on the plant: constant force (inertial) and torque (body), a constant force
+//!   drawn once per run (direction uniform on the sphere, magnitude uniform in `[0, max]`), plus
+//!   gusts, each a first-order Gauss–Markov process `ẋ = −x/τ_g + w` with stationary standard deviation `σ`,
 //!   sampled exactly at the controller period and held in between;
 //! - first-order motor lag on thrust and torque, `ȧ = (c − a)/τ_m`, integrated exactly at every
 //!   RK4 substep (the command `c` is held over the controller period), on the ideal plant; on
@@ -45,12 +46,20 @@ pub struct PerturbationConfig {
     pub gyro_noise_std_rad_s: f64,
     /// The plant's mass is `(1 + e) m` with `e` uniform in `±mass_error_max_fraction`.
     pub mass_error_max_fraction: f64,
+    /// A fixed plant mass error `e₀ ∈ (−1, 1)`, added to the drawn one: the plant's mass is
+    /// `(1 + e₀ + e) m` (e.g. `0.2` for a vehicle 20 % heavier than the controller assumes).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub mass_error_fraction: f64,
     /// Each plant inertia axis is `(1 + e_i) J_ii`, `e_i` uniform in `±inertia_error_max_fraction`.
     pub inertia_error_max_fraction: f64,
     /// Constant force disturbance \[N\], inertial.
     pub force_disturbance_N: [f64; 3],
     /// Constant torque disturbance [N m], body.
     pub torque_disturbance_Nm: [f64; 3],
+    /// Largest magnitude \[N\] of a constant force (inertial) drawn once per run: direction
+    /// uniform on the unit sphere, magnitude uniform in `[0, force_disturbance_max_N]`; added to
+    /// `force_disturbance_N`.
+    pub force_disturbance_max_N: f64,
     /// Stationary standard deviation of the gust force \[N\], per inertial axis.
     pub gust_force_std_N: f64,
     /// Stationary standard deviation of the gust torque [N m], per body axis.
@@ -76,9 +85,11 @@ impl PerturbationConfig {
     pub fn violates_model(&self) -> bool {
         let zero = Self::default();
         self.mass_error_max_fraction != 0.0
+            || self.mass_error_fraction != 0.0
             || self.inertia_error_max_fraction != 0.0
             || self.force_disturbance_N != zero.force_disturbance_N
             || self.torque_disturbance_Nm != zero.torque_disturbance_Nm
+            || self.force_disturbance_max_N != 0.0
             || self.gust_force_std_N != 0.0
             || self.gust_torque_std_Nm != 0.0
             || self.motor_time_constant_s != 0.0
@@ -97,6 +108,7 @@ impl PerturbationConfig {
                 "inertia_error_max_fraction",
                 self.inertia_error_max_fraction,
             ),
+            ("force_disturbance_max_N", self.force_disturbance_max_N),
             ("gust_force_std_N", self.gust_force_std_N),
             ("gust_torque_std_Nm", self.gust_torque_std_Nm),
             ("gust_time_constant_s", self.gust_time_constant_s),
@@ -120,6 +132,19 @@ impl PerturbationConfig {
                 return Err(format!("perturbations.{key}: must be < 1, got {v}"));
             }
         }
+        let fixed = self.mass_error_fraction;
+        if !(fixed.is_finite() && fixed.abs() < 1.0) {
+            return Err(format!(
+                "perturbations.mass_error_fraction: must be finite and in (-1, 1), got {fixed}"
+            ));
+        }
+        if fixed - self.mass_error_max_fraction <= -1.0 {
+            return Err(format!(
+                "perturbations.mass_error_fraction - mass_error_max_fraction must be > -1 (a \
+                 positive plant mass), got {fixed} - {}",
+                self.mass_error_max_fraction
+            ));
+        }
         let gusty = self.gust_force_std_N > 0.0 || self.gust_torque_std_Nm > 0.0;
         if gusty && self.gust_time_constant_s <= 0.0 {
             return Err(format!(
@@ -139,6 +164,10 @@ impl PerturbationConfig {
     }
 }
 
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
 /// A vector of independent standard normal draws.
 fn gaussian3(rng: &mut ChaCha8Rng) -> Vector3<f64> {
     Vector3::from_fn(|_, _| rng.sample::<f64, _>(StandardNormal))
@@ -155,13 +184,15 @@ pub struct Perturber {
     actuator: Option<(f64, Vector3<f64>)>,
     mass_scale: f64,
     inertia_scale: Vector3<f64>,
+    drawn_force: Vector3<f64>,
 }
 
 impl Perturber {
     /// Draws the run's model errors and initial gust states from `seed`.
     ///
-    /// The draws happen in a fixed order (mass, inertia, gusts), and a draw is skipped when its
-    /// setting is zero, so a nominal config consumes nothing.
+    /// The draws happen in a fixed order (mass, inertia, gusts, the constant force), and a draw
+    /// is skipped when its setting is zero, so a nominal config consumes nothing (and a config
+    /// without the drawn force draws what it drew before that key existed).
     pub fn new(config: &PerturbationConfig, seed: u64) -> Self {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let uniform = |max: f64, rng: &mut ChaCha8Rng| {
@@ -171,7 +202,9 @@ impl Perturber {
                 0.0
             }
         };
-        let mass_scale = 1.0 + uniform(config.mass_error_max_fraction, &mut rng);
+        // 1.0 + 0.0 is exactly 1.0: without a fixed error the scale is the drawn one, bit for bit.
+        let mass_scale =
+            1.0 + config.mass_error_fraction + uniform(config.mass_error_max_fraction, &mut rng);
         let inertia_scale =
             Vector3::from_fn(|_, _| 1.0 + uniform(config.inertia_error_max_fraction, &mut rng));
         // Start the gusts in their stationary distribution, so every second of the run is alike.
@@ -185,6 +218,15 @@ impl Perturber {
         } else {
             Vector3::zeros()
         };
+        let drawn_force = if config.force_disturbance_max_N > 0.0 {
+            // A normalised Gaussian vector is uniform on the sphere.
+            let direction = gaussian3(&mut rng)
+                .try_normalize(1e-12)
+                .unwrap_or(Vector3::z());
+            direction * rng.random_range(0.0..=config.force_disturbance_max_N)
+        } else {
+            Vector3::zeros()
+        };
         Self {
             config: config.clone(),
             rng,
@@ -193,6 +235,7 @@ impl Perturber {
             actuator: None,
             mass_scale,
             inertia_scale,
+            drawn_force,
         }
     }
 
@@ -203,6 +246,12 @@ impl Perturber {
             inertia: nominal.inertia.component_mul(&self.inertia_scale),
             gravity: nominal.gravity,
         }
+    }
+
+    /// The constant force drawn for this run \[N\], inertial (zero unless
+    /// `force_disturbance_max_N > 0`).
+    pub fn drawn_force(&self) -> Vector3<f64> {
+        self.drawn_force
     }
 
     /// The drawn mass scale `1 + e` and inertia scales `1 + e_i`.
@@ -242,7 +291,8 @@ impl Perturber {
                 *x = *x * a + gaussian3(rng) * (std * (1.0 - a * a).sqrt());
             }
         };
-        input.force_disturbance = Vector3::from(c.force_disturbance_N) + self.gust_force;
+        input.force_disturbance =
+            Vector3::from(c.force_disturbance_N) + self.drawn_force + self.gust_force;
         input.torque_disturbance = Vector3::from(c.torque_disturbance_Nm) + self.gust_torque;
         step(&mut self.gust_force, c.gust_force_std_N, &mut self.rng);
         step(&mut self.gust_torque, c.gust_torque_std_Nm, &mut self.rng);
@@ -325,6 +375,47 @@ mod tests {
     }
 
     #[test]
+    fn drawn_force_is_bounded_isotropic_applied_and_leaves_earlier_draws_alone() {
+        let base = PerturbationConfig {
+            mass_error_max_fraction: 0.2,
+            inertia_error_max_fraction: 0.2,
+            ..Default::default()
+        };
+        let c = PerturbationConfig {
+            force_disturbance_max_N: 0.45,
+            ..base.clone()
+        };
+        assert!(c.violates_model() && c.validate().is_ok());
+        let n = 20_000;
+        let mut mean_direction = Vector3::zeros();
+        let mut mean_magnitude = 0.0;
+        for seed in 0..n {
+            let p = Perturber::new(&c, seed);
+            // The model errors are drawn first: the same with and without the force.
+            assert_eq!(p.model_scales(), Perturber::new(&base, seed).model_scales());
+            let f = p.drawn_force();
+            assert!(f.norm() <= 0.45);
+            mean_direction += f.normalize() / n as f64;
+            mean_magnitude += f.norm() / n as f64;
+            let mut q = p.clone();
+            let mut input = PlantInput::default();
+            q.disturb(&mut input, 0.01);
+            assert_eq!(input.force_disturbance, f);
+        }
+        // Uniform on the sphere: each component of the mean direction has standard deviation
+        // sqrt(1/3 / n) = 0.0041; uniform magnitude: mean 0.225 N, standard error 0.0009 N.
+        assert!(mean_direction.amax() < 5.0 * (1.0 / 3.0 / n as f64).sqrt());
+        assert!((mean_magnitude - 0.225).abs() < 5.0 * 0.45 / (12.0 * n as f64).sqrt());
+        let bad = PerturbationConfig {
+            force_disturbance_max_N: f64::NAN,
+            ..Default::default()
+        };
+        assert!(bad
+            .validate()
+            .is_err_and(|e| e.contains("force_disturbance_max_N")));
+    }
+
+    #[test]
     fn gust_keeps_its_stationary_standard_deviation() {
         let c = PerturbationConfig {
             gust_force_std_N: 0.3,
@@ -342,6 +433,44 @@ mod tests {
         let std = (sum2 / n as f64).sqrt();
         // Correlated samples: ~n dt / (2 τ) = 2000 independent ones, so ~1.6 % relative error.
         assert!((std - 0.3).abs() < 0.3 * 0.06, "std {std}");
+    }
+
+    /// The fixed mass error scales the plant exactly, adds to the drawn one, and is refused
+    /// outside (−1, 1).
+    #[test]
+    fn fixed_mass_error_scales_the_plant() {
+        let c = PerturbationConfig {
+            mass_error_fraction: 0.2,
+            ..Default::default()
+        };
+        assert!(c.violates_model() && c.validate().is_ok());
+        assert_eq!(Perturber::new(&c, 7).model_scales().0, 1.2);
+        let both = PerturbationConfig {
+            mass_error_max_fraction: 0.1,
+            ..c.clone()
+        };
+        let drawn = Perturber::new(
+            &PerturbationConfig {
+                mass_error_max_fraction: 0.1,
+                ..Default::default()
+            },
+            7,
+        )
+        .model_scales()
+        .0;
+        // Recovering the draw as `drawn − 1` rounds once (≤ 1 ulp of 1.2).
+        let sum = Perturber::new(&both, 7).model_scales().0;
+        assert!(
+            (sum - (1.2 + (drawn - 1.0))).abs() <= 2.0 * f64::EPSILON,
+            "{sum}"
+        );
+        for bad in [1.0, -1.0, f64::NAN] {
+            let c = PerturbationConfig {
+                mass_error_fraction: bad,
+                ..Default::default()
+            };
+            assert!(c.validate().unwrap_err().contains("mass_error_fraction"));
+        }
     }
 
     #[test]

@@ -58,7 +58,7 @@ pub struct MixReport {
 }
 
 /// Counts of what the mixer gave up over samples (`campaign.json`, `summary.json`).
-#[derive(Clone, Copy, Debug, Default, Serialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, Serialize, serde::Deserialize, PartialEq)]
 #[allow(non_snake_case)]
 pub struct MixerCounts {
     /// Samples whose command went through the mixer.

@@ -5,7 +5,7 @@
 use anyhow::{anyhow, Result};
 use controller_core::scalar::{to_f64, Scalar};
 use controller_core::{
-    certify, Certificate, ControlOutput, FilterStart, ReferenceSample, Trajectory,
+    certify, Certificate, ControlOutput, FilterStart, Gains, ReferenceSample, Trajectory,
 };
 use nalgebra::Vector3;
 use serde::Serialize;
@@ -15,7 +15,7 @@ use crate::controllers::paper::{back3, PaperLaw};
 use crate::plant::RigidBodyState;
 use crate::rotor_plant::{MixerCounts, RotorSample};
 use crate::scenario::{PlantKind, Precision, Scenario};
-use crate::tight_certificate::{scenario_tight_bounds, tight_limits, tight_report, TightReport};
+use crate::tight_certificate::{covered_tight_bounds, tight_limits, tight_report, TightReport};
 
 /// One controller sample: the state, the reference, the command and the law's internals.
 /// Column names carry units; angles are in rad unless named `_deg`.
@@ -136,13 +136,41 @@ pub struct APriori {
     /// Every condition with both sides.
     pub conditions: Vec<ConditionReport>,
     /// The tight bounds on the same quantities, beside these
-    /// ([`crate::tight_certificate`]).
-    pub tight: TightReport,
+    /// ([`crate::tight_certificate`]); absent with the integral action on, which they do not
+    /// cover.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tight: Option<TightReport>,
     /// With the no-dive thrust (`[controller] thrust = "body-axis-projection"`) only: the
     /// a-priori interval `[T_floor, T_max]` \[N\] of the applied thrust, which replaces
     /// `[thrust_min_N, thrust_max_N]` in the bound check (absent with the paper's `T = m|u|`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub no_dive_thrust_interval_N: Option<[f64; 2]>,
+    /// With `[gains.integral]` only: its gains and what it adds to the bounds (the bounds and
+    /// conditions above are then the extended ones; docs/integral-action.md).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub integral: Option<IntegralReport>,
+}
+
+/// The integral action in `summary.json`: the gains as given and the certificate's terms.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+#[allow(non_snake_case)]
+pub struct IntegralReport {
+    /// `k_i` [1/s³].
+    pub k_i: f64,
+    /// `M_i` [m/s²] per inertial axis.
+    pub M_i_m_s2: [f64; 3],
+    /// `R_i` [m/s³] per inertial axis.
+    pub rate_m_s3: [f64; 3],
+    /// `k_η` [1/s].
+    pub k_eta: f64,
+    /// `L = M_p + M_i` [m/s²] per inertial axis.
+    pub level_sum_m_s2: [f64; 3],
+    /// `2 k_η |M_i|` [m/s³], added to `U_u̇`.
+    pub u_rate_term_m_s3: f64,
+    /// `k_η (2 k_η |M_i| + |R_i|)` [m/s⁴], added to `U_ü`.
+    pub u_acceleration_term_m_s4: f64,
+    /// `[a₀, a₁, a₂, a₃, 1]` of the per-axis linearisation's characteristic polynomial.
+    pub characteristic_polynomial: [f64; 5],
 }
 
 /// Extremes seen along the run (over the controller samples).
@@ -161,8 +189,10 @@ pub struct Observed {
     pub angular_acceleration_d_max_rad_s2: f64,
     /// Samples whose thrust or torque left the a-priori bounds.
     pub samples_outside_a_priori_bounds: u64,
-    /// Samples whose torque, `|ω_d|` or `|ω̇_d|` exceeded the tight bounds.
-    pub samples_above_tight_bounds: u64,
+    /// Samples whose torque, `|ω_d|` or `|ω̇_d|` exceeded the tight bounds (absent where there
+    /// are none: the integral action on).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub samples_above_tight_bounds: Option<u64>,
     /// Samples taken.
     pub samples: u64,
     /// Initial altitude minus the lowest altitude of the run \[m\] (over the samples; 0 if
@@ -259,10 +289,24 @@ pub fn certificate(scenario: &Scenario) -> Result<Certificate<f64>> {
 
 fn a_priori(
     c: &Certificate<f64>,
+    gains: &Gains<f64>,
     no_dive_thrust_interval: Option<[f64; 2]>,
-    tight: TightReport,
+    tight: Option<TightReport>,
 ) -> APriori {
     let b = &c.bounds;
+    let integral = match (&gains.integral, &c.integral) {
+        (Some(g), Some(i)) => Some(IntegralReport {
+            k_i: g.gain,
+            M_i_m_s2: g.level.into(),
+            rate_m_s3: g.rate.into(),
+            k_eta: g.bandwidth,
+            level_sum_m_s2: i.level_sum.into(),
+            u_rate_term_m_s3: i.u_rate_term,
+            u_acceleration_term_m_s4: i.u_acceleration_term,
+            characteristic_polynomial: i.polynomial,
+        }),
+        _ => None,
+    };
     APriori {
         thrust_min_N: b.thrust_min,
         thrust_max_N: b.thrust_max,
@@ -272,8 +316,7 @@ fn a_priori(
         feedback_torque_max_Nm: b.feedback_torque,
         feasible: c.require_feasible().is_ok(),
         conditions: c
-            .conditions
-            .iter()
+            .all_conditions()
             .map(|k| ConditionReport {
                 name: k.name.into(),
                 statement: k.statement.into(),
@@ -284,6 +327,7 @@ fn a_priori(
             .collect(),
         tight,
         no_dive_thrust_interval_N: no_dive_thrust_interval,
+        integral,
     }
 }
 
@@ -291,10 +335,21 @@ fn a_priori(
 ///
 /// Errors: invalid parameters (named by scenario key), or a controller step refused (with the
 /// time and the reason).
-pub fn run_with(scenario: &Scenario, observe: impl FnMut(&Record)) -> Result<Summary> {
+pub fn run_with(scenario: &Scenario, mut observe: impl FnMut(&Record)) -> Result<Summary> {
     match scenario.simulation.precision {
-        Precision::F32 => run_generic::<f32>(scenario, observe),
-        Precision::F64 => run_generic::<f64>(scenario, observe),
+        Precision::F32 => run_generic::<f32>(scenario, Some(&mut observe)),
+        Precision::F64 => run_generic::<f64>(scenario, Some(&mut observe)),
+    }
+}
+
+/// Runs the scenario for its [`Summary`] only (the one [`run_with`] returns, bit for bit),
+/// without building a [`Record`] per sample: the run without output files.
+///
+/// Errors: as [`run_with`].
+pub fn run_summary(scenario: &Scenario) -> Result<Summary> {
+    match scenario.simulation.precision {
+        Precision::F32 => run_generic::<f32>(scenario, None),
+        Precision::F64 => run_generic::<f64>(scenario, None),
     }
 }
 
@@ -365,14 +420,27 @@ pub fn fly<T: Scalar>(
     )
 }
 
+/// What the summary keeps of the last sample.
+#[derive(Clone, Copy)]
+struct LastSample {
+    t: f64,
+    position_error: f64,
+    mrp_error: f64,
+    omega_error: f64,
+    q_hat_resets: u32,
+    m_flips: u32,
+}
+
+/// The main run; with `observe`, builds and shows every sample's [`Record`] (the summary does
+/// not depend on it).
 fn run_generic<T: Scalar>(
     scenario: &Scenario,
-    mut observe: impl FnMut(&Record),
+    mut observe: Option<&mut dyn FnMut(&Record)>,
 ) -> Result<Summary> {
     let cert = certificate(scenario)?;
     let bounds = &cert.bounds;
-    let tight = scenario_tight_bounds(scenario)?;
-    let tight_limits = tight_limits(&tight);
+    let tight = covered_tight_bounds(scenario)?;
+    let tight_limits = tight.as_ref().map(tight_limits);
     let [thrust_low, thrust_high] = scenario
         .thrust_interval(bounds)
         .map_err(|e| anyhow!("{e}"))?;
@@ -386,7 +454,7 @@ fn run_generic<T: Scalar>(
         angular_velocity_d_max_rad_s: 0.0,
         angular_acceleration_d_max_rad_s2: 0.0,
         samples_outside_a_priori_bounds: 0,
-        samples_above_tight_bounds: 0,
+        samples_above_tight_bounds: tight_limits.as_ref().map(|_| 0),
         samples: 0,
         altitude_loss_m: 0.0,
     };
@@ -416,8 +484,9 @@ fn run_generic<T: Scalar>(
             || thrust > thrust_high * (1.0 + slack)
             || (0..3).any(|i| torque[i].abs() > bounds.torque_max[i] * (1.0 + slack));
         observed.samples_outside_a_priori_bounds += u64::from(outside);
-        observed.samples_above_tight_bounds +=
-            u64::from(tight_limits.exceeded(&torque, w_d, w_d_dot, slack));
+        if let (Some(n), Some(l)) = (&mut observed.samples_above_tight_bounds, &tight_limits) {
+            *n += u64::from(l.exceeded(&torque, w_d, w_d_dot, slack));
+        }
         observed.altitude_loss_m = observed
             .altitude_loss_m
             .max(initial_altitude - state.position.z);
@@ -428,6 +497,20 @@ fn run_generic<T: Scalar>(
         let omega_error = back3(&d.omega_error).norm();
         settle_p.push(t, position_error);
         settle_m.push(t, mrp_error);
+        last = Some(LastSample {
+            t,
+            position_error,
+            mrp_error,
+            omega_error,
+            q_hat_resets: d.jumps_total.q_hat_resets,
+            m_flips: d.jumps_total.m_flips,
+        });
+        if let Some(r) = &sample.rotors {
+            mixer.push(&r.mix);
+        }
+        let Some(observe) = observe.as_mut() else {
+            return;
+        };
         let (roll, pitch, yaw) = state.attitude.euler_angles();
         let mut record = Record {
             t_s: t,
@@ -468,10 +551,8 @@ fn run_generic<T: Scalar>(
             record.mixer_thrust_N = Some(r.mix.achieved_thrust_N);
             record.mixer_thrust_given_up_N = Some(r.mix.thrust_given_up_N);
             record.mixer_torque_given_up_Nm = Some(r.mix.torque_given_up_Nm);
-            mixer.push(&r.mix);
         }
         observe(&record);
-        last = Some(record);
     })?;
 
     let last = last.ok_or_else(|| anyhow!("the run produced no sample"))?;
@@ -479,15 +560,16 @@ fn run_generic<T: Scalar>(
         precision: scenario.simulation.precision,
         a_priori: a_priori(
             &cert,
+            &scenario.gains(),
             (!scenario.controller.is_paper()).then_some([thrust_low, thrust_high]),
-            tight_report(&cert, &tight),
+            tight.map(|t| tight_report(&cert, &t)),
         ),
         observed,
         final_: Final {
-            time_s: last.t_s,
-            position_error_m: last.position_error_m,
+            time_s: last.t,
+            position_error_m: last.position_error,
             mrp_error: last.mrp_error,
-            angular_velocity_error_rad_s: last.angular_velocity_error_rad_s,
+            angular_velocity_error_rad_s: last.omega_error,
         },
         path_lifting: PathLiftingReport {
             q_hat_resets: last.q_hat_resets,
@@ -506,4 +588,32 @@ fn trajectory_sample_f64<T: Scalar>(
     s: &controller_core::ReferenceSample<T>,
 ) -> (Vector3<f64>, f64) {
     (back3(&s.position), to_f64(s.yaw()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The summary-only run gives the summary of the run with records, bit for bit (Debug
+    /// prints every float in full), in both precisions, and with the rotor plant's mixer
+    /// counts.
+    #[test]
+    fn summary_only_run_matches_the_recorded_run() {
+        let paper_rotors =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("vehicles/paper.toml");
+        let rotors = Scenario::paper()
+            .with_plant_overrides(Some(&paper_rotors), Some(PlantKind::Rotors), None)
+            .unwrap();
+        for mut s in [Scenario::paper(), rotors] {
+            s.simulation.duration_s = 4.0;
+            for precision in [Precision::F32, Precision::F64] {
+                s.simulation.precision = precision;
+                let mut samples = 0;
+                let recorded = run_with(&s, |_| samples += 1).unwrap();
+                let summary = run_summary(&s).unwrap();
+                assert_eq!(samples, 401);
+                assert_eq!(format!("{summary:?}"), format!("{recorded:?}"));
+            }
+        }
+    }
 }

@@ -78,13 +78,23 @@ pub struct TightRatios {
 }
 
 /// The tight bounds of `scenario` (the law's gains, vehicle and trajectory; the filters start at
-/// zero as in Section VI). Errors: the parameter errors of [`controller_core::certify`].
+/// zero as in Section VI). Errors: the parameter errors of [`controller_core::certify`], and a
+/// scenario with the integral action on (`[gains.integral]`): the branch and bound confines the
+/// law's arguments to the paper's sets, which the integral estimate widens
+/// (docs/integral-action.md), so it has no tight bounds to give there
+/// ([`covered_tight_bounds`] answers `None` instead).
 ///
 /// The branch and bound takes about a second, and a campaign, its report and its runs ask for
 /// the same set-up's bounds, so results are kept for the process's life, keyed by the exact
 /// inputs.
 pub fn scenario_tight_bounds(scenario: &Scenario) -> Result<TightBounds> {
     let (vehicle, gains) = (scenario.vehicle(), scenario.gains());
+    if gains.integral.is_some() {
+        anyhow::bail!(
+            "the tight bounds do not cover the integral action ([gains.integral]); its a-priori \
+             bounds are the extended ones of docs/integral-action.md"
+        );
+    }
     let constants = scenario.trajectory::<f64>().constants();
     let key = format!("{vehicle:?}{gains:?}{constants:?}");
     let cache = MEMO.get_or_init(|| Mutex::new(Vec::new()));
@@ -101,6 +111,15 @@ pub fn scenario_tight_bounds(scenario: &Scenario) -> Result<TightBounds> {
     .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;
     lock(cache).push((key, b));
     Ok(b)
+}
+
+/// [`scenario_tight_bounds`], or `None` where they do not apply (the integral action on).
+/// Errors: as [`scenario_tight_bounds`] otherwise.
+pub fn covered_tight_bounds(scenario: &Scenario) -> Result<Option<TightBounds>> {
+    if scenario.gains::<f64>().integral.is_some() {
+        return Ok(None);
+    }
+    scenario_tight_bounds(scenario).map(Some)
 }
 
 /// What a run's samples are checked against.

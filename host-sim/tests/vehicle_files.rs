@@ -347,6 +347,28 @@ fn bad_vehicle_files_are_refused_with_file_key_and_reason() {
     assert!(e.contains("no/such/vehicle.toml"), "{e}");
 }
 
+/// Found by the `vehicle_toml` fuzz target (tests/fuzz/regressions/vehicle_toml/): a rotor
+/// position finite in f64 but beyond f32 (-2.2e113 m) was accepted, and the firmware's flight
+/// values held `-inf` and an infinite arm length. So is one whose coordinates fit f32 but whose
+/// distance from the centre (the arm length) does not. Both are refused now.
+#[test]
+fn rotor_positions_beyond_f32_are_refused() {
+    let (text, _) = preset("x500");
+    let rear_right = "[-0.174, -0.174],   # rotor_3";
+    assert!(text.contains(rear_right));
+    for position in [
+        "[-222222222222222222222222222222222222222222222222222222222222222222222222222222222222222222222222222222222222222220.174, -0.174],",
+        "[3e38, -3e38],",
+    ] {
+        let edited = text.replacen(rear_right, &format!("{position}   # rotor_3"), 1);
+        let e = VehicleFile::parse(&edited, "x.toml")
+            .map(|_| ())
+            .expect_err(position);
+        assert_eq!(e.key, "rotors.positions_m[3]", "{e}");
+        assert!(e.reason.contains("f32 range"), "{e}");
+    }
+}
+
 /// A scenario can carry a vehicle's `[rotors]` and `[drag]`; the paper scenario does not, so its
 /// serialisation is unchanged; `with_vehicle` swaps the vehicle and the result is a valid
 /// scenario file again; a scenario's bad `[rotors]` is refused with its key.

@@ -54,7 +54,7 @@ fn small_campaign_converges_within_the_bounds_and_writes_its_files() {
     assert!(stats.final_position_error_m.max.unwrap() < 2e-4);
 
     let dir = std::env::temp_dir().join(format!("host-sim-campaign-test-{}", std::process::id()));
-    let report = CampaignReport::new(&config, b, stats, 1.0);
+    let report = CampaignReport::new(&config, b, stats);
     let files = write_campaign(&dir, &report, &results, true).unwrap();
     let names: Vec<String> = files
         .iter()

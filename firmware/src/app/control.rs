@@ -114,7 +114,11 @@ pub async fn run(
         let step_us = Instant::now()
             .saturating_duration_since(started)
             .as_micros();
-        stats.record(cycles, timing::is_overrun(lateness_us, step_us, period_us));
+        stats.record(
+            cycles,
+            step_us,
+            timing::is_overrun(lateness_us, step_us, period_us),
+        );
         watchdog.feed();
 
         motors.write(frames).await;

@@ -35,12 +35,13 @@ fn log_timing(w: &WindowReport, core_hz: u32) {
     let us = |c| timing::cycles_to_us(c, core_hz);
     info!(
         "timing: {=u32} steps, mean {=u32} cyc ({=f32} us), max {=u32} cyc ({=f32} us), \
-         overruns {=u32} (total {=u32})",
+         longest step {=u64} us, overruns {=u32} (total {=u32})",
         w.steps,
         w.mean_cycles,
         us(w.mean_cycles),
         w.max_cycles,
         us(w.max_cycles),
+        w.max_step_us,
         w.overruns,
         w.total_overruns
     );
@@ -107,7 +108,7 @@ fn log_summary(s: &Summary) {
         "flight t={=u64} ms {=str}/{=str} cal={=bool} conv={=bool} pose_age={=f32} ms \
          p=[{=f32}, {=f32}, {=f32}] p_d=[{=f32}, {=f32}, {=f32}] |e|={=f32} m \
          T={=f32} N tau=[{=f32}, {=f32}, {=f32}] throttle=[{=f32}, {=f32}, {=f32}, {=f32}] \
-         armed={=bool}",
+         eta=[{=f32}, {=f32}, {=f32}] m/s^2 armed={=bool}",
         s.now_us / 1000,
         st.state.name(),
         st.mode.name(),
@@ -129,6 +130,9 @@ fn log_summary(s: &Summary) {
         s.output.throttle[1],
         s.output.throttle[2],
         s.output.throttle[3],
+        st.integral[0],
+        st.integral[1],
+        st.integral[2],
         s.output.armed
     );
 }

@@ -102,9 +102,13 @@ impl FlightPipeline {
                 rhs: r.rhs,
             });
         }
-        let _ = self
+        if self
             .texts
-            .push_back((MavSeverity::MAV_SEVERITY_WARNING, command, r.reason));
+            .push_back((MavSeverity::MAV_SEVERITY_WARNING, command, r.reason))
+            .is_err()
+        {
+            self.counters.replies_dropped = self.counters.replies_dropped.saturating_add(1);
+        }
     }
 
     /// A refusal with a reason only.

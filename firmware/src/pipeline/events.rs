@@ -126,6 +126,10 @@ pub struct PipelineStatus {
     pub torque: [f32; 3],
     /// Last motor throttles.
     pub throttle: [f32; 4],
+    /// The integral action's filtered estimate `η_f` [m/s²], NWU (inertial): what the law adds
+    /// to `u` against a constant disturbance (docs/integral-action.md). Zero while disarmed or
+    /// with the integral action off; held from the failsafe's start.
+    pub integral: [f32; 3],
 }
 
 /// Event queue length: the events of a burst of commands and state changes within one log
@@ -178,6 +182,10 @@ impl FlightPipeline {
                 ]
             }),
             throttle: self.last_output.throttle,
+            integral: self
+                .controller
+                .as_ref()
+                .map_or([0.0; 3], |c| c.integral_state().filtered.into()),
         }
     }
 

@@ -6,6 +6,7 @@ use controller_core::Vehicle;
 use nalgebra::Vector3;
 
 use crate::config::LandedConfig;
+use crate::control_rate::ControlRate;
 
 /// What the detector looks at in one control tick, by situation. Frames: inertial NWU (z up)
 /// for positions and velocities, body FLU for the specific force.
@@ -42,18 +43,28 @@ pub struct LandedDetector {
     cfg: LandedConfig,
     mass: f32,
     gravity: f32,
+    /// [`LandedConfig::confirm_us`] in ticks of the law's rate.
+    confirm_ticks: u32,
     ticks: u32,
 }
 
 impl LandedDetector {
-    /// Not landed, thresholds `cfg`, the vehicle's mass \[kg\] and gravity [m/s²] for its weight.
-    pub fn new(cfg: LandedConfig, vehicle: &Vehicle<f32>) -> Self {
+    /// Not landed, thresholds `cfg`, the vehicle's mass \[kg\] and gravity [m/s²] for its
+    /// weight, ticking at `rate` (the confirmation time in ticks).
+    pub fn new(cfg: LandedConfig, vehicle: &Vehicle<f32>, rate: ControlRate) -> Self {
         Self {
             cfg,
             mass: vehicle.mass,
             gravity: vehicle.gravity,
+            confirm_ticks: rate.ticks_in(cfg.confirm_us),
             ticks: 0,
         }
+    }
+
+    /// Consecutive ticks [`LandedDetector::update`] needs: [`LandedConfig::confirm_us`] at the
+    /// law's rate, rounded up.
+    pub fn confirm_ticks(&self) -> u32 {
+        self.confirm_ticks
     }
 
     /// Forgets the ticks counted so far (at arming and at the start of a landing).
@@ -92,7 +103,7 @@ impl LandedDetector {
     }
 
     /// One control tick: true once [`LandedDetector::on_ground`] has held for
-    /// [`LandedConfig::confirm_ticks`] consecutive ticks (this one included); any tick off the
+    /// [`LandedDetector::confirm_ticks`] consecutive ticks (this one included); any tick off the
     /// ground starts the count again.
     #[inline]
     pub fn update(&mut self, input: &LandedInputs) -> bool {
@@ -101,7 +112,7 @@ impl LandedDetector {
         } else {
             0
         };
-        self.ticks >= self.cfg.confirm_ticks
+        self.ticks >= self.confirm_ticks
     }
 }
 
@@ -112,7 +123,20 @@ mod tests {
 
     fn detector() -> LandedDetector {
         let c = FlightConfig::paper();
-        LandedDetector::new(c.landed, &c.vehicle)
+        LandedDetector::new(c.landed, &c.vehicle, c.control_rate)
+    }
+
+    /// The confirmation is a time: the same 0.3 s at every rate, in whole ticks.
+    #[test]
+    fn confirmation_is_the_same_time_at_every_rate() {
+        let c = FlightConfig::paper();
+        for rate in ControlRate::ALL {
+            let d = LandedDetector::new(c.landed, &c.vehicle, rate);
+            let n = u64::from(d.confirm_ticks());
+            assert!(n * rate.period_us() >= c.landed.confirm_us, "{rate:?}");
+            assert!((n - 1) * rate.period_us() < c.landed.confirm_us, "{rate:?}");
+        }
+        assert_eq!(detector().confirm_ticks(), 30);
     }
 
     fn cfg() -> LandedConfig {
@@ -152,7 +176,7 @@ mod tests {
 
     #[test]
     fn given_touchdown_when_held_then_landed_exactly_at_the_confirm_tick() {
-        let n = cfg().confirm_ticks;
+        let n = detector().confirm_ticks();
         let mut d = detector();
         assert!(!run(&mut d, &touchdown(), n - 1), "landed before tick {n}");
         assert!(d.update(&touchdown()), "not landed at tick {n}");
@@ -161,7 +185,7 @@ mod tests {
 
     #[test]
     fn given_touchdown_counting_when_one_tick_bounces_then_count_restarts() {
-        let n = cfg().confirm_ticks;
+        let n = detector().confirm_ticks();
         let mut d = detector();
         run(&mut d, &touchdown(), n - 1);
         let bounce = LandedInputs::Landing {
@@ -176,7 +200,7 @@ mod tests {
 
     #[test]
     fn given_touchdown_counting_when_reset_then_count_restarts() {
-        let n = cfg().confirm_ticks;
+        let n = detector().confirm_ticks();
         let mut d = detector();
         run(&mut d, &touchdown(), n - 1);
         d.reset();
@@ -233,7 +257,7 @@ mod tests {
 
     #[test]
     fn given_failsafe_on_ground_when_held_then_landed_at_the_confirm_tick() {
-        let n = cfg().confirm_ticks;
+        let n = detector().confirm_ticks();
         let mut d = detector();
         assert!(!run(&mut d, &failsafe_on_ground(), n - 1));
         assert!(d.update(&failsafe_on_ground()));
@@ -241,7 +265,7 @@ mod tests {
 
     #[test]
     fn given_other_situations_when_ticked_then_never_landed_and_count_cleared() {
-        let n = cfg().confirm_ticks;
+        let n = detector().confirm_ticks();
         let mut d = detector();
         run(&mut d, &touchdown(), n - 1);
         assert!(!d.update(&LandedInputs::Other));

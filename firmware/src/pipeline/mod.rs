@@ -1,8 +1,8 @@
 //! The flight pipeline: IMU and MAVLink in, motor throttles and telemetry out. Everything the
 //! firmware flies, with no register and no logging, so host-sim runs the very same code.
 //!
-//! Per control tick (100 Hz): estimate at `now` → safety supervisor → by state: disarmed
-//! (throttle 0), armed idle (idle throttle, waiting for takeoff / mission / setpoint), armed
+//! Per control tick (the law's rate, 100 Hz to 1 kHz): estimate at `now` → safety supervisor →
+//! by state: disarmed (throttle 0), armed idle (idle throttle, waiting for takeoff / mission / setpoint), armed
 //! flying (reference → controller-core law → mixer → thrust curve), failsafe (IMU-only level
 //! attitude hold with the paper's saturated attitude law and a descent thrust). Any non-finite
 //! value on the way is counted and sends an armed vehicle to the failsafe; the throttles are
@@ -30,6 +30,7 @@ pub use gate::{box_margin, check as gate_check, GateFailure, BOX_FIT};
 pub use landed::{LandedDetector, LandedInputs};
 pub use mission::{Mode, ModeMachine};
 
+use controller_core::scalar::{fmin, norm};
 use controller_core::{
     certify, Certificate, Controller, FilterStart, ParameterError, TrajectoryConstants,
     VehicleState,
@@ -121,7 +122,6 @@ pub struct FlightPipeline {
     reference: FlightReference,
     mission: ModeMachine,
     last_tick_us: Option<u64>,
-    last_imu_us: Option<u64>,
     pending_non_finite: bool,
     landed: LandedDetector,
     last_mix: Option<MixOutput>,
@@ -209,9 +209,8 @@ impl FlightPipeline {
             reference,
             mission: ModeMachine::new(),
             last_tick_us: None,
-            last_imu_us: None,
             pending_non_finite: false,
-            landed: LandedDetector::new(cfg.landed, &cfg.vehicle),
+            landed: LandedDetector::new(cfg.landed, &cfg.vehicle, cfg.control_rate),
             last_mix: None,
             last_output: MotorOutput::STOPPED,
             failsafe_thrust: 0.0,
@@ -257,8 +256,11 @@ impl FlightPipeline {
         self.last_mix
     }
 
-    /// Logs a state change and queues its STATUSTEXT; disarming drops the controller and
-    /// returns the mode machine to idle.
+    /// Logs a state change and queues its STATUSTEXT; the failsafe freezes the integral
+    /// estimate (the failsafe law does not step the controller today, so the estimate is held
+    /// anyway; the freeze keeps it so should the failsafe ever fly the law while descending);
+    /// disarming drops the controller and returns the mode machine to idle (arming builds a new
+    /// one: the estimate restarts from zero).
     fn transition(&mut self, t: Option<Transition>) {
         if let Some(t) = t {
             self.event(Event::StateChanged {
@@ -277,6 +279,11 @@ impl FlightPipeline {
                 .is_err()
             {
                 self.counters.replies_dropped = self.counters.replies_dropped.saturating_add(1);
+            }
+            if t.to == FlightState::Failsafe {
+                if let Some(c) = self.controller.as_mut() {
+                    c.set_integral_frozen(true);
+                }
             }
             if t.to == FlightState::Disarmed {
                 self.controller = None;
@@ -306,15 +313,10 @@ impl FlightPipeline {
             self.non_finite("imu");
             return;
         }
-        let dt = match self.last_imu_us {
-            Some(t) if sample.time_us > t => {
-                ((sample.time_us - t) as f32 * 1e-6).min(self.cfg.mahony_dt_max)
-            }
-            _ => 0.0,
-        };
-        self.last_imu_us = Some(sample.time_us);
+        let dt = fmin(self.estimator.imu_interval_s(), self.cfg.mahony_dt_max);
+        // The estimator has refused non-finite samples already.
         self.mahony
-            .update(&self.estimator.angular_velocity(), &accel, dt);
+            .update_finite(&self.estimator.angular_velocity(), &accel, dt);
         if self.was_calibrating && !self.estimator.calibrating() {
             self.was_calibrating = false;
             let b = self.estimator.gyro_bias();
@@ -328,19 +330,19 @@ impl FlightPipeline {
     pub fn on_link_bytes(&mut self, bytes: &[u8], now_us: u64) {
         // Each message is handled as soon as its last byte is in: one byte can release many
         // frames at once (those a corrupted length byte held back), and none may be lost.
-        for &b in bytes {
-            self.decoder.push_byte(b);
-            while let Some(m) = self.decoder.poll() {
-                self.handle(m, now_us);
-            }
+        let mut rest = bytes;
+        while let (used, Some(m)) = self.decoder.feed(rest) {
+            rest = &rest[used..];
+            self.handle(m, now_us);
         }
         self.counters.link = self.decoder.counters();
     }
 
-    /// 100 Hz: the motor throttles for `now_us`. Never panics; never NaN.
+    /// One control tick (every [`FlightConfig::control_period`]): the motor throttles for
+    /// `now_us`. Never panics; never NaN.
     pub fn control_tick(&mut self, now_us: u64) -> MotorOutput {
         self.counters.control_ticks = self.counters.control_ticks.saturating_add(1);
-        let nominal = self.cfg.control_period;
+        let nominal = self.cfg.control_period();
         let [lo, hi] = self.cfg.control_dt_ratio;
         let dt = match self.last_tick_us {
             Some(t) if now_us > t => ((now_us - t) as f32 * 1e-6)
@@ -468,8 +470,10 @@ impl FlightPipeline {
             angular_velocity: e.angular_velocity,
         };
         let ctl = self.controller.as_mut()?;
-        let out = match ctl.step(&state, &reference, dt) {
-            Ok(o) => o,
+        // Only the thrust and torque leave the match: moving the whole output (its diagnostics
+        // are about 200 bytes) would copy it.
+        let (thrust, torque) = match ctl.step(&state, &reference, dt) {
+            Ok(o) => (o.thrust, o.torque),
             Err(_) => {
                 self.non_finite("controller");
                 return None;
@@ -480,11 +484,11 @@ impl FlightPipeline {
             reference.position.y,
             reference.position.z,
         ];
-        self.status_error = (e.position - reference.position).norm();
+        self.status_error = norm(&(e.position - reference.position));
         let target = self.reference.filter().target().0;
         if let Some(mode) = self.mission.tick(&self.cfg.reference, &e.position, &target) {
             self.event(Event::ModeChanged { mode });
         }
-        Some(self.mix_to_output(out.thrust, &out.torque))
+        Some(self.mix_to_output(thrust, &torque))
     }
 }

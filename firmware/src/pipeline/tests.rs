@@ -158,6 +158,36 @@ fn non_finite_imu_is_counted() {
     ));
 }
 
+/// Found by the pipeline fuzz target (tests/fuzz, its reply accounting): nine arm commands
+/// refused during the gyro calibration, with no telemetry call in between, overflow both
+/// 8-slot reply queues. The ninth `COMMAND_ACK` was counted as dropped but the ninth refusal's
+/// `STATUSTEXT` vanished uncounted; now every reply is sent or counted in `replies_dropped`.
+#[test]
+fn refusals_beyond_the_reply_queues_are_counted() {
+    let mut p = FlightPipeline::new(&FlightConfig::built()).unwrap();
+    let arm = command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 0.0);
+    let commands = 9;
+    for _ in 0..commands {
+        p.on_link_bytes(&arm, 1_000);
+    }
+    assert_eq!(p.status().counters.refused_commands, commands);
+    let (mut acks, mut texts) = (0, 0);
+    let mut buf = [0u8; 2048];
+    loop {
+        let n = p.telemetry(1_000, &mut buf);
+        if n == 0 {
+            break;
+        }
+        for (id, _) in frames(&buf[..n]) {
+            acks += u32::from(id == COMMAND_ACK_DATA::ID);
+            texts += u32::from(id == STATUSTEXT_DATA::ID);
+        }
+    }
+    // One ack and one text per refusal: 8 of each fit their queues, 1 of each is dropped.
+    assert_eq!((acks, texts), (8, 8));
+    assert_eq!(p.status().counters.replies_dropped, 2);
+}
+
 /// HIL (`hil` feature): a `HIL_SENSOR` in body FRD reaches the estimator as a FLU sample on
 /// the simulation's clock, one missing IMU flag makes it no sample, and each tick sends
 /// its throttles and reference once, in NED, before any other telemetry.
@@ -257,21 +287,7 @@ fn armed_pipeline() -> (FlightPipeline, u64) {
 fn arm_attempt(mut c: FlightConfig) -> (FlightPipeline, u64) {
     c.gyro_calibration_samples = 50;
     let mut p = FlightPipeline::new(&c).unwrap();
-    let mut now = 0u64;
-    let mut seq = 0u8;
-    for _ in 0..60 {
-        for _ in 0..10 {
-            now += 1_000;
-            p.on_imu(&ImuSample {
-                gyro_rad_s: [0.0; 3],
-                accel_m_s2: [0.0, 0.0, 9.81],
-                time_us: now,
-            });
-        }
-        p.on_link_bytes(&mocap_frame(now, [0.0, 0.0, -1.0], seq), now);
-        seq = seq.wrapping_add(1);
-        p.control_tick(now);
-    }
+    let now = fly_ticks(&mut p, 0, 60, true);
     let arm = command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 0.0);
     p.on_link_bytes(&arm, now);
     let mut sink = [0u8; 1024];
@@ -549,4 +565,143 @@ fn uncertified_paper_build_is_the_paper_set_up_and_arms_loudly() {
             ..
         }
     )));
+}
+
+/// Given the same IMU samples (1 kHz) and poses (100 Hz) for 3 s, when the law ticks at
+/// 100 Hz in one pipeline and at 1 kHz in another, then the estimate at every common tick is
+/// the same bit for bit (the estimator runs per IMU sample and per pose, not per tick) and the
+/// telemetry sends as many heartbeats and state messages (its periods are times, not ticks).
+#[test]
+fn estimator_and_telemetry_do_not_depend_on_the_law_rate() {
+    use crate::control_rate::ControlRate;
+    let run = |rate: ControlRate| {
+        let mut c = FlightConfig::built();
+        c.control_rate = rate;
+        c.gyro_calibration_samples = 50;
+        let mut p = FlightPipeline::new(&c).unwrap();
+        let tick_every = rate.period_us();
+        let mut estimates = Vec::new();
+        let mut counts = [0usize; 3];
+        let mut sink = [0u8; 2048];
+        let mut seq = 0u8;
+        for ms in 1..=3000u64 {
+            let now = ms * 1_000;
+            // A slow roll and a drifting position, so the estimate changes every sample.
+            let s = (ms as f32 * 1e-3).sin();
+            p.on_imu(&ImuSample {
+                gyro_rad_s: [0.2 * s, 0.0, 0.05],
+                accel_m_s2: [0.0, 0.3 * s, 9.81],
+                time_us: now,
+            });
+            if ms % 10 == 0 {
+                let x = 0.01 * ms as f32 * 1e-3;
+                p.on_link_bytes(&mocap_frame(now, [x, 0.0, -1.0], seq), now);
+                seq = seq.wrapping_add(1);
+            }
+            if now % tick_every == 0 {
+                p.control_tick(now);
+                let n = p.telemetry(now, &mut sink);
+                for (id, _) in frames(&sink[..n]) {
+                    let slot = [
+                        HEARTBEAT_DATA::ID,
+                        ATTITUDE_QUATERNION_DATA::ID,
+                        LOCAL_POSITION_NED_DATA::ID,
+                    ]
+                    .iter()
+                    .position(|&k| k == id);
+                    if let Some(k) = slot {
+                        counts[k] += 1;
+                    }
+                }
+                if now % 10_000 == 0 {
+                    estimates.push((now, p.estimator.estimate(now), p.status().position));
+                }
+            }
+        }
+        (estimates, counts)
+    };
+    let (slow, slow_counts) = run(ControlRate::Hz100);
+    let (fast, fast_counts) = run(ControlRate::Hz1000);
+    assert_eq!(slow.len(), 300);
+    assert!(slow.iter().filter(|e| e.1.is_some()).count() > 250);
+    assert_eq!(slow, fast);
+    // 3 s: heartbeats at 0 s (the first tick), 1 s, 2 s; state messages every 50 ms.
+    assert_eq!(slow_counts, fast_counts);
+    assert_eq!(slow_counts[0], 3);
+    assert_eq!(slow_counts[1], 60);
+}
+
+/// Ticks `p` for `ticks` control periods of 10 ms from `now` (IMU level and still at 1 kHz),
+/// with a pose 1 m up (NED z = −1) each tick when `poses`; returns the time reached.
+fn fly_ticks(p: &mut FlightPipeline, mut now: u64, ticks: u32, poses: bool) -> u64 {
+    for k in 0..ticks {
+        for _ in 0..10 {
+            now += 1_000;
+            p.on_imu(&ImuSample {
+                gyro_rad_s: [0.0; 3],
+                accel_m_s2: [0.0, 0.0, 9.81],
+                time_us: now,
+            });
+        }
+        if poses {
+            p.on_link_bytes(&mocap_frame(now, [0.0, 0.0, -1.0], k as u8), now);
+        }
+        p.control_tick(now);
+    }
+    now
+}
+
+/// Given an armed vehicle with the integral action on, taking off while its poses say it stays
+/// where it is (so the error below the target persists), when the law runs, then the estimate
+/// pushes up and stays within its level; when the poses stop (failsafe), then the estimate is
+/// held exactly; when the failsafe disarms and the vehicle arms again, then it starts from zero.
+#[test]
+fn integral_estimate_grows_is_held_in_failsafe_and_restarts_at_zero_on_arming() {
+    use controller_core::integral::IntegralGains;
+    use nalgebra::Vector3;
+    let mut c = FlightConfig::built();
+    let level = Vector3::new(0.5, 0.5, 1.0);
+    c.gains.integral = Some(IntegralGains {
+        gain: 2.0,
+        level,
+        rate: Vector3::repeat(1.0),
+        bandwidth: 5.0,
+    });
+    // The lifecycle is under test here, not the certificate of these levels.
+    c.allow_uncertified = true;
+    let (mut p, now) = arm_attempt(c);
+    assert_eq!(p.status().state, FlightState::Armed);
+    assert_eq!(p.status().integral, [0.0; 3]);
+    let takeoff = command(MavCmd::MAV_CMD_NAV_TAKEOFF, 0.0, 0.0);
+    p.on_link_bytes(&takeoff, now);
+    let now = fly_ticks(&mut p, now, 300, true);
+    let eta = p.status().integral;
+    assert_eq!(p.status().state, FlightState::Armed);
+    assert!(eta[2] > 0.1, "{eta:?}");
+    assert!((0..3).all(|i| eta[i].abs() <= level[i]), "{eta:?}");
+    // Poses stop: the failsafe (after 100 ms) holds the estimate while it descends.
+    let now = fly_ticks(&mut p, now, 15, false);
+    assert_eq!(p.status().state, FlightState::Failsafe);
+    let held = p.status().integral;
+    let now = fly_ticks(&mut p, now, 50, false);
+    assert_eq!(p.status().state, FlightState::Failsafe);
+    assert_eq!(p.status().integral, held);
+    // Disarmed by the failsafe's time-out or pose loss: no estimate; armed again: from zero.
+    let now = fly_ticks(&mut p, now, 300, false);
+    assert_eq!(p.status().state, FlightState::Disarmed);
+    assert_eq!(p.status().integral, [0.0; 3]);
+    let now = fly_ticks(&mut p, now, 60, true);
+    let arm = command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 0.0);
+    p.on_link_bytes(&arm, now);
+    let now = fly_ticks(&mut p, now, 1, true);
+    assert_eq!(
+        p.status().state,
+        FlightState::Armed,
+        "{:?}",
+        drain_events(&mut p)
+    );
+    assert_eq!(p.status().integral, [0.0; 3]);
+    p.on_link_bytes(&takeoff, now);
+    fly_ticks(&mut p, now, 300, true);
+    assert!(p.status().integral[2] > 0.1, "{:?}", p.status());
 }

@@ -160,6 +160,15 @@ impl RotorsTable {
                     format!("must be finite, got {p:?}"),
                 ));
             }
+            // The firmware flies f32: the position and its distance from the centre of mass
+            // (the arm length) must survive the conversion.
+            if !(p[0].hypot(p[1]) as f32).is_finite() {
+                return Err(error(
+                    file,
+                    format!("rotors.positions_m[{i}]"),
+                    format!("out of the firmware's f32 range, got {p:?}"),
+                ));
+            }
         }
         if self.spin.len() != ROTOR_COUNT {
             return Err(error(

@@ -41,6 +41,18 @@ struct Args {
     /// Also print a per-function profile of the measured regions (top N functions).
     #[arg(long, value_name = "N")]
     profile: Option<usize>,
+    /// Write this build's host outputs here, in the bench's output format: a reference for
+    /// `--host-reference` after a change to the step.
+    #[arg(long, value_name = "FILE")]
+    write_host: Option<PathBuf>,
+    /// Also compare this build's host outputs with a reference written by `--write-host`,
+    /// with the ARM-vs-host tolerance and floors (exit 1 on a disagreement): a change to the
+    /// step must keep every output within them of the reference's.
+    #[arg(long, value_name = "FILE")]
+    host_reference: Option<PathBuf>,
+    /// Only the host side (`--write-host`, `--host-reference`): no QEMU, no ELF.
+    #[arg(long)]
+    host_only: bool,
     /// Give up on a QEMU run after this many seconds.
     #[arg(long, default_value_t = 300)]
     timeout_s: u64,
@@ -64,7 +76,53 @@ fn main() -> ExitCode {
     }
 }
 
+/// The host-side options: writes the host records, compares them with a reference. Returns
+/// false on a disagreement with the reference.
+fn host_side(args: &Args, host: &[firmware::step_inputs::Record]) -> Result<bool> {
+    if let Some(path) = &args.write_host {
+        std::fs::write(path, m4f::format_records(host))
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    let Some(path) = &args.host_reference else {
+        return Ok(true);
+    };
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let regions = m4f::parse_bench_output(&text)
+        .with_context(|| format!("parsing {}", path.display()))?
+        .into_iter()
+        .map(m4f::Region::from)
+        .collect();
+    let reference = m4f::ArmRun {
+        regions,
+        overhead: 0,
+        total_instructions: 0,
+    };
+    let a = m4f::compare(&reference, host, &m4f::Floors::paper()?)?;
+    println!(
+        "host vs reference {}: {} values, {} bit-identical, largest relative difference {:.2e} \
+         ({}), {:.2e} leaving out the {} values that needed their floor; {} outside the tolerance",
+        path.display(),
+        a.compared,
+        a.bit_identical,
+        a.max_relative_difference,
+        a.worst,
+        a.max_relative_difference_within_tolerance,
+        a.passed_by_floor,
+        a.failures.len()
+    );
+    for line in a.failures.iter().take(20) {
+        println!("  disagreement (reference = \"ARM\"): {line}");
+    }
+    Ok(a.failures.is_empty())
+}
+
 fn run(args: &Args) -> Result<bool> {
+    let host = m4f::host_records()?;
+    let host_ok = host_side(args, &host)?;
+    if args.host_only {
+        return Ok(host_ok);
+    }
     let q = BenchOptions {
         program: args.qemu.clone(),
         elf: args
@@ -82,7 +140,6 @@ fn run(args: &Args) -> Result<bool> {
         std::env::temp_dir().join(format!("m4f-bench-profile-{}.txt", std::process::id()))
     });
     let arm = m4f::run_arm(&q, &markers, profile_path.as_deref())?;
-    let host = m4f::host_records()?;
     let floors = m4f::Floors::paper()?;
     let agreement = m4f::compare(&arm, &host, &floors)?;
     let agree = agreement.failures.is_empty();
@@ -96,7 +153,7 @@ fn run(args: &Args) -> Result<bool> {
         let _ = std::fs::remove_file(p);
         print!("{}", m4f::profile(&q.elf, &text, top)?);
     }
-    let mut ok = agree;
+    let mut ok = agree && host_ok;
     if args.cross_check {
         let n = arm
             .regions

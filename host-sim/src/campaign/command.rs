@@ -1,19 +1,24 @@
-//! The `campaign` job: runs a campaign from [`CampaignOptions`], prints a short summary and
-//! writes the files.
+//! The `campaign` job: runs a campaign from [`CampaignOptions`] (or one shard of it), prints a
+//! short summary and writes the files; and `campaign merge`, which writes the same files from
+//! the shards.
 
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Result};
 
+use super::merge::merge_dirs;
 use super::metrics::Convergence;
 use super::options::CampaignOptions;
 use super::output::{write_campaign, CampaignReport};
-use super::runner::{bound_set, run_campaign, CampaignConfig};
+use super::partial::{write_partial, CampaignSetup, PartialResult, SHARD_FORMAT};
+use super::runner::{bound_set, run_campaign, run_campaign_runs, CampaignConfig, RunResult};
 use super::sampler::SamplerRadii;
 use super::stats::summarise;
 use crate::report::fmt_opt;
 
-/// `host-sim campaign`: runs the campaign, prints a short summary, writes the files.
+/// `host-sim campaign`: runs the campaign, prints a short summary, writes the files; with a
+/// shard, runs only its share and writes its `shard.json`.
 ///
 /// Errors: invalid options or scenario; a file cannot be written.
 pub fn run_command(args: &CampaignOptions) -> Result<()> {
@@ -45,19 +50,75 @@ pub fn run_command(args: &CampaignOptions) -> Result<()> {
         threads: args.threads,
     };
     let start = Instant::now();
+    if let Some(shard) = args.shard {
+        let indices = shard.runs(config.runs);
+        let results = run_campaign_runs(&config, indices.clone())?;
+        let wall_time_s = start.elapsed().as_secs_f64();
+        let converged = results
+            .iter()
+            .filter(|r| r.metrics.as_ref().is_some_and(|m| m.converged))
+            .count();
+        let path = write_partial(
+            &args.out,
+            &PartialResult {
+                format: SHARD_FORMAT.into(),
+                shard,
+                setup: CampaignSetup::of(&config),
+                wall_time_s,
+                results,
+            },
+        )?;
+        println!(
+            "shard {shard}: runs {}..{} of {} ({} converged), wall time {wall_time_s:.1} s; \
+             wrote {} (combine the shards with `host-sim campaign merge`)",
+            indices.start,
+            indices.end,
+            config.runs,
+            converged,
+            path.display()
+        );
+        return Ok(());
+    }
     let results = run_campaign(&config)?;
     let wall = start.elapsed().as_secs_f64();
+    let timing = format!(
+        "wall time {wall:.1} s ({:.1} runs/s)",
+        config.runs as f64 / wall.max(f64::MIN_POSITIVE)
+    );
+    finish(&config, &results, &args.out, args.plots, &timing)
+}
+
+/// `host-sim campaign merge`: combines the shards in `dirs` ([`merge_dirs`]) and writes the
+/// files a single run of the campaign would write into `out`.
+///
+/// Errors: as [`merge_dirs`]; the bounds cannot be computed; a file cannot be written.
+pub fn merge_command(dirs: &[PathBuf], out: &Path, plots: bool) -> Result<()> {
+    let merged = merge_dirs(dirs)?;
+    let timing = format!(
+        "{} shards, {:.1} s of wall time in all",
+        merged.shards, merged.wall_time_s
+    );
+    finish(&merged.setup.config(), &merged.results, out, plots, &timing)
+}
+
+/// Summarises the runs of the whole campaign, writes its files and prints the summary.
+fn finish(
+    config: &CampaignConfig,
+    results: &[RunResult],
+    out: &Path,
+    plots: bool,
+    timing: &str,
+) -> Result<()> {
     let nominal = !config.scenario.perturbations.violates_model();
-    let stats = summarise(&results, nominal);
-    let report = CampaignReport::new(&config, bound_set(&config.scenario)?, stats, wall);
-    let files = write_campaign(&args.out, &report, &results, args.plots)?;
+    let stats = summarise(results, nominal);
+    let report = CampaignReport::new(config, bound_set(&config.scenario)?, stats);
+    let files = write_campaign(out, &report, results, plots)?;
     let r = &report.results;
     let checked = if nominal { &r.nominal } else { &r.perturbed };
     println!(
         "{} runs of {} s ({}): {} converged ({:.2} %), 180-deg starts {}/{}; settling p50 {} s, \
          p99 {} s; samples outside the a-priori bounds: {} of {} ({}), above the tight bounds: {}; \
-         max switches in 1 s: {}; \
-         wall time {:.1} s ({:.1} runs/s)",
+         max switches in 1 s: {}; {timing}",
         r.runs,
         report.duration_s,
         if config.scenario.controller.is_paper() {
@@ -84,8 +145,6 @@ pub fn run_command(args: &CampaignOptions) -> Result<()> {
         },
         checked.samples_above_tight,
         r.switching.max_switches_in_1s,
-        wall,
-        report.runs_per_s
     );
     if let Some(m) = &r.mixer {
         let m = if nominal { &m.nominal } else { &m.perturbed };
@@ -99,6 +158,6 @@ pub fn run_command(args: &CampaignOptions) -> Result<()> {
             m.torque_given_up_max_Nm
         );
     }
-    println!("Wrote {} files to {}", files.len(), args.out.display());
+    println!("Wrote {} files to {}", files.len(), out.display());
     Ok(())
 }

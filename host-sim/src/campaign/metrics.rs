@@ -21,13 +21,13 @@
 use std::collections::VecDeque;
 
 use nalgebra::Vector3;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::closed_loop::LoopSample;
 use crate::rotor_plant::MixerCounts;
 
 /// The convergence thresholds.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Convergence {
     /// Position error threshold \[m\].
     pub position_m: f64,
@@ -130,7 +130,7 @@ impl WindowMax {
 }
 
 /// Everything measured along one run.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 #[allow(non_snake_case)]
 pub struct RunMetrics {
     /// Samples taken.
@@ -173,7 +173,7 @@ pub struct RunMetrics {
     /// Most jumps (switches + resets) within any 1 s.
     pub max_jumps_per_1s: u32,
     /// Rotor plant only: what the mixer gave up over the run.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mixer: Option<MixerCounts>,
 }
 

@@ -112,4 +112,7 @@ pub struct CampaignOptions {
     pub plots: bool,
     /// Worker threads (`None`: one per core); the results do not depend on it.
     pub threads: Option<usize>,
+    /// Run only this share of the runs and write its partial result (`shard.json`) instead of
+    /// the campaign's files (`None`: all runs).
+    pub shard: Option<super::shard::Shard>,
 }

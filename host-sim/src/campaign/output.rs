@@ -32,7 +32,8 @@ pub struct Definitions {
     pub mixer: Option<String>,
 }
 
-/// `campaign.json`.
+/// `campaign.json`: a function of the set-up alone (no wall time), so a campaign gives the
+/// same bytes on any machine, with any thread count and split into any shards.
 #[derive(Clone, Debug, Serialize)]
 pub struct CampaignReport {
     /// Controller flown.
@@ -64,20 +65,11 @@ pub struct CampaignReport {
     pub bounds: BoundSet,
     /// Results.
     pub results: CampaignStats,
-    /// Wall time of the runs \[s\] (not of the file output).
-    pub wall_time_s: f64,
-    /// Runs per second of wall time.
-    pub runs_per_s: f64,
 }
 
 impl CampaignReport {
     /// Assembles the report.
-    pub fn new(
-        config: &CampaignConfig,
-        bounds: BoundSet,
-        results: CampaignStats,
-        wall_time_s: f64,
-    ) -> Self {
+    pub fn new(config: &CampaignConfig, bounds: BoundSet, results: CampaignStats) -> Self {
         let s = &config.scenario;
         Self {
             controller: config.controller.label().into(),
@@ -132,12 +124,6 @@ impl CampaignReport {
             },
             bounds,
             results,
-            wall_time_s,
-            runs_per_s: if wall_time_s > 0.0 {
-                config.runs as f64 / wall_time_s
-            } else {
-                0.0
-            },
         }
     }
 }

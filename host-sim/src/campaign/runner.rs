@@ -1,10 +1,12 @@
 //! Runs a campaign: N closed-loop runs in parallel (rayon), each from its own seed, with a
 //! progress bar (indicatif, on stderr; hidden when stderr is not a terminal).
 
+use std::ops::Range;
+
 use anyhow::Result;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::metrics::{BoundSet, Convergence, MetricsAccumulator, RunMetrics};
 use super::sampler::{run_seed, InitialCondition, Sampler, SamplerRadii};
@@ -37,7 +39,7 @@ pub struct CampaignConfig {
 }
 
 /// One run's result.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RunResult {
     /// Run index.
     pub index: u64,
@@ -62,9 +64,10 @@ pub struct RunResult {
 /// Errors: the certificate cannot be computed (invalid parameters), or the no-dive floor is
 /// above Theorem 1's `T_min`.
 pub fn bound_set(scenario: &Scenario) -> Result<BoundSet> {
-    let tight = crate::tight_certificate::scenario_tight_bounds(scenario)?;
+    // None with the integral action on: the tight bounds do not cover it.
+    let tight = crate::tight_certificate::covered_tight_bounds(scenario)?;
     Ok(BoundSet {
-        tight: Some(crate::tight_certificate::tight_limits(&tight)),
+        tight: tight.as_ref().map(crate::tight_certificate::tight_limits),
         ..paper_bound_set(scenario)?
     })
 }
@@ -130,12 +133,24 @@ pub fn run_one(
 ///
 /// Errors: the scenario is invalid (bounds or `R_d(0)` undefined).
 pub fn run_campaign(config: &CampaignConfig) -> Result<Vec<RunResult>> {
+    run_campaign_runs(config, 0..config.runs)
+}
+
+/// Runs the campaign's runs `indices` only (a shard, [`super::shard::Shard::runs`]); results
+/// in run order, each exactly as in the whole campaign (a run depends only on the campaign seed
+/// and its index).
+///
+/// Errors: as [`run_campaign`].
+pub fn run_campaign_runs(config: &CampaignConfig, indices: Range<u64>) -> Result<Vec<RunResult>> {
     // A plant that cannot be built would fail every run: refuse the campaign instead.
     PlantModel::of(&config.scenario, &config.scenario.perturbations)?;
     let sampler = Sampler::new(&config.scenario, config.radii)?;
     let bounds = bound_set(&config.scenario)?;
     let bar = if config.progress {
-        let bar = ProgressBar::with_draw_target(Some(config.runs), ProgressDrawTarget::stderr());
+        let bar = ProgressBar::with_draw_target(
+            Some(indices.end - indices.start),
+            ProgressDrawTarget::stderr(),
+        );
         if let Ok(style) = ProgressStyle::with_template(
             "{prefix} [{elapsed_precise}] {wide_bar} {pos}/{len} runs ({per_sec}, eta {eta})",
         ) {
@@ -149,18 +164,19 @@ pub fn run_campaign(config: &CampaignConfig) -> Result<Vec<RunResult>> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(config.threads.unwrap_or(0))
         .build()?;
-    let results = pool.install(|| runs_in_parallel(config, &sampler, bounds, &bar));
+    let results = pool.install(|| runs_in_parallel(config, indices, &sampler, bounds, &bar));
     bar.finish_and_clear();
     Ok(results)
 }
 
 fn runs_in_parallel(
     config: &CampaignConfig,
+    indices: Range<u64>,
     sampler: &Sampler,
     bounds: BoundSet,
     bar: &ProgressBar,
 ) -> Vec<RunResult> {
-    (0..config.runs)
+    indices
         .into_par_iter()
         .map(|index| {
             let seed = run_seed(config.seed, index);

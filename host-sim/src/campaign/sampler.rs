@@ -21,7 +21,7 @@ use nalgebra::{Matrix3, Quaternion, Rotation3, Unit, UnitQuaternion, Vector3};
 use rand::{RngExt, SeedableRng};
 pub use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::plant::RigidBodyState;
 use crate::scenario::Scenario;
@@ -38,7 +38,7 @@ pub const HALF_TURN_AXES: [(&str, [f64; 3]); 7] = [
 ];
 
 /// Radii of the balls the offsets are drawn from.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SamplerRadii {
     /// Position offset from `p_d(0)` \[m\].
     pub position_m: f64,

@@ -1,10 +1,11 @@
-//! `host-sim campaign`: a robustness campaign.
+//! `host-sim campaign`: a robustness campaign, whole or one shard of it, and `campaign merge`,
+//! which combines the shards.
 
 use std::path::PathBuf;
 
 use anyhow::Result;
-use clap::{Args, ValueEnum};
-use host_sim::campaign::{self, CampaignOptions, Convergence, SamplerRadii};
+use clap::{Args, Subcommand, ValueEnum};
+use host_sim::campaign::{self, CampaignOptions, Convergence, SamplerRadii, Shard};
 use host_sim::controllers::ControllerKind;
 
 use super::common::BaseArgs;
@@ -39,7 +40,11 @@ impl From<ControllerArg> for ControllerKind {
 
 /// Options of `host-sim campaign`.
 #[derive(Debug, Args, Clone)]
+#[command(args_conflicts_with_subcommands = true)]
 pub struct CampaignArgs {
+    /// `merge`: combine shards (no campaign options then).
+    #[command(subcommand)]
+    pub action: Option<CampaignAction>,
     /// Number of runs.
     #[arg(long, default_value_t = 1000)]
     pub runs: u64,
@@ -79,10 +84,42 @@ pub struct CampaignArgs {
     /// Worker threads (default: one per core); the results do not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Run only shard K of N (0 <= K < N: runs floor(K*runs/N) up to floor((K+1)*runs/N)) and
+    /// write its partial result, OUT/shard.json, instead of the campaign's files; combine the N
+    /// shards with `campaign merge`. Give every shard the same options.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<Shard>,
 }
 
-/// Runs the campaign ([`campaign::run_command`]).
+/// Subcommands of `host-sim campaign`.
+#[derive(Debug, Subcommand, Clone)]
+pub enum CampaignAction {
+    /// Combine the shards of one campaign (`campaign --shard K/N`, N of them) into the
+    /// campaign.json, runs.csv and plots a single run would write; refuses shards of
+    /// different campaigns, of different splits, given twice or missing.
+    Merge(MergeArgs),
+}
+
+/// Options of `host-sim campaign merge`.
+#[derive(Debug, Args, Clone)]
+pub struct MergeArgs {
+    /// The shards' output directories, each holding one shard.json (any order).
+    #[arg(required = true, value_name = "DIR")]
+    pub dirs: Vec<PathBuf>,
+    /// Output directory (created; files overwritten).
+    #[arg(long, value_name = "DIR", default_value = "out/campaign")]
+    pub out: PathBuf,
+    /// Write only campaign.json and runs.csv.
+    #[arg(long)]
+    pub no_plots: bool,
+}
+
+/// Runs the campaign or its shard ([`campaign::run_command`]), or merges shards
+/// ([`campaign::merge_command`]).
 pub fn run(args: &CampaignArgs) -> Result<()> {
+    if let Some(CampaignAction::Merge(m)) = &args.action {
+        return campaign::merge_command(&m.dirs, &m.out, !m.no_plots);
+    }
     campaign::run_command(&CampaignOptions {
         runs: args.runs,
         out: args.out.clone(),
@@ -97,6 +134,7 @@ pub fn run(args: &CampaignArgs) -> Result<()> {
         converged_after_s: args.converged_after_s,
         plots: !args.no_plots,
         threads: args.threads,
+        shard: args.shard,
     })
 }
 

@@ -13,6 +13,7 @@ mod common;
 mod compare;
 mod design;
 mod pil;
+mod rates;
 mod run;
 mod sil;
 
@@ -67,6 +68,10 @@ pub enum Command {
     /// ones (supremum of the law over its confining set, interval branch and bound) and the
     /// largest value found at an admissible state; Theorem 2's torque conditions with both.
     Bounds(bounds::BoundsArgs),
+    /// The control law at 100, 250, 500 and 1000 Hz compared: SIL scenarios and a campaign on
+    /// the rotor plant with motor lag (tracking error, torque peaks, bound margins); writes
+    /// rates.md and rates.json.
+    Rates(rates::RatesArgs),
 }
 
 impl Cli {
@@ -86,6 +91,7 @@ impl Cli {
             Some(Command::Bounds(args)) => bounds::run(&args),
             Some(Command::Compare(args)) => compare::run(&args),
             Some(Command::Design(args)) => design::run(&args),
+            Some(Command::Rates(args)) => rates::run(&args),
         }
     }
 }

@@ -26,6 +26,11 @@ pub struct PilArgs {
     /// Flight time after release, in seconds. Default: the scenario's 30 s.
     #[arg(long, value_name = "S")]
     pub duration: Option<f64>,
+    /// The control law's rate [Hz] the firmware was built with (`FIRMWARE_CONTROL_RATE_HZ` or
+    /// its flight file's `[design] control_rate_hz`): 100, 250, 500 or 1000. The host ticks
+    /// the lockstep at this rate; a mismatch stops the run ("lockstep lost").
+    #[arg(long, value_name = "HZ", default_value_t = 100.0)]
+    pub rate_hz: f64,
     /// Stall timeout: wall-clock seconds to wait for the firmware's answer to a tick.
     #[arg(long, value_name = "S", default_value_t = pil::DEFAULT_TIMEOUT_S)]
     pub timeout: f64,
@@ -39,6 +44,7 @@ pub fn run(args: &PilArgs) -> Result<()> {
         out: args.out.clone(),
         seed: args.seed,
         duration: args.duration,
+        rate_hz: args.rate_hz,
         timeout: args.timeout,
     })
 }

@@ -16,6 +16,10 @@ pub struct SilArgs {
     /// Random seed (sensor noise, dropouts, byte chunking).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// The control law's rate [Hz]: 100, 250, 500 or 1000. Default: the scenario's (its
+    /// `control_rate_hz`, else the flight's: 100 Hz in the default build).
+    #[arg(long, value_name = "HZ")]
+    pub rate_hz: Option<f64>,
     /// Output directory. Default: `./out/sil-<scenario>`. Gets timeseries.csv and summary.json.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
@@ -26,6 +30,7 @@ pub fn run(args: &SilArgs) -> Result<()> {
     sil::run_command(&SilOptions {
         scenario: args.scenario.clone(),
         seed: args.seed,
+        rate_hz: args.rate_hz,
         out: args.out.clone(),
     })
 }

@@ -28,13 +28,17 @@ pub(crate) fn back3<T: Scalar>(v: &Vector3<T>) -> Vector3<f64> {
 impl<T: Scalar> PaperLaw<T> {
     /// Errors: the law refuses the scenario's parameters (named by scenario key).
     pub fn new(scenario: &Scenario) -> Result<Self> {
+        Self::with_gains(scenario, scenario.gains::<T>())
+    }
+
+    /// [`Self::new`] with `gains` in place of the scenario's (e.g. with or without the
+    /// integral action, [`controller_core::Gains::integral`]).
+    ///
+    /// Errors: the law refuses `gains` or the scenario's other parameters.
+    pub fn with_gains(scenario: &Scenario, gains: controller_core::Gains<T>) -> Result<Self> {
         let trajectory = scenario.trajectory::<T>();
-        let controller = Controller::new(
-            scenario.vehicle::<T>(),
-            scenario.gains::<T>(),
-            &trajectory.constants(),
-        )
-        .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;
+        let controller = Controller::new(scenario.vehicle::<T>(), gains, &trajectory.constants())
+            .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;
         let mut controller = controller;
         let mode = scenario.thrust_mode::<T>().map_err(|e| anyhow!("{e}"))?;
         controller

@@ -27,6 +27,12 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
         M_omega: g.attitude.omega_saturation,
         delta: g.hysteresis,
         alpha: g.reset_threshold,
+        integral: g.integral.map(|i| crate::scenario::IntegralConfig {
+            k_i: i.gain,
+            M_i_m_s2: i.level.into(),
+            rate_m_s3: i.rate.into(),
+            k_eta: i.bandwidth,
+        }),
     }
 }
 

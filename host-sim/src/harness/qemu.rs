@@ -29,6 +29,17 @@ pub enum Received {
     Closed,
 }
 
+/// QEMU's instruction counting for the processor in the loop: the virtual clock advances
+/// 2³ = 8 ns per instruction while the core runs (125 million instructions per second, near
+/// what a 168 MHz Cortex-M4F executes at 1 to 1.5 cycles per instruction), and at host speed
+/// while it sleeps (`sleep=on`; with QEMU 7.2 it never does: the executor idles on `wfe`, which
+/// QEMU runs as a yield, so the idle loop's instructions advance the clock instead). So the firmware's embassy-time clock
+/// (SysTick on the virtual clock) times each control step by its instruction count, not by how
+/// fast the host emulates it, and the step overruns it counts
+/// ([`crate::harness::pil::defmt_log::overruns`]) are deterministic: a step overruns when it
+/// runs more than one law period's worth of instructions (125 000 at 1 kHz).
+pub const ICOUNT: &str = "shift=3,align=off,sleep=on";
+
 /// The QEMU command line for `elf` as a serial link, the defmt log going to `defmt_path`.
 /// `-serial stdio`: UART 0 on stdin/stdout; `-semihosting-config … chardev=defmt`:
 /// semihosting output (defmt frames and the exit call) to a file chardev.
@@ -46,6 +57,8 @@ pub fn serial_link_args(elf: &Path, defmt_path: &Path) -> Vec<OsString> {
         "none",
         "-serial",
         "stdio",
+        "-icount",
+        ICOUNT,
         "-semihosting-config",
         "enable=on,target=native,chardev=defmt",
         "-chardev",
@@ -381,6 +394,7 @@ mod tests {
         let joined = s.join(" ");
         assert!(joined.starts_with("-machine mps2-an386 -cpu cortex-m4 -display none"));
         assert!(joined.contains("-serial stdio"));
+        assert!(joined.contains("-icount shift=3,align=off,sleep=on"));
         assert!(joined.contains(
             "-semihosting-config enable=on,target=native,chardev=defmt \
              -chardev file,id=defmt,path=/o/defmt.bin"

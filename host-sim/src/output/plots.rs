@@ -328,18 +328,20 @@ fn bounds_panel(summary: &Summary, records: &[Record]) -> Panel {
             column(records, |r| f(r).abs()),
         ));
         let paper = summary.a_priori.torque_max_Nm[i];
-        let tight = summary.a_priori.tight.torque_max_Nm[i];
         series.push(Series::level(
             Some(&format!("paper bound {axis}")),
             color,
             paper,
             &span,
         ));
-        series.push(Series::line(
-            &format!("tight bound {axis}"),
-            color,
-            vec![(span.start, tight), (span.end, tight)],
-        ));
+        if let Some(t) = &summary.a_priori.tight {
+            let tight = t.torque_max_Nm[i];
+            series.push(Series::line(
+                &format!("tight bound {axis}"),
+                color,
+                vec![(span.start, tight), (span.end, tight)],
+            ));
+        }
     }
     panel(
         BOUNDS_FILE,

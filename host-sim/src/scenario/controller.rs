@@ -153,8 +153,10 @@ impl Scenario {
             ));
         }
         // The cap (Theorem 1's T_max) is checked with the certificate; any positive value here.
+        // With the integral action the vertical part of u can drop by M_p + M_i,z.
+        let drop = self.gains.M_p + self.gains.integral.as_ref().map_or(0.0, |i| i.M_i_m_s2[2]);
         c.thrust_mode::<f64>(1.0)
-            .validate(&self.vehicle(), self.gains.M_p)
+            .validate(&self.vehicle(), drop)
             .map_err(|e| describe(&e))
     }
 

@@ -15,7 +15,7 @@ use std::path::Path;
 use anyhow::{anyhow, Context, Result};
 use controller_core::scalar::{lit, Scalar};
 use controller_core::{
-    Gains, HeadingProfile, Limits, ParameterError, ReferenceTrajectory, Vehicle,
+    Gains, HeadingProfile, IntegralGains, Limits, ParameterError, ReferenceTrajectory, Vehicle,
 };
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -71,8 +71,8 @@ pub type VehicleConfig = VehicleTable;
 // `[limits]`, `[gains]` and `[trajectory]` are the firmware's flight file tables (one
 // definition: the firmware build reads the same tables from its flight file).
 pub use firmware::flight_tables::{
-    GainsTable as GainsConfig, HeadingTable as HeadingConfig, LimitsTable as LimitsConfig,
-    TrajectoryTable as TrajectoryConfig,
+    GainsTable as GainsConfig, HeadingTable as HeadingConfig, IntegralTable as IntegralConfig,
+    LimitsTable as LimitsConfig, TrajectoryTable as TrajectoryConfig,
 };
 
 /// `[initial]`.
@@ -186,6 +186,11 @@ fn key_of(name: &str) -> &'static str {
         "M_omega" => "gains.M_omega",
         "delta" => "gains.delta",
         "alpha" => "gains.alpha",
+        "k_i" => "gains.integral.k_i",
+        "k_eta" => "gains.integral.k_eta",
+        "M_i_x" | "M_i_y" | "M_i_z" => "gains.integral.M_i_m_s2",
+        "R_i_x" | "R_i_y" | "R_i_z" => "gains.integral.rate_m_s3",
+        n if n.starts_with("M_p + M_i_z") => "gains.integral.M_i_m_s2",
         "thrust_floor" => "controller.thrust_floor_N",
         "thrust_ramp" => "controller.thrust_ramp",
         "thrust_cap" => "controller.thrust",
@@ -321,6 +326,12 @@ impl Scenario {
         out.attitude.omega_saturation = lit(g.M_omega);
         out.hysteresis = lit(g.delta);
         out.reset_threshold = lit(g.alpha);
+        out.integral = g.integral.as_ref().map(|i| IntegralGains {
+            gain: lit(i.k_i),
+            level: v3(&i.M_i_m_s2),
+            rate: v3(&i.rate_m_s3),
+            bandwidth: lit(i.k_eta),
+        });
         out
     }
 
@@ -495,6 +506,29 @@ mod tests {
         let s = Scenario::paper();
         assert_eq!(s.simulation.duration_s, 30.0);
         assert_eq!(s.initial.euler_deg, [-179.0, 0.0, 100.0]);
+    }
+
+    /// `[gains.integral]`: absent is off (the paper's law); present it reaches the gains; an
+    /// unknown key or a bad value is refused with its key.
+    #[test]
+    fn integral_table_is_parsed_and_checked() {
+        assert_eq!(Scenario::paper().gains::<f64>().integral, None);
+        let table = "alpha = 0.25\n\n[gains.integral]\nk_i = 5.0\nM_i_m_s2 = [0.1, 0.2, 2.2]\n\
+                     rate_m_s3 = [2.0, 2.0, 10.0]\nk_eta = 1.0\n";
+        let text = PAPER_SCENARIO.replacen("alpha = 0.25", table, 1);
+        let g = Scenario::parse(&text, "i.toml").unwrap().gains::<f64>();
+        let i = g.integral.unwrap();
+        assert_eq!((i.gain, i.bandwidth), (5.0, 1.0));
+        assert_eq!(i.level, Vector3::new(0.1, 0.2, 2.2));
+        assert_eq!(i.rate, Vector3::new(2.0, 2.0, 10.0));
+        let e = Scenario::parse(&text.replace("k_eta", "k_etta"), "i.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("k_etta"), "{e}");
+        let e = Scenario::parse(&text.replace("0.2, 2.2", "-0.2, 2.2"), "i.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("gains.integral.M_i_m_s2"), "{e}");
     }
 
     #[test]

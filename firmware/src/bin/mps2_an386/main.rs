@@ -72,6 +72,10 @@ mod mcu {
     const CONTROL_PRIORITY: u8 = 0x20;
     const UART_PRIORITY: u8 = 0x40;
 
+    /// How long the boot self-check of the clock reads it back to back \[µs\] (60 SysTick
+    /// reloads).
+    const CLOCK_CHECK_US: u64 = 60_000;
+
     static CONTROL_EXECUTOR: InterruptExecutor = InterruptExecutor::new();
 
     /// Without a device crate every external interrupt lands here; `irqn` is its number.
@@ -153,7 +157,7 @@ mod mcu {
         let Some(pipeline) = boot_log::build_pipeline(config) else {
             return false;
         };
-        let period = Duration::from_micros((config.control_period * 1e6 + 0.5) as u64);
+        let period = Duration::from_micros(config.control_rate.period_us());
         // SAFETY: priorities are set before the interrupts are unmasked; no priority-based
         // critical section is in use (critical sections mask all interrupts).
         unsafe { nvic.set_priority(ControlIrq, CONTROL_PRIORITY) };
@@ -176,6 +180,17 @@ mod mcu {
         core.DCB.enable_trace();
         core.DWT.enable_cycle_counter();
         time_driver::init(core.SYST);
+        let clock = time_driver::self_check(CLOCK_CHECK_US);
+        info!(
+            "clock: {=u32} readings over {=u64} us, {=u32} backwards, {=u32} jumps over {=u64} us \
+             (largest step {=u64} us)",
+            clock.reads,
+            CLOCK_CHECK_US,
+            clock.backwards,
+            clock.jumps,
+            time_driver::JUMP_US,
+            clock.max_step_us
+        );
 
         let config = FlightConfig::built();
         if !start_control(&config, &mut core.NVIC) {

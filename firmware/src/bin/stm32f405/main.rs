@@ -4,8 +4,9 @@
 //! set-up, its a-priori bound certificate and the mixer fit, then fly:
 //!
 //! - **control** (an `InterruptExecutor` on a spare interrupt vector, NVIC priority 1, above
-//!   every thread-mode task): every `control_period` (100 Hz) it drains the IMU samples and the
-//!   link bytes received since the last tick into the `FlightPipeline`, runs `control_tick`
+//!   every thread-mode task): every `control_period` (the law's rate, 100 Hz by default) it
+//!   drains the IMU samples and the link bytes received since the last tick into the
+//!   `FlightPipeline`, runs `control_tick`
 //!   (estimate → controller → mixer), writes the motors (DShot600 or PWM), queues the telemetry,
 //!   feeds the independent watchdog, and measures its step with the DWT cycle counter;
 //! - **imu** (thread mode): ICM-42688-P data-ready (EXTI) → SPI (DMA) read → body frame → queue;
@@ -332,7 +333,7 @@ mod mcu {
         let Some(pipeline) = boot_log::build_pipeline(config) else {
             return Err(motors);
         };
-        let period = Duration::from_micros((config.control_period * 1e6 + 0.5) as u64);
+        let period = Duration::from_micros(config.control_rate.period_us());
         // Control on the interrupt executor, above everything in thread mode.
         hw::CONTROL_IRQ.set_priority(Priority::P1);
         let spawner = CONTROL_EXECUTOR.start(hw::CONTROL_IRQ);

@@ -36,7 +36,7 @@ pub mod stats;
 
 pub use agreement::{compare, host_records, Agreement, Floors, RELATIVE_TOLERANCE};
 pub use elf::{elf32_functions, markers, Markers, BEGIN_SYMBOL, END_SYMBOL};
-pub use output::{parse_bench_output, parse_plugin_output};
+pub use output::{format_records, parse_bench_output, parse_plugin_output};
 pub use profile::profile;
 pub use regions::{ArmRun, Kind, Region};
 pub use render::render;

@@ -3,6 +3,8 @@
 
 use anyhow::{anyhow, bail, ensure, Context, Result};
 
+use firmware::step_inputs::Record;
+
 use super::regions::Kind;
 
 /// Parses the bench's semihosting output: one `(kind, index, outputs)` per region.
@@ -53,6 +55,27 @@ pub fn parse_bench_output(text: &str) -> Result<Vec<(Kind, u32, Vec<f32>)>> {
     Ok(regions)
 }
 
+/// Formats host records the way the bench prints its regions (without the empty ones), so that
+/// [`parse_bench_output`] reads them back: a reference of today's host outputs to compare later
+/// builds against (`m4f-bench --write-host`, `--host-reference`).
+pub fn format_records(records: &[Record]) -> String {
+    let mut text = String::new();
+    for r in records {
+        let (t, i, v): (&str, u32, &[f32]) = match r {
+            Record::Arm(i, o) => ("A", *i, o),
+            Record::Full(i, o) => ("F", *i, o),
+            Record::Controller(i, o) => ("C", *i, o),
+        };
+        text.push_str(&format!("{t} {i}"));
+        for x in v {
+            text.push_str(&format!(" {:08x}", x.to_bits()));
+        }
+        text.push('\n');
+    }
+    text.push_str(&format!("DONE regions={} off_path=0\n", records.len()));
+    text
+}
+
 /// Parses the plugin's output: the count of every region, and the total.
 pub fn parse_plugin_output(text: &str) -> Result<(Vec<u64>, u64)> {
     let mut counts = Vec::new();
@@ -99,6 +122,19 @@ mod tests {
         assert!(r[2].2[7] == 0.0 && r[2].2[7].is_sign_negative());
         assert!(parse_bench_output("Z 0\nDONE regions=1 off_path=3\n").is_err());
         assert!(parse_bench_output("Z 0\n").is_err());
+        let records = [
+            Record::Arm(110, [1.0, 0.5, -0.0, 0.0, 4.5, 1e-3, -2e-3, 3e-3]),
+            Record::Controller(1, [4.5, 0.0, f32::MIN_POSITIVE, -1.0]),
+        ];
+        let back = parse_bench_output(&format_records(&records)).unwrap();
+        assert_eq!(back.len(), 2);
+        assert_eq!((back[0].0, back[0].1), (Kind::Arm, 110));
+        assert_eq!((back[1].0, back[1].1), (Kind::Controller, 1));
+        let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        match records[0] {
+            Record::Arm(_, o) => assert_eq!(bits(&back[0].2), bits(&o)),
+            _ => unreachable!(),
+        }
         let (c, t) = parse_plugin_output(
             "insn_count region 0 5\ninsn_count region 1 70\ninsn_count done regions=2 unmatched=0 total=99\n",
         )

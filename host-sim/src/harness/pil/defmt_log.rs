@@ -101,6 +101,29 @@ pub fn counters(lines: &[String]) -> Option<FirmwareCounters> {
     })
 }
 
+/// The control task's overruns since boot, from the last 1 Hz `timing: … overruns N (total M)`
+/// line (`M`); `None` if there is none. In the lockstep a step overruns when it takes longer
+/// than one law period on the board's embassy-time clock (`firmware::timing::is_overrun` with
+/// zero lateness): on QEMU that clock is the SysTick millisecond count on QEMU's virtual
+/// clock, which [`crate::harness::qemu::ICOUNT`] ties to the instructions run (8 ns each), so
+/// a step overruns when it runs more than a period's worth of instructions (125 000 at 1 kHz),
+/// however fast the host emulates it. The count is up to 1 s old at the end of a run.
+pub fn overruns(lines: &[String]) -> Option<u32> {
+    let line = lines.iter().rev().find(|l| l.contains("timing: "))?;
+    number_after(line, "(total")
+}
+
+/// The longest control step \[µs\] of the whole log, from the 1 Hz `timing: … longest step N us`
+/// lines, on the same clock as [`overruns`] (on QEMU: instructions run × 8 ns); `None` if no
+/// line has it. The last window, up to 1 s, is not in the log.
+pub fn longest_step_us(lines: &[String]) -> Option<u32> {
+    lines
+        .iter()
+        .filter(|l| l.contains("timing: "))
+        .filter_map(|l| number_after(l, "longest step"))
+        .max()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -126,6 +149,23 @@ mod tests {
             })
         );
         assert_eq!(counters(&lines[..1]), None);
+    }
+
+    #[test]
+    fn overruns_from_the_last_timing_line() {
+        let lines: Vec<String> = [
+            "1.000 INFO timing: 1000 steps, mean 0 cyc (0 us), max 0 cyc (0 us), longest step 180 us, overruns 2 (total 2)",
+            "1.000 INFO io: imu reads 0 errors 0",
+            "2.000 INFO timing: 1000 steps, mean 0 cyc (0 us), max 0 cyc (0 us), longest step 95 us, overruns 1 (total 3)",
+        ]
+        .map(String::from)
+        .to_vec();
+        assert_eq!(overruns(&lines), Some(3));
+        assert_eq!(overruns(&lines[..2]), Some(2));
+        assert_eq!(overruns(&lines[1..2]), None);
+        assert_eq!(longest_step_us(&lines), Some(180));
+        assert_eq!(longest_step_us(&lines[1..]), Some(95));
+        assert_eq!(longest_step_us(&lines[1..2]), None);
     }
 
     #[test]

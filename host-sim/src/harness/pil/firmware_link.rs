@@ -25,6 +25,7 @@ pub struct FirmwareLink<T: Transport> {
     transport: T,
     reader: FrameReader,
     timeout: Duration,
+    rate_hz: u32,
     rotors: firmware::config::RotorConfig,
     effectiveness: Matrix4<f64>,
     pending: Vec<u8>,
@@ -81,6 +82,7 @@ impl<T: Transport> FirmwareLink<T> {
             transport,
             reader: FrameReader::new(),
             timeout,
+            rate_hz: cfg.control_rate.hz(),
             rotors: cfg.rotors,
             effectiveness,
             pending: Vec::new(),
@@ -162,8 +164,10 @@ impl<T: Transport> FirmwareLink<T> {
                 if a.time_us != t_us {
                     bail!(
                         "PIL: HIL_ACTUATOR_CONTROLS for t = {} us while waiting for t = {t_us} us \
-                         (the firmware ticked at another time: lockstep lost)",
-                        a.time_us
+                         (the firmware ticked at another time: lockstep lost; was it built for \
+                         the host's law rate of {} Hz? FIRMWARE_CONTROL_RATE_HZ, --rate-hz)",
+                        a.time_us,
+                        self.rate_hz
                     );
                 }
                 actuators.get_or_insert(a);

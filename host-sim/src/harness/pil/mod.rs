@@ -9,11 +9,15 @@
 //! 2. one `HIL_SENSOR` (#107) with the IMU sample ([`frames::hil_sensor`]: FLU → FRD).
 //!
 //! The firmware ticks when it has a `HIL_SENSOR` with `time_usec` ≥ its next deadline (0, then
-//! +10 ms), i.e. at `t` = 0, 10 000, 20 000 µs…, and answers with `HIL_ACTUATOR_CONTROLS`
+//! one law period later each time: 10 ms at the default 100 Hz, 1 ms at 1 kHz), i.e. at
+//! `t` = 0, 10 000, 20 000 µs… at 100 Hz, and answers with `HIL_ACTUATOR_CONTROLS`
 //! (#93: `time_usec` = `t`, throttles in `controls[0..4]`, `mode` `SAFETY_ARMED` when armed)
 //! and `POSITION_TARGET_LOCAL_NED` (#85: `time_boot_ms` = `t`/1000, the reference, NED), plus
 //! its usual telemetry. At each tick the host blocks until it has both for `t` (wall-clock
-//! timeout, default 20 s), then applies the throttles to the SIL motors for `[t, t + 10 ms)`.
+//! timeout, default 20 s), then applies the throttles to the SIL motors until the next tick.
+//! The host ticks at the setup's rate ([`PilCommandOptions::rate_hz`]), which must be the one
+//! the firmware was built with (`FIRMWARE_CONTROL_RATE_HZ`); otherwise the first answer for
+//! another time stops the run.
 //! So the run is deterministic whatever the emulator's speed.
 //!
 //! Differences from SIL:
@@ -31,7 +35,7 @@
 //!   thrust and torque from the throttles through the rotor curve and the mixer's
 //!   effectiveness matrix (so at idle they are the idle rotors' wrench, where SIL reports 0).
 //!   Telemetry the firmware sends after the actuator frame of a tick is read with the next
-//!   tick (events 10 ms later than SIL's).
+//!   tick (events one law period later than SIL's).
 //! - The firmware's counters (link frames, mixer saturations, non-finite values, refusals)
 //!   come from its last 1 Hz defmt counter lines ([`defmt_log::counters`]): up to 1 s old at
 //!   the end of the run.
@@ -118,6 +122,12 @@ pub struct PilSummary {
     /// flight's `link_frames`, `mixer_saturated_ticks`, `non_finite` and `refused_commands`
     /// come from here (else they hold 0 / the refused `COMMAND_ACK`s).
     pub firmware_counters: Option<FirmwareCounters>,
+    /// Control-step overruns since boot from the firmware's last 1 Hz `timing:` line
+    /// ([`defmt_log::overruns`]; `None`: not in the log).
+    pub firmware_overruns: Option<u32>,
+    /// The longest control step \[µs\] in the firmware's `timing:` lines
+    /// ([`defmt_log::longest_step_us`]; `None`: not in the log).
+    pub firmware_longest_step_us: Option<u32>,
     /// Lines of the decoded defmt log.
     pub defmt_lines: usize,
     /// defmt frames that did not decode.
@@ -196,6 +206,8 @@ pub fn run(
         Err(e) => (&[][..], 0, Some(format!("{e:#}"))),
     };
     let firmware_counters = defmt_log::counters(lines);
+    let firmware_overruns = defmt_log::overruns(lines);
+    let firmware_longest_step_us = defmt_log::longest_step_us(lines);
     if let Some(c) = firmware_counters {
         flight.link_frames = c.link_frames;
         flight.mixer_saturated_ticks = c.mixer_saturated;
@@ -211,6 +223,8 @@ pub fn run(
         serial,
         bytes_sent,
         firmware_counters,
+        firmware_overruns,
+        firmware_longest_step_us,
         defmt_lines: lines.len(),
         defmt_malformed: malformed,
         defmt_error,
@@ -270,6 +284,16 @@ pub fn human_summary(s: &PilSummary) -> String {
         s.vehicle_line.as_deref().unwrap_or("no vehicle line"),
         s.box_line.as_deref().unwrap_or("no box-fit line")
     );
+    let _ = writeln!(
+        o,
+        "  control-step overruns: {}; longest step: {}",
+        s.firmware_overruns.map_or_else(
+            || "unknown (no `timing:` line)".to_string(),
+            |n| n.to_string()
+        ),
+        s.firmware_longest_step_us
+            .map_or_else(|| "unknown".to_string(), |n| format!("{n} us"))
+    );
     if s.firmware_counters.is_none() {
         let _ = writeln!(
             o,
@@ -293,6 +317,9 @@ pub struct PilCommandOptions {
     pub seed: u64,
     /// Flight time after release \[s\], finite and ≥ 0 (`None`: the scenario's 30 s).
     pub duration: Option<f64>,
+    /// The law's rate \[Hz\] the firmware ELF was built with (100, 250, 500 or 1000): the
+    /// host ticks the lockstep at it.
+    pub rate_hz: f64,
     /// Stall timeout: wall-clock seconds to wait for the firmware's answer to a tick, finite
     /// and > 0 (the command line's default: [`DEFAULT_TIMEOUT_S`]).
     pub timeout: f64,
@@ -305,6 +332,9 @@ pub struct PilCommandOptions {
 /// is judged by the tests.
 pub fn run_command(args: &PilCommandOptions) -> Result<()> {
     let mut setup = sil::scenarios::paper(args.seed);
+    setup
+        .set_control_rate_hz(args.rate_hz)
+        .map_err(|e| anyhow::anyhow!("--rate-hz: {e}"))?;
     if let Some(d) = args.duration {
         if !(d.is_finite() && d >= 0.0) {
             bail!("--duration must be a finite number of seconds >= 0, not {d}");

@@ -173,10 +173,29 @@ pub trait FlightSoftware {
 
 /// The firmware's pipeline in process (SIL): bytes and samples straight into its calls, its
 /// telemetry decoded back by a ground-station decoder (counted), its `status()` as the report.
-struct InProcess {
+pub struct InProcess {
     pipeline: FlightPipeline,
     gcs: Decoder,
     telemetry: Vec<u8>,
+}
+
+impl InProcess {
+    /// The pipeline of `flight`, writing up to `telemetry_room` bytes \[B\] of telemetry per
+    /// control tick. Errors: the pipeline refuses the configuration (`FlightPipeline::new`).
+    pub fn new(flight: &FlightConfig, telemetry_room: usize) -> Result<Self> {
+        let pipeline = FlightPipeline::new(flight)
+            .map_err(|e| anyhow!("flight pipeline refused the set-up: {e:?}"))?;
+        Ok(Self {
+            pipeline,
+            gcs: Decoder::new(255),
+            telemetry: vec![0u8; telemetry_room],
+        })
+    }
+
+    /// The pipeline flown (for its boot report and mixer before the flight).
+    pub fn pipeline(&self) -> &FlightPipeline {
+        &self.pipeline
+    }
 }
 
 impl FlightSoftware for InProcess {
@@ -237,15 +256,9 @@ impl FlightSoftware for InProcess {
 ///
 /// Errors: the configuration is refused by the pipeline (`FlightPipeline::new`).
 pub fn run(setup: &SilSetup, observe: impl FnMut(&SilRecord)) -> Result<SilSummary> {
-    let pipeline = FlightPipeline::new(&setup.flight)
-        .map_err(|e| anyhow!("flight pipeline refused the set-up: {e:?}"))?;
-    let boot = pipeline.boot_report();
-    let b = pipeline.mixer().effectiveness().cast::<f64>();
-    let mut software = InProcess {
-        pipeline,
-        gcs: Decoder::new(255),
-        telemetry: vec![0u8; 1024],
-    };
+    let mut software = InProcess::new(&setup.flight, 1024)?;
+    let boot = software.pipeline.boot_report();
+    let b = software.pipeline.mixer().effectiveness().cast::<f64>();
     fly(setup, &boot, &b, &mut software, observe)
 }
 
@@ -280,7 +293,7 @@ pub fn fly(
     // is measured at the first step at or after each nominal time.
     let mocap_period_us = 1e6 / setup.mocap.rate_hz;
     let mut next_mocap_us = 0.0f64;
-    let tick_every = (f64::from(cfg.control_period) * 1e6).round() as u64;
+    let tick_every = cfg.control_rate.period_us();
     let latency_us = (setup.mocap.latency_s * 1e6).round() as u64;
 
     let mut state = setup.initial;
@@ -550,22 +563,29 @@ pub fn fly(
 }
 
 /// What the `sil` subcommand runs.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct SilOptions {
     /// Scenario: a name of [`scenarios::NAMES`] (the command line's default: `paper`) or the path
     /// of a SIL scenario file (format: [`scenario_file`]).
     pub scenario: String,
     /// Random seed (sensor noise, dropouts, byte chunking); the command line's default: 1.
     pub seed: u64,
+    /// The law's rate \[Hz\] (100, 250, 500 or 1000; `None`: the scenario's).
+    pub rate_hz: Option<f64>,
     /// Output directory (`None`: `./out/sil-<scenario>`); gets timeseries.csv and summary.json.
     pub out: Option<std::path::PathBuf>,
 }
 
 /// The `sil` subcommand: runs the scenario, prints the summary, writes `timeseries.csv` and
 /// `summary.json`. Errors: unknown scenario name or a bad scenario file (with file, key and
-/// reason); the run failed or a file could not be written.
+/// reason); an unsupported rate; the run failed or a file could not be written.
 pub fn run_command(args: &SilOptions) -> Result<()> {
-    let setup = scenarios::load(&args.scenario, args.seed)?;
+    let mut setup = scenarios::load(&args.scenario, args.seed)?;
+    if let Some(hz) = args.rate_hz {
+        setup
+            .set_control_rate_hz(hz)
+            .map_err(|e| anyhow!("--rate-hz: {e}"))?;
+    }
     let out = args
         .out
         .clone()

@@ -3,7 +3,8 @@
 
 use serde::Serialize;
 
-/// One control tick of the run (100 Hz). Units in the names; times after release.
+/// One control tick of the run (at the law's rate, 100 Hz by default). Units in the names;
+/// times after release.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 #[allow(non_snake_case)]
 pub struct SilRecord {

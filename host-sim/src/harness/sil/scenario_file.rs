@@ -9,8 +9,9 @@
 //!   airframe; `"paper"` is `FlightConfig::paper()` with `allow_uncertified` set (as the
 //!   `uncertified-paper` build flies it: its certificate fails and its box does not fit);
 //! - `pose_message = "odometry" | "att_pos_mocap"`: the MAVLink message carrying the poses;
-//! - optional `motor_time_constant_s` (the lag of each rotor's speed; default: the flight's
-//!   airframe's), `hold_s` (held still before the release), `duration_s` (after it), optional `ground_z_m` (flat ground, z up; none if absent) and `pose_outage_s =
+//! - optional `control_rate_hz` (the law's rate: 100, 250, 500 or 1000; default: the flight's,
+//!   100 Hz unless the firmware was built with another), `motor_time_constant_s` (the lag of
+//!   each rotor's speed; default: the flight's airframe's), `hold_s` (held still before the release), `duration_s` (after it), optional `ground_z_m` (flat ground, z up; none if absent) and `pose_outage_s =
 //!   [start, end)` (no pose sent; `inf` allowed);
 //! - `[initial]`: either `scenario = "paper"`, the `[initial]` state of the paper's scenario
 //!   (`host-sim/scenarios/paper.toml`; a file read from disk may also name another scenario
@@ -28,6 +29,7 @@ use std::path::Path;
 use anyhow::{anyhow, Result};
 use firmware::airframe::Airframe;
 use firmware::config::FlightConfig;
+use firmware::control_rate::ControlRate;
 use firmware::ground_station;
 use firmware::link::mavlink::dialects::common::MavMessage;
 use nalgebra::{UnitQuaternion, Vector3};
@@ -54,6 +56,8 @@ struct ScenarioFile {
     #[serde(default)]
     flight: FlightName,
     pose_message: PoseMessageName,
+    #[serde(default)]
+    control_rate_hz: Option<f64>,
     #[serde(default)]
     motor_time_constant_s: Option<f64>,
     hold_s: f64,
@@ -373,7 +377,7 @@ fn build(
     name: &str,
     seed: u64,
 ) -> Result<SilSetup, String> {
-    let (flight, airframe) = match file.flight {
+    let (mut flight, airframe) = match file.flight {
         FlightName::Built => (FlightConfig::built(), FlightConfig::built_airframe()),
         FlightName::Paper => (
             FlightConfig {
@@ -383,6 +387,10 @@ fn build(
             Airframe::paper(),
         ),
     };
+    if let Some(hz) = file.control_rate_hz {
+        flight.control_rate =
+            ControlRate::from_hz(hz).map_err(|e| format!("control_rate_hz: {e}"))?;
+    }
     let message = match file.pose_message {
         PoseMessageName::Odometry => PoseMessage::Odometry,
         PoseMessageName::AttPosMocap => PoseMessage::AttPosMocap,
@@ -457,6 +465,25 @@ mod tests {
         let s = parse(TAKEOFF_LAND, "t.toml", None, "t", 1).unwrap();
         assert_eq!(s.commands.len(), 4);
         assert_eq!(s.ground_z, Some(0.0));
+    }
+
+    #[test]
+    fn the_law_rate_is_one_of_four() {
+        let default = parse(TAKEOFF_LAND, "t.toml", None, "t", 1).unwrap();
+        assert_eq!(
+            default.flight.control_rate,
+            FlightConfig::built().control_rate
+        );
+        let text = format!("control_rate_hz = 1000\n{TAKEOFF_LAND}");
+        let s = parse(&text, "t.toml", None, "t", 1).unwrap();
+        assert_eq!(s.flight.control_rate, ControlRate::Hz1000);
+        assert_eq!(s.flight.control_period(), 0.001);
+        for bad in ["300", "0", "-100", "1e9", "\"fast\""] {
+            let e = refused(&format!("control_rate_hz = {bad}\n{TAKEOFF_LAND}"));
+            assert_names(&e, &["bad.toml", "control_rate_hz"]);
+        }
+        let e = refused(&format!("control_rate_hz = 300\n{TAKEOFF_LAND}"));
+        assert_names(&e, &["300 Hz", "100, 250, 500 or 1000"]);
     }
 
     #[test]

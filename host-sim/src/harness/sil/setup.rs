@@ -3,6 +3,7 @@
 
 use controller_core::Bounds;
 use firmware::config::FlightConfig;
+use firmware::control_rate::ControlRate;
 use firmware::link::mavlink::dialects::common::MavMessage;
 use firmware::pipeline::FlightPipeline;
 
@@ -42,6 +43,13 @@ pub struct SilSetup {
 }
 
 impl SilSetup {
+    /// Flies the law at `hz` \[Hz\] instead of the flight's rate (the command lines'
+    /// `--rate-hz`). Errors: `hz` is not 100, 250, 500 or 1000.
+    pub fn set_control_rate_hz(&mut self, hz: f64) -> anyhow::Result<()> {
+        self.flight.control_rate = ControlRate::from_hz(hz).map_err(|e| anyhow::anyhow!("{e}"))?;
+        Ok(())
+    }
+
     /// The a-priori bounds of the certificate the firmware computes at boot for this set-up's
     /// flight configuration and demo mission: `T ∈ [T_min, T_max]` \[N\] (Theorem 1), per-axis
     /// torque bound \[N m\] (Theorem 2), Lemma 1's rates.

@@ -1,0 +1,148 @@
+//! Local exponential stability of the position loop with the integral action: the
+//! characteristic polynomial of its per-axis linearisation and the Routh–Hurwitz conditions.
+//!
+//! Source: extension, docs/integral-action.md. Near an equilibrium the saturation `σ_p` has slope
+//! 1, and with the attitude loop taken as ideal (`u` realised) each inertial axis obeys, with
+//! `c = 1/k_f + 1/k_s` and `e = η_f + d` (`d` a constant acceleration disturbance),
+//! `ż₁ = z₂ + c e`, `ż₂ = −k_p z₁ − k_v z₂ + e`, `η̇ = −k_i z₁`, `η̇_f = −k_η (η_f − η)`
+//! (the filter states `u_f`, `u_s` follow as a stable cascade with poles `−k_f`, `−k_s`).
+//! Eliminating `e = −k_i k_η z₁ / (s (s + k_η))`:
+//! `(s² + k_v s + k_p) s (s + k_η) + k_i k_η (1 + c k_v + c s) = 0`, i.e.
+//! `s⁴ + a₃ s³ + a₂ s² + a₁ s + a₀` with `a₃ = k_v + k_η`, `a₂ = k_p + k_v k_η`,
+//! `a₁ = k_η (k_p + c k_i)`, `a₀ = k_i k_η (1 + c k_v)`. (As `k_η → ∞` it tends to the
+//! filterless cubic `s³ + k_v s² + (k_p + c k_i) s + k_i (1 + c k_v)`.)
+//! Routh–Hurwitz for a monic quartic: all `aⱼ > 0` (true for positive gains),
+//! `a₃ a₂ > a₁` and `a₃ a₂ a₁ > a₁² + a₃² a₀`.
+
+use crate::bounds::Condition;
+use crate::integral::IntegralGains;
+use crate::position::PositionGains;
+use crate::scalar::Scalar;
+
+/// Number of Routh–Hurwitz conditions reported.
+pub const STABILITY_CONDITION_COUNT: usize = 2;
+
+/// `[a₀, a₁, a₂, a₃, a₄ = 1]` of the per-axis closed-loop characteristic polynomial (see the
+/// module docs); units `1/sʲ` for `s^{4−j}`'s coefficient.
+pub fn characteristic_polynomial<T: Scalar>(
+    position: &PositionGains<T>,
+    integral: &IntegralGains<T>,
+) -> [T; 5] {
+    let c = T::one() / position.kf + T::one() / position.ks;
+    let (kp, kv, ki, ke) = (position.kp, position.kv, integral.gain, integral.bandwidth);
+    [
+        ki * ke * (T::one() + c * kv),
+        ke * (kp + c * ki),
+        kp + kv * ke,
+        kv + ke,
+        T::one(),
+    ]
+}
+
+/// The Routh–Hurwitz conditions of [`characteristic_polynomial`], each with both sides; all
+/// holding is equivalent (for positive gains) to every root in the open left half-plane, i.e.
+/// local exponential stability of the equilibrium `z = 0`, `η_f = −d`.
+pub fn local_stability_conditions<T: Scalar>(
+    position: &PositionGains<T>,
+    integral: &IntegralGains<T>,
+) -> [Condition<T>; STABILITY_CONDITION_COUNT] {
+    let [a0, a1, a2, a3, _] = characteristic_polynomial(position, integral);
+    let strict = Condition::strict;
+    [
+        strict(
+            "integral.local_stability_hurwitz2",
+            "a3 a2 > a1 (Routh-Hurwitz, docs/integral-action.md)",
+            a3 * a2,
+            a1,
+        ),
+        strict(
+            "integral.local_stability_hurwitz3",
+            "a3 a2 a1 > a1^2 + a3^2 a0 (Routh-Hurwitz, docs/integral-action.md)",
+            a3 * a2 * a1,
+            a1 * a1 + a3 * a3 * a0,
+        ),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Matrix4;
+    use proptest::prelude::*;
+
+    /// The linearisation's matrix in `(z₁, z₂, η, η_f)`, written from the ODEs in the module
+    /// docs (not from the polynomial).
+    fn system_matrix(p: &PositionGains<f64>, i: &IntegralGains<f64>) -> Matrix4<f64> {
+        let c = 1.0 / p.kf + 1.0 / p.ks;
+        #[rustfmt::skip]
+        let a = Matrix4::new(
+            0.0, 1.0, 0.0, c,
+            -p.kp, -p.kv, 0.0, 1.0,
+            -i.gain, 0.0, 0.0, 0.0,
+            0.0, 0.0, i.bandwidth, -i.bandwidth,
+        );
+        a
+    }
+
+    fn gains(
+        kp: f64,
+        kv: f64,
+        kf: f64,
+        ks: f64,
+        ki: f64,
+        ke: f64,
+    ) -> (PositionGains<f64>, IntegralGains<f64>) {
+        (
+            PositionGains {
+                kp,
+                kv,
+                kf,
+                ks,
+                saturation: 1.0,
+            },
+            IntegralGains {
+                gain: ki,
+                level: nalgebra::Vector3::repeat(1.0),
+                rate: nalgebra::Vector3::repeat(1.0),
+                bandwidth: ke,
+            },
+        )
+    }
+
+    proptest! {
+        /// The Routh–Hurwitz verdict agrees with the eigenvalues of the linearisation's matrix,
+        /// and the polynomial's roots are those eigenvalues (checked through P(λ) ≈ 0).
+        #[test]
+        fn routh_hurwitz_matches_eigenvalues(
+            kp in 0.1..30.0f64, kv in 0.1..20.0f64, kf in 0.2..30.0f64, ks in 0.2..60.0f64,
+            ki in 0.01..60.0f64, ke in 0.1..60.0f64,
+        ) {
+            let (p, i) = gains(kp, kv, kf, ks, ki, ke);
+            let eig = system_matrix(&p, &i).complex_eigenvalues();
+            let max_re = eig.iter().map(|l| l.re).fold(f64::NEG_INFINITY, f64::max);
+            let scale = eig.iter().map(|l| l.re.hypot(l.im)).fold(1.0, f64::max);
+            // Skip set-ups too close to the stability boundary for the eigen-solver to decide.
+            prop_assume!(max_re.abs() > 1e-6 * scale);
+            let conds = local_stability_conditions(&p, &i);
+            let rh = conds.iter().all(|c| c.holds);
+            prop_assert_eq!(rh, max_re < 0.0, "max Re = {}, {:?}", max_re, conds);
+            let a = characteristic_polynomial(&p, &i);
+            for l in eig.iter() {
+                let v = (((l * a[4] + a[3]) * l + a[2]) * l + a[1]) * l + a[0];
+                let mag = a.iter().enumerate().map(|(j, c)| c.abs() * l.re.hypot(l.im).powi(j as i32)).sum::<f64>();
+                prop_assert!(v.re.hypot(v.im) <= 1e-9 * mag, "P({l}) = {v}");
+            }
+        }
+    }
+
+    /// Some integral gains destabilise the loop, and the certificate says so: a large k_i with a
+    /// slow filter.
+    #[test]
+    fn large_integral_gain_with_slow_filter_is_refused() {
+        let (p, i) = gains(9.0, 6.0, 2.0, 20.0, 50.0, 0.5);
+        let conds = local_stability_conditions(&p, &i);
+        assert!(!conds.iter().all(|c| c.holds));
+        let (p, i) = gains(9.0, 6.0, 2.0, 20.0, 2.0, 5.0);
+        assert!(local_stability_conditions(&p, &i).iter().all(|c| c.holds));
+    }
+}
