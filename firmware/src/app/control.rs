@@ -14,6 +14,8 @@ use embassy_time::{Duration, Instant, Timer};
 use super::queues::{
     count, try_write_all, Summary, EVENTS, IMU_SAMPLES, IO, LINK_RX, LINK_TX, SUMMARY, TIMING,
 };
+#[cfg(feature = "hil")]
+use crate::pipeline::lockstep::Lockstep;
 use crate::pipeline::{FlightPipeline, MotorOutput};
 use crate::timing::{self, StepStats};
 
@@ -36,6 +38,13 @@ pub trait ControlClock {
     /// Waits for the next control instant. A clock that lives in the link (the simulation's)
     /// may feed received bytes to `pipeline` while it waits; a hardware clock ignores it.
     async fn next_tick(&mut self, pipeline: &mut FlightPipeline) -> Tick;
+
+    /// Whether this clock is the only reader of [`LINK_RX`]: then [`run`] does not drain it
+    /// between ticks, so that which bytes come before a tick is the clock's decision alone
+    /// (the lockstep's: `crate::pipeline::lockstep`, `hil` feature).
+    fn reads_link(&self) -> bool {
+        false
+    }
 }
 
 /// Where the tick's throttles go.
@@ -92,8 +101,10 @@ pub async fn run(
         while let Ok(sample) = IMU_SAMPLES.try_receive() {
             pipeline.on_imu(&sample);
         }
-        while let Ok(n) = LINK_RX.try_read(&mut link_buf) {
-            pipeline.on_link_bytes(&link_buf[..n], now_us);
+        if !clock.reads_link() {
+            while let Ok(n) = LINK_RX.try_read(&mut link_buf) {
+                pipeline.on_link_bytes(&link_buf[..n], now_us);
+            }
         }
         let output = pipeline.control_tick(now_us);
         let frames = motors.prepare(&output);
@@ -178,17 +189,17 @@ impl ControlClock for DeadlineClock {
 }
 
 /// Processor-in-the-loop pacing (`hil` feature): the simulation's clock is the `time_usec` of
-/// the `HIL_SENSOR` messages on the link, so this clock reads the link itself, feeding the
-/// bytes to the pipeline (stamped with the latest `HIL_SENSOR` time), and ticks as soon as a
-/// sample at or past the deadline has arrived. Deadlines: the first sample's time, then each
-/// tick's time plus the period. The simulator waits for each tick's `HIL_ACTUATOR_CONTROLS`
-/// before it sends more, so the firmware and the plant advance in lockstep, independent of how
-/// fast the emulator runs.
+/// the `HIL_SENSOR` messages on the link, so this clock is the link's only reader and applies
+/// the lockstep rule of [`crate::pipeline::lockstep`]: each message is dated by the last
+/// `HIL_SENSOR` before it in the stream, and a tick happens right after the `HIL_SENSOR` that
+/// reaches the deadline, with the bytes after it (even from the same read) held for the next
+/// tick. Deadlines: the first sample's time, then each tick's time plus the period. The
+/// simulator waits for each tick's `HIL_ACTUATOR_CONTROLS` before it sends more, so the firmware
+/// and the plant advance in lockstep, independent of how fast the emulator runs and of how the
+/// UART cuts the bytes into reads.
 #[cfg(feature = "hil")]
 pub struct LockstepClock {
-    period_us: u64,
-    deadline_us: Option<u64>,
-    buf: [u8; 128],
+    lockstep: Lockstep<128>,
 }
 
 #[cfg(feature = "hil")]
@@ -196,9 +207,7 @@ impl LockstepClock {
     /// A tick every `period` of simulated time.
     pub fn new(period: Duration) -> Self {
         Self {
-            period_us: period.as_micros(),
-            deadline_us: None,
-            buf: [0; 128],
+            lockstep: Lockstep::new(period.as_micros()),
         }
     }
 }
@@ -207,19 +216,19 @@ impl LockstepClock {
 impl ControlClock for LockstepClock {
     async fn next_tick(&mut self, pipeline: &mut FlightPipeline) -> Tick {
         loop {
-            if let Some(t) = pipeline.hil_time_us() {
-                if t >= *self.deadline_us.get_or_insert(t) {
-                    self.deadline_us = Some(t + self.period_us);
-                    return Tick {
-                        now_us: t,
-                        lateness_us: 0,
-                        missed: 0,
-                    };
-                }
+            if let Some(now_us) = self.lockstep.advance(pipeline) {
+                return Tick {
+                    now_us,
+                    lateness_us: 0,
+                    missed: 0,
+                };
             }
-            let n = LINK_RX.read(&mut self.buf).await;
-            let stamp = pipeline.hil_time_us().unwrap_or(0);
-            pipeline.on_link_bytes(&self.buf[..n], stamp);
+            let n = LINK_RX.read(self.lockstep.space()).await;
+            self.lockstep.filled(n);
         }
+    }
+
+    fn reads_link(&self) -> bool {
+        true
     }
 }

@@ -20,6 +20,10 @@ mod events;
 mod failsafe;
 mod gate;
 mod landed;
+#[cfg(feature = "hil")]
+pub mod lockstep;
+#[cfg(all(test, feature = "hil"))]
+mod lockstep_tests;
 mod mission;
 mod telemetry;
 #[cfg(test)]
@@ -336,6 +340,31 @@ impl FlightPipeline {
             self.handle(m, now_us);
         }
         self.counters.link = self.decoder.counters();
+    }
+
+    /// Lockstep input (`hil` feature; [`lockstep`]): takes bytes from the front of `bytes`
+    /// until one completes a message and handles it, dated by the simulation's clock as the
+    /// stream left it, i.e. the time of the last `HIL_SENSOR` before it in the stream \[µs\]
+    /// (0 before the first). Returns how many bytes were taken and what was handled; `(n,
+    /// Incomplete)` when all `n` given completed nothing. Unlike [`Self::on_link_bytes`], whose
+    /// caller dates a whole read, this makes the date and the tick boundary depend on the bytes
+    /// only, not on how they were cut into reads.
+    #[cfg(feature = "hil")]
+    pub fn on_link_message(&mut self, bytes: &[u8]) -> (usize, lockstep::Fed) {
+        let (used, message) = self.decoder.feed(bytes);
+        let fed = match message {
+            None => lockstep::Fed::Incomplete,
+            Some(m) => {
+                let sensor = matches!(m, crate::link::Inbound::HilSensor { .. });
+                self.handle(m, self.hil_time_us.unwrap_or(0));
+                match (sensor, self.hil_time_us) {
+                    (true, Some(clock_us)) => lockstep::Fed::HilSensor { clock_us },
+                    _ => lockstep::Fed::Message,
+                }
+            }
+        };
+        self.counters.link = self.decoder.counters();
+        (used, fed)
     }
 
     /// One control tick (every [`FlightConfig::control_period`]): the motor throttles for

@@ -131,7 +131,7 @@ impl FlightPipeline {
     }
 
     /// The tick's motor commands (`HIL_ACTUATOR_CONTROLS`: throttles in `controls[0..4]`, mixer
-    /// order; `mode` has `SAFETY_ARMED` when armed) and reference (`POSITION_TARGET_LOCAL_NED`,
+    /// order; `mode` has `SAFETY_ARMED` when armed; `flags` = `LOCKSTEP`) and reference (`POSITION_TARGET_LOCAL_NED`,
     /// NED \[m\]), both or nothing; returns the bytes written.
     #[cfg(feature = "hil")]
     fn hil_outputs(&mut self, tick_us: u64, out: &mut [u8]) -> usize {
@@ -143,7 +143,8 @@ impl FlightPipeline {
         controls[..4].copy_from_slice(&self.last_output.throttle);
         let actuators = HIL_ACTUATOR_CONTROLS_DATA {
             time_usec: tick_us,
-            flags: HilActuatorControlsFlags::empty(),
+            // The simulator must wait for this frame before it steps (docs/sil-pil.md).
+            flags: HilActuatorControlsFlags::HIL_ACTUATOR_CONTROLS_FLAGS_LOCKSTEP,
             controls,
             mode: if self.last_output.armed {
                 MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED
