@@ -10,6 +10,10 @@
 //! `FIRMWARE_CONTROL_RATE_HZ=1000`), where every control step must also finish within its
 //! 1 ms period (0 overruns in the firmware's timing log).
 //!
+//! And the lockstep's determinism: two short runs of the same scenario and seed, the host's
+//! writes cut whole and at random, give byte-identical telemetry (docs/sil-pil.md, "Lockstep
+//! determinism").
+//!
 //! Needs `qemu-system-arm` and the ELFs: `PIL_FIRMWARE_ELF`, or the default path
 //! (`host_sim::harness::pil::default_elf`, i.e. `$CARGO_TARGET_DIR` or `target/`, then
 //! `thumbv7em-none-eabihf/release/firmware-mps2-an386`); `PIL_FIRMWARE_ELF_1KHZ` for the 1 kHz
@@ -18,7 +22,7 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
-use host_sim::harness::pil::{self, PilOptions};
+use host_sim::harness::pil::{self, PilOptions, SendChunking};
 use host_sim::harness::sil::{scenarios, FlightExtremes};
 
 #[test]
@@ -42,6 +46,65 @@ fn the_law_at_1_khz_on_the_emulated_mcu_recovers_with_no_overrun() {
     fly_and_check(elf, 1000.0, "pil-qemu-1khz-test");
 }
 
+#[test]
+#[ignore = "needs qemu-system-arm and the mps2-an386 firmware ELF; tests/run-all.sh builds both and runs it with --ignored"]
+fn the_telemetry_does_not_depend_on_how_the_host_cuts_its_writes() {
+    let elf = std::env::var_os("PIL_FIRMWARE_ELF")
+        .map(PathBuf::from)
+        .unwrap_or_else(pil::default_elf);
+    // Short: the 1.5 s upside-down hold and 1.5 s of the recovery (the arm, the flip, the
+    // mission start), 301 ticks at 100 Hz.
+    let whole = fly_recording(&elf, SendChunking::Whole, "pil-chunking-whole");
+    let random = fly_recording(
+        &elf,
+        SendChunking::Random { seed: 7 },
+        "pil-chunking-random",
+    );
+    assert_eq!(whole.1, 301, "ticks answered");
+    assert_eq!(random.1, whole.1, "ticks answered");
+    // Byte for byte, every frame up to the last tick's answer (docs/sil-pil.md: nothing in the
+    // telemetry is a wall-clock or cycle figure; the frames after the last answer are not
+    // compared because the run ends while they are on their way).
+    let first_difference = whole.0.iter().zip(&random.0).position(|(a, b)| a != b);
+    println!(
+        "telemetry: {} B (whole), {} B (random), first difference at byte {first_difference:?}",
+        whole.0.len(),
+        random.0.len()
+    );
+    assert!(
+        whole.0 == random.0,
+        "{} vs {} bytes of telemetry, first difference at byte {first_difference:?}",
+        whole.0.len(),
+        random.0.len()
+    );
+}
+
+/// Flies the paper scenario (3 s simulated) on `elf` with the host's writes cut as `chunking`
+/// says, and returns the telemetry taken in (raw frames) and the number of ticks answered.
+fn fly_recording(elf: &std::path::Path, chunking: SendChunking, tag: &str) -> (Vec<u8>, u32) {
+    let out = std::env::temp_dir().join(format!("{tag}-{}", std::process::id()));
+    let options = PilOptions {
+        elf: elf.to_path_buf(),
+        qemu: std::env::var_os("PIL_QEMU")
+            .map_or_else(|| PathBuf::from("qemu-system-arm"), PathBuf::from),
+        out: out.clone(),
+        timeout: Duration::from_secs_f64(pil::DEFAULT_TIMEOUT_S),
+        send_chunking: chunking,
+        record_telemetry: true,
+    };
+    let mut setup = scenarios::paper(1);
+    setup.duration_s = 1.5;
+    let mut ticks = 0;
+    let s = pil::run(&setup, &options, |_| ticks += 1)
+        .unwrap_or_else(|e| panic!("PIL run ({chunking}) failed: {e:#}"));
+    print!("{}", pil::human_summary(&s));
+    // It armed and flew: the comparison is not one of idle motors.
+    assert_eq!(s.flight.final_state, "armed", "{:#?}", s.flight.events);
+    let telemetry = std::fs::read(out.join(pil::TELEMETRY_FILE)).expect("telemetry.bin");
+    let _ = std::fs::remove_dir_all(&out);
+    (telemetry, ticks)
+}
+
 /// Flies SIL's paper scenario with the law at `rate_hz` on the firmware `elf` in QEMU and checks
 /// the flight, the link, the boot banner and that no control step overran its period.
 fn fly_and_check(elf: PathBuf, rate_hz: f64, tag: &str) {
@@ -52,6 +115,8 @@ fn fly_and_check(elf: PathBuf, rate_hz: f64, tag: &str) {
             .map_or_else(|| PathBuf::from("qemu-system-arm"), PathBuf::from),
         out: out.clone(),
         timeout: Duration::from_secs_f64(pil::DEFAULT_TIMEOUT_S),
+        send_chunking: SendChunking::Whole,
+        record_telemetry: false,
     };
     let mut setup = scenarios::paper(1);
     setup

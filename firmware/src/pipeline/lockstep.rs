@@ -154,9 +154,12 @@ mod tests {
         }
     }
 
-    /// Drives `stream` through a `Lockstep<8>` in reads of the given sizes (cycled), returning
-    /// the ticks with, for each, how many messages had been handled before it.
-    fn drive(stream: &[u8], sizes: &[usize]) -> (Vec<(u64, usize)>, Vec<(u8, u64)>) {
+    /// Each tick's time \[µs\] with how many messages came before it, and each message with
+    /// its date \[µs\].
+    type Trace = (Vec<(u64, usize)>, Vec<(u8, u64)>);
+
+    /// Drives `stream` through a `Lockstep<8>` in reads of the given sizes (cycled).
+    fn drive(stream: &[u8], sizes: &[usize]) -> Trace {
         let mut lock = Lockstep::<8>::new(2000);
         let mut link = Fake::default();
         let mut ticks = Vec::new();

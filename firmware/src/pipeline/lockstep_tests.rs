@@ -122,7 +122,12 @@ fn difference(a: &Run, b: &Run) -> Option<String> {
     let differing = a.ticks.iter().zip(&b.ticks).filter(|(x, y)| x != y);
     let max = differing
         .clone()
-        .flat_map(|(x, y)| x.1.throttle.iter().zip(y.1.throttle).map(|(u, v)| (u - v).abs()))
+        .flat_map(|(x, y)| {
+            x.1.throttle
+                .iter()
+                .zip(y.1.throttle)
+                .map(|(u, v)| (u - v).abs())
+        })
         .fold(0.0f32, f32::max);
     let first_byte = a
         .telemetry
@@ -220,7 +225,11 @@ fn the_stream_arms_and_flies_with_lockstep_actuator_frames() {
     let stream = pil_stream();
     let run = run_lockstep(&stream, cycle(&[1]));
     assert_eq!(run.ticks.len() as u64, STREAM_MS / 10 + 1);
-    assert!(run.ticks.iter().enumerate().all(|(k, (t, _))| *t == k as u64 * 10_000));
+    assert!(run
+        .ticks
+        .iter()
+        .enumerate()
+        .all(|(k, (t, _))| *t == k as u64 * 10_000));
     let armed: Vec<_> = run.ticks.iter().filter(|(_, o)| o.armed).collect();
     assert!(armed.len() > 100, "armed for {} ticks", armed.len());
     let flying: Vec<[f32; 4]> = run
@@ -284,11 +293,7 @@ fn the_old_rule_depended_on_the_chunking() {
         .zip(&reference.ticks)
         .filter(|(a, b)| a != b)
         .count();
-    assert!(
-        differing > 10,
-        "{:?}",
-        difference(&chunked, &reference)
-    );
+    assert!(differing > 10, "{:?}", difference(&chunked, &reference));
 }
 
 proptest! {

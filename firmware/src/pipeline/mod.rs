@@ -11,8 +11,9 @@
 //! One facet per file, each an `impl FlightPipeline` block or a small pure type:
 //! `commands.rs` (commands and the certificate gate), `mission.rs` (the takeoff/land mode
 //! machine, [`ModeMachine`]), `landed.rs` (the landed detector, [`LandedDetector`]),
-//! `failsafe.rs` (the failsafe law), `telemetry.rs` (telemetry scheduling) and `events.rs`
-//! (events, counters, status). This file holds the pipeline's state, its construction and the
+//! `failsafe.rs` (the failsafe law), `telemetry.rs` (telemetry scheduling), `events.rs`
+//! (events, counters, status) and, with the `hil` feature, `lockstep.rs` (the processor-in-the-loop
+//! pacing rule, [`lockstep::Lockstep`]). This file holds the pipeline's state, its construction and the
 //! per-sample and per-tick flow.
 
 mod commands;

@@ -17,7 +17,7 @@ pub struct PilArgs {
     #[arg(long, value_name = "BIN", default_value = "qemu-system-arm")]
     pub qemu: PathBuf,
     /// Output directory. Default: `./out/pil`. Gets timeseries.csv, summary.json, defmt.bin
-    /// and defmt.log.
+    /// and defmt.log (and telemetry.bin with --record-telemetry).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Random seed (sensor noise, dropouts, byte chunking).
@@ -34,6 +34,15 @@ pub struct PilArgs {
     /// Stall timeout: wall-clock seconds to wait for the firmware's answer to a tick.
     #[arg(long, value_name = "S", default_value_t = pil::DEFAULT_TIMEOUT_S)]
     pub timeout: f64,
+    /// How the bytes sent to the firmware are cut into writes: `whole` (one per 1 ms step),
+    /// `bytes` (one per byte), `random` (sizes 1 to 96 from seed 1) or `random:<seed>`. The
+    /// firmware's lockstep must not depend on it (docs/sil-pil.md).
+    #[arg(long, value_name = "HOW", default_value = "whole")]
+    pub send_chunking: pil::SendChunking,
+    /// Also write telemetry.bin: every MAVLink frame taken in from the firmware, raw, up to
+    /// the last tick's answer (compare two runs with `cmp`).
+    #[arg(long)]
+    pub record_telemetry: bool,
 }
 
 /// Runs the PIL flight ([`pil::run_command`]).
@@ -46,5 +55,7 @@ pub fn run(args: &PilArgs) -> Result<()> {
         duration: args.duration,
         rate_hz: args.rate_hz,
         timeout: args.timeout,
+        send_chunking: args.send_chunking,
+        record_telemetry: args.record_telemetry,
     })
 }

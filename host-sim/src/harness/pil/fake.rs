@@ -14,6 +14,7 @@ use firmware::link::{self};
 use firmware::pipeline::{FlightPipeline, ImuSample};
 use nalgebra::Vector3;
 
+use super::chunking::SendChunking;
 use super::firmware_link::FirmwareLink;
 use super::frames::FrameReader;
 use super::transport::Transport;
@@ -43,6 +44,8 @@ struct FakeFirmware {
     telemetry: Vec<u8>,
     fault: Fault,
     dead: bool,
+    /// Every byte received, in order.
+    sent: Vec<u8>,
 }
 
 impl FakeFirmware {
@@ -57,6 +60,7 @@ impl FakeFirmware {
             telemetry: vec![0; 1024],
             fault,
             dead: false,
+            sent: Vec::new(),
         }
     }
 
@@ -92,7 +96,8 @@ impl FakeFirmware {
                 } else {
                     MavModeFlag::empty()
                 },
-                flags: HilActuatorControlsFlags::empty(),
+                // As the firmware: the host must wait for this frame before it steps.
+                flags: HilActuatorControlsFlags::HIL_ACTUATOR_CONTROLS_FLAGS_LOCKSTEP,
             },
         ));
         let [x, y, z] =
@@ -115,6 +120,7 @@ impl FakeFirmware {
 
 impl Transport for FakeFirmware {
     fn send(&mut self, bytes: &[u8]) -> Result<()> {
+        self.sent.extend_from_slice(bytes);
         self.reader.push(bytes);
         while let Some((h, m)) = self.reader.next_message() {
             if let MavMessage::HIL_SENSOR(s) = &m {
@@ -150,6 +156,46 @@ impl Transport for FakeFirmware {
 
     fn post_mortem(&mut self) -> String {
         "fake firmware".into()
+    }
+}
+
+/// The telemetry the host takes in (raw frames) and the bytes the fake received, flying
+/// `setup` with the host's writes cut as `chunking` says.
+fn fly_recording(setup: &sil::SilSetup, chunking: SendChunking) -> (Vec<u8>, Vec<u8>) {
+    let pipeline = FlightPipeline::new(&setup.flight).unwrap();
+    let boot = pipeline.boot_report();
+    let b = pipeline.mixer().effectiveness().cast::<f64>();
+    let fake = FakeFirmware::new(pipeline, Fault::None);
+    let mut link = FirmwareLink::new(fake, &setup.flight, b, Duration::from_millis(1))
+        .with_send_chunking(chunking)
+        .recording();
+    sil::fly(setup, &boot, &b, &mut link, |_| {}).unwrap();
+    let received = link.received().unwrap().to_vec();
+    (received, link.into_transport().sent)
+}
+
+/// Given the paper scenario (0.5 s: the random writes' pauses are wall-clock time), when the
+/// host cuts its writes whole, per byte or at random, then the firmware receives the same bytes
+/// and the host records the same telemetry, which holds every tick's answer.
+#[test]
+fn send_chunking_changes_the_writes_only() {
+    let mut setup = scenarios::paper(1);
+    setup.hold_s = 0.2;
+    setup.duration_s = 0.3;
+    let (telemetry, sent) = fly_recording(&setup, SendChunking::Whole);
+    // A tick every 10 ms, both ends included.
+    let ticks = (100.0 * (setup.hold_s + setup.duration_s)).round() as usize + 1;
+    let mut r = FrameReader::new();
+    r.push(&telemetry);
+    let actuators = std::iter::from_fn(|| r.next_message())
+        .filter(|(_, m)| matches!(m, MavMessage::HIL_ACTUATOR_CONTROLS(_)))
+        .count();
+    assert_eq!(actuators, ticks);
+    assert_eq!(r.counters().malformed, 0);
+    for chunking in [SendChunking::Bytes, SendChunking::Random { seed: 3 }] {
+        let (t, s) = fly_recording(&setup, chunking);
+        assert!(s == sent, "{chunking}: other bytes sent");
+        assert!(t == telemetry, "{chunking}: other telemetry");
     }
 }
 
@@ -251,6 +297,8 @@ fn run_refuses_a_missing_elf_and_a_slow_imu() {
         qemu: "qemu-system-arm".into(),
         out: std::env::temp_dir().join("pil-unit-never-written"),
         timeout: Duration::from_secs(1),
+        send_chunking: super::SendChunking::Whole,
+        record_telemetry: false,
     };
     let e = super::run(&scenarios::paper(1), &options, |_| {}).unwrap_err();
     assert!(format!("{e:#}").contains("firmware ELF not found"), "{e:#}");

@@ -12,6 +12,7 @@ use firmware::pipeline::{ImuSample, Mode, MotorOutput};
 use firmware::safety::FlightState;
 use nalgebra::{Matrix4, Vector3, Vector4};
 
+use super::chunking::{Chunker, SendChunking};
 use super::frames::{self, Actuators, FrameReader, ReaderCounters, Target};
 use super::transport::Transport;
 use crate::harness::qemu::Received;
@@ -39,6 +40,9 @@ pub struct FirmwareLink<T: Transport> {
     refused: u32,
     ack_mode: Option<Mode>,
     last_frames: Vec<&'static str>,
+    chunker: Chunker,
+    /// Every frame taken in, raw, in order, when recording.
+    received: Option<Vec<u8>>,
 }
 
 /// The reference mode of `HEARTBEAT.custom_mode` (the pipeline's `Mode as u32`).
@@ -96,7 +100,28 @@ impl<T: Transport> FirmwareLink<T> {
             refused: 0,
             ack_mode: None,
             last_frames: Vec::new(),
+            chunker: SendChunking::Whole.chunker(),
+            received: None,
         }
+    }
+
+    /// Cuts what is sent into writes as `chunking` says (default: one write per step).
+    pub fn with_send_chunking(mut self, chunking: SendChunking) -> Self {
+        self.chunker = chunking.chunker();
+        self
+    }
+
+    /// Keeps every frame taken in from the firmware, raw, for [`Self::received`].
+    pub fn recording(mut self) -> Self {
+        self.received = Some(Vec::new());
+        self
+    }
+
+    /// The frames taken in so far (raw MAVLink bytes, in order): every frame up to the one that
+    /// completed the last tick answered, none after it (those race with the end of the run).
+    /// `None` unless [`Self::recording`].
+    pub fn received(&self) -> Option<&[u8]> {
+        self.received.as_deref()
     }
 
     /// The transport back (to stop the emulator).
@@ -115,11 +140,17 @@ impl<T: Transport> FirmwareLink<T> {
     }
 
     fn flush(&mut self) -> Result<()> {
-        if !self.pending.is_empty() {
-            self.transport.send(&self.pending)?;
-            self.bytes_sent += self.pending.len() as u64;
-            self.pending.clear();
+        let mut at = 0;
+        while at < self.pending.len() {
+            let (n, pause) = self.chunker.next_write(self.pending.len() - at);
+            self.transport.send(&self.pending[at..at + n])?;
+            at += n;
+            if !pause.is_zero() {
+                std::thread::sleep(pause);
+            }
         }
+        self.bytes_sent += self.pending.len() as u64;
+        self.pending.clear();
         Ok(())
     }
 
@@ -292,6 +323,9 @@ impl<T: Transport> FlightSoftware for FirmwareLink<T> {
         let (mut actuators, mut target) = (None, false);
         loop {
             while let Some((_, message)) = self.reader.next_message() {
+                if let Some(r) = self.received.as_mut() {
+                    r.extend_from_slice(self.reader.last_frame());
+                }
                 self.take_in(t_us, message, &mut actuators, &mut target)?;
                 if let (Some(a), true) = (actuators, target) {
                     return Ok(self.report(a));

@@ -106,6 +106,9 @@ pub struct ReaderCounters {
 pub struct FrameReader {
     buf: Vec<u8>,
     at: usize,
+    /// Where the frame [`FrameReader::next_message`] returned last is in `buf` (empty: none
+    /// since the last push or call).
+    last: std::ops::Range<usize>,
     counters: ReaderCounters,
 }
 
@@ -117,6 +120,7 @@ impl FrameReader {
 
     /// Appends received bytes.
     pub fn push(&mut self, bytes: &[u8]) {
+        self.last = 0..0;
         if self.at > 0 && self.at == self.buf.len() {
             self.buf.clear();
             self.at = 0;
@@ -137,8 +141,15 @@ impl FrameReader {
         &self.buf[self.at..]
     }
 
+    /// The raw bytes of the frame [`FrameReader::next_message`] returned last (empty after a
+    /// [`FrameReader::push`] or a `None`).
+    pub fn last_frame(&self) -> &[u8] {
+        &self.buf[self.last.clone()]
+    }
+
     /// The next complete message with its header, `None` when more bytes are needed.
     pub fn next_message(&mut self) -> Option<(MavHeader, MavMessage)> {
+        self.last = 0..0;
         loop {
             let rest = &self.buf[self.at..];
             let Some(skip) = rest.iter().position(|&b| b == STX) else {
@@ -172,6 +183,7 @@ impl FrameReader {
             };
             match parsed {
                 Some(message) => {
+                    self.last = self.at..self.at + len;
                     self.at += len;
                     self.counters.valid += 1;
                     let header = MavHeader {
@@ -243,7 +255,8 @@ mod tests {
             time_usec: 20_000,
             controls,
             mode: MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED,
-            flags: HilActuatorControlsFlags::empty(),
+            // What the firmware sends: the host reads past the flag.
+            flags: HilActuatorControlsFlags::HIL_ACTUATOR_CONTROLS_FLAGS_LOCKSTEP,
         });
         let target = MavMessage::POSITION_TARGET_LOCAL_NED(POSITION_TARGET_LOCAL_NED_DATA {
             time_boot_ms: 20,
@@ -262,6 +275,8 @@ mod tests {
         let mut r = FrameReader::new();
         r.push(&bytes);
         let (_, m) = r.next_message().unwrap();
+        // The raw frame, for the telemetry record, without the garbage before it.
+        assert_eq!(r.last_frame(), frame(&act, 1, 0));
         let MavMessage::HIL_ACTUATOR_CONTROLS(a) = m else {
             panic!("{m:?}")
         };
@@ -270,6 +285,8 @@ mod tests {
         assert_eq!(a.throttle, [0.1, 0.2, 0.3, 1.0]);
         assert!(a.armed);
         let (_, m) = r.next_message().unwrap();
+        // Past the broken frame.
+        assert_eq!(r.last_frame(), frame(&target, 1, 2));
         let MavMessage::POSITION_TARGET_LOCAL_NED(t) = m else {
             panic!("{m:?}")
         };
@@ -277,6 +294,7 @@ mod tests {
         assert_eq!(t.time_ms, 20);
         assert_eq!(t.position, Vector3::new(1.0, -2.0, 3.0));
         assert!(r.next_message().is_none());
+        assert!(r.last_frame().is_empty());
         assert_eq!(r.counters().valid, 2);
         assert!(r.counters().malformed >= 1);
         assert!(r.pending_bytes().is_empty());

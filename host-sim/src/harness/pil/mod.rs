@@ -21,9 +21,11 @@
 //! So the run is deterministic whatever the emulator's speed.
 //!
 //! Differences from SIL:
-//! - The firmware stamps link bytes with the time of the latest `HIL_SENSOR` it has seen, so a
-//!   pose sent at `t` is stamped `t − 1 ms` (SIL: `t`), and the estimator, which takes a pose
-//!   to be 10 ms old on arrival, dates it 1 ms too early.
+//! - The firmware dates each message by the last `HIL_SENSOR` before it in the stream
+//!   (`firmware::pipeline::lockstep`), so a pose sent at `t` (before that step's `HIL_SENSOR`)
+//!   is stamped `t − 1 ms` (SIL: `t`), and the estimator, which takes a pose to be 10 ms old on
+//!   arrival, dates it 1 ms too early. How the bytes are cut into writes
+//!   ([`PilOptions::send_chunking`]) changes nothing the firmware does.
 //! - The pipeline's `status()` is not available; the records are rebuilt from the telemetry:
 //!   state from `STATUSTEXT` (`"<state>: <reason>"`, every state change) and `HEARTBEAT`
 //!   (`system_status`; 1 Hz), the motors' armed flag from the actuator frame; mode from
@@ -44,6 +46,7 @@
 //! [`crate::harness::sil::fly`], kills QEMU and decodes its defmt log ([`defmt_log`]);
 //! [`run_command`] is the `pil` subcommand.
 
+pub mod chunking;
 pub mod defmt_log;
 pub mod firmware_link;
 pub mod frames;
@@ -58,6 +61,7 @@ use serde::Serialize;
 
 use crate::harness::qemu::Qemu;
 use crate::harness::sil::{self, SilRecord, SilSetup, SilSummary};
+pub use chunking::SendChunking;
 use defmt_log::FirmwareCounters;
 use firmware_link::FirmwareLink;
 use frames::ReaderCounters;
@@ -95,7 +99,16 @@ pub struct PilOptions {
     pub out: PathBuf,
     /// Wall-clock time to wait for each tick's answer before declaring a stall.
     pub timeout: Duration,
+    /// How the bytes sent to the firmware are cut into writes (default: one write per step).
+    pub send_chunking: SendChunking,
+    /// Write `telemetry.bin` to `out`: every MAVLink frame taken in from the firmware, raw, in
+    /// order, up to the last tick's answer ([`FirmwareLink::received`]).
+    pub record_telemetry: bool,
 }
+
+/// The file [`run`] writes the received telemetry to, in [`PilOptions::out`], when
+/// [`PilOptions::record_telemetry`].
+pub const TELEMETRY_FILE: &str = "telemetry.bin";
 
 /// What a processor-in-the-loop run showed.
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -118,6 +131,8 @@ pub struct PilSummary {
     pub serial: ReaderCounters,
     /// Bytes sent to the firmware's serial port.
     pub bytes_sent: u64,
+    /// How they were cut into writes (`whole`, `bytes`, `random:<seed>`).
+    pub send_chunking: String,
     /// The firmware's counters from its last 1 Hz defmt lines (`None`: not in the log); the
     /// flight's `link_frames`, `mixer_saturated_ticks`, `non_finite` and `refused_commands`
     /// come from here (else they hold 0 / the refused `COMMAND_ACK`s).
@@ -184,9 +199,17 @@ pub fn run(
         Ok(log) => log.lines,
         Err(e) => vec![format!("(defmt log not decoded: {e:#})")],
     });
-    let mut firmware = FirmwareLink::new(qemu, &setup.flight, b, options.timeout);
+    let mut firmware = FirmwareLink::new(qemu, &setup.flight, b, options.timeout)
+        .with_send_chunking(options.send_chunking);
+    if options.record_telemetry {
+        firmware = firmware.recording();
+    }
     let flight = sil::fly(setup, &boot, &b, &mut firmware, observe);
     let wall_time_s = start.elapsed().as_secs_f64();
+    if let Some(received) = firmware.received() {
+        let path = options.out.join(TELEMETRY_FILE);
+        std::fs::write(&path, received).with_context(|| format!("writing {}", path.display()))?;
+    }
     let serial = firmware.serial_counters();
     let bytes_sent = firmware.bytes_sent();
     let mut qemu = firmware.into_transport();
@@ -222,6 +245,7 @@ pub fn run(
         qemu_exit: exit.map_or_else(|| "unknown".into(), |s| s.to_string()),
         serial,
         bytes_sent,
+        send_chunking: options.send_chunking.to_string(),
         firmware_counters,
         firmware_overruns,
         firmware_longest_step_us,
@@ -251,12 +275,13 @@ pub fn human_summary(s: &PilSummary) -> String {
     );
     let _ = writeln!(
         o,
-        "  {:.1} s simulated in {:.1} s wall clock ({:.2}x real time); {} B sent; serial \
+        "  {:.1} s simulated in {:.1} s wall clock ({:.2}x real time); {} B sent (writes: {}); serial \
          frames valid {} malformed {}, {} B outside frames; QEMU {}",
         s.simulated_s,
         s.wall_time_s,
         s.simulated_s / s.wall_time_s,
         s.bytes_sent,
+        s.send_chunking,
         s.serial.valid,
         s.serial.malformed,
         s.serial.discarded,
@@ -323,6 +348,10 @@ pub struct PilCommandOptions {
     /// Stall timeout: wall-clock seconds to wait for the firmware's answer to a tick, finite
     /// and > 0 (the command line's default: [`DEFAULT_TIMEOUT_S`]).
     pub timeout: f64,
+    /// How the bytes sent are cut into writes (the command line's default: one per step).
+    pub send_chunking: SendChunking,
+    /// Also write [`TELEMETRY_FILE`] (the firmware's frames, raw) to the output directory.
+    pub record_telemetry: bool,
 }
 
 /// The `pil` subcommand: the paper scenario (SIL's `scenarios::paper`) on the firmware in
@@ -355,6 +384,8 @@ pub fn run_command(args: &PilCommandOptions) -> Result<()> {
             .clone()
             .unwrap_or_else(|| PathBuf::from("out").join("pil")),
         timeout: Duration::from_secs_f64(args.timeout),
+        send_chunking: args.send_chunking,
+        record_telemetry: args.record_telemetry,
     };
     let (summary, [csv, json]) =
         sil::record_run(&options.out, |observe| run(&setup, &options, observe))?;
