@@ -1,7 +1,8 @@
 //! The control loop: every tick it drains the IMU samples and link bytes received since the
-//! last one into the [`FlightPipeline`], runs `control_tick` (estimate → controller → mixer),
-//! hands the throttles to the motors, queues the telemetry and the log data, measures its step
-//! with the DWT cycle counter and feeds the watchdog.
+//! last one into the [`FlightPipeline`] (the link bytes only when the clock does not read the
+//! link itself: the lockstep clock feeds them in stream order instead), runs `control_tick`
+//! (estimate → controller → mixer), hands the throttles to the motors, queues the telemetry
+//! and the log data, measures its step with the DWT cycle counter and feeds the watchdog.
 //!
 //! The loop is the same on every board; what paces it ([`ControlClock`]), where the throttles go
 //! ([`MotorSink`]) and what resets a hung MCU ([`Watchdog`]) are the board's. Two clocks are

@@ -13,7 +13,7 @@
 //! machine, [`ModeMachine`]), `landed.rs` (the landed detector, [`LandedDetector`]),
 //! `failsafe.rs` (the failsafe law), `telemetry.rs` (telemetry scheduling), `events.rs`
 //! (events, counters, status) and, with the `hil` feature, `lockstep.rs` (the processor-in-the-loop
-//! pacing rule, [`lockstep::Lockstep`]). This file holds the pipeline's state, its construction and the
+//! pacing rule, `lockstep::Lockstep`). This file holds the pipeline's state, its construction and the
 //! per-sample and per-tick flow.
 
 mod commands;
