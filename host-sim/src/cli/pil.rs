@@ -35,8 +35,9 @@ pub struct PilArgs {
     #[arg(long, value_name = "S", default_value_t = pil::DEFAULT_TIMEOUT_S)]
     pub timeout: f64,
     /// How the bytes sent to the firmware are cut into writes: `whole` (one per 1 ms step),
-    /// `bytes` (one per byte), `random` (sizes 1 to 96 from seed 1) or `random:<seed>`. The
-    /// firmware's lockstep must not depend on it (docs/sil-pil.md).
+    /// `bytes` (one per byte), `random` (sizes 1 to 96, a 5 ms pause after one write in four,
+    /// drawn from seed 1) or `random:<seed>`. The firmware's lockstep must not depend on it
+    /// (docs/sil-pil.md).
     #[arg(long, value_name = "HOW", default_value = "whole")]
     pub send_chunking: pil::SendChunking,
     /// Also write telemetry.bin: every MAVLink frame taken in from the firmware, raw, up to

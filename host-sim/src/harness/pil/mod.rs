@@ -397,6 +397,9 @@ pub fn run_command(args: &PilCommandOptions) -> Result<()> {
         options.out.join("defmt.bin").display(),
         options.out.join("defmt.log").display()
     );
+    if options.record_telemetry {
+        println!("Wrote {}", options.out.join(TELEMETRY_FILE).display());
+    }
     Ok(())
 }
 
