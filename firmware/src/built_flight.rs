@@ -14,6 +14,61 @@ mod generated {
     include!(concat!(env!("OUT_DIR"), "/flight.rs"));
 }
 
+/// The build's MAVLink 2 signing key: env `FIRMWARE_MAVLINK_SIGNING_KEY` at build time, 64 hex
+/// digits (unset or empty: no key). Anything else stops the build (a const panic), so a typo
+/// never yields an unsigned vehicle that its owner thinks is signed.
+pub const SIGNING_KEY: Option<[u8; 32]> = match option_env!("FIRMWARE_MAVLINK_SIGNING_KEY") {
+    Some(hex) if !hex.is_empty() => Some(signing_key_from_hex(hex)),
+    _ => None,
+};
+
+/// Whether a signing build uses unsigned poses and sensor samples: env
+/// `FIRMWARE_MAVLINK_UNSIGNED_SENSORS` at build time, `accept` (the default: most motion-capture
+/// bridges cannot sign) or `refuse`; anything else stops the build.
+pub const ACCEPT_UNSIGNED_SENSORS: bool = match option_env!("FIRMWARE_MAVLINK_UNSIGNED_SENSORS") {
+    None => true,
+    Some(v) if bytes_eq(v.as_bytes(), b"accept") => true,
+    Some(v) if bytes_eq(v.as_bytes(), b"refuse") => false,
+    Some(_) => panic!("FIRMWARE_MAVLINK_UNSIGNED_SENSORS must be `accept` or `refuse`"),
+};
+
+const fn bytes_eq(a: &[u8], b: &[u8]) -> bool {
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+/// 64 hex digits to 32 bytes; anything else panics (at compile time where it is used).
+pub const fn signing_key_from_hex(hex: &str) -> [u8; 32] {
+    const fn digit(c: u8) -> u8 {
+        match c {
+            b'0'..=b'9' => c - b'0',
+            b'a'..=b'f' => c - b'a' + 10,
+            b'A'..=b'F' => c - b'A' + 10,
+            _ => panic!("FIRMWARE_MAVLINK_SIGNING_KEY: not a hex digit"),
+        }
+    }
+    let h = hex.as_bytes();
+    if h.len() != 64 {
+        panic!("FIRMWARE_MAVLINK_SIGNING_KEY must be 64 hex digits (32 bytes)");
+    }
+    let mut key = [0u8; 32];
+    let mut i = 0;
+    while i < 32 {
+        key[i] = digit(h[2 * i]) * 16 + digit(h[2 * i + 1]);
+        i += 1;
+    }
+    key
+}
+
 /// Whether this build may arm an uncertified set-up (cargo feature `uncertified-paper`).
 pub const UNCERTIFIED_BUILD: bool = cfg!(feature = "uncertified-paper");
 
@@ -22,7 +77,8 @@ impl FlightConfig {
     /// (`[trajectory]`), the box-fit margin, the setpoint filter's bandwidth
     /// (`[design] smoothing_rate_per_s`, 0.5/s if absent), the control law's rate
     /// (`[design] control_rate_hz` or the build's `FIRMWARE_CONTROL_RATE_HZ`, 100 Hz if
-    /// neither) and the `[design]` fields; safety,
+    /// neither), the `[design]` fields and the MAVLink signing set-up ([`SIGNING_KEY`],
+    /// [`ACCEPT_UNSIGNED_SENSORS`]); safety,
     /// telemetry, estimator and the other reference settings as [`FlightConfig::paper`].
     /// `allow_uncertified` is set only in the `uncertified-paper` build.
     pub fn built() -> Self {
@@ -47,6 +103,8 @@ impl FlightConfig {
                 smoothing_rate: generated::SMOOTHING_RATE,
                 ..paper.reference
             },
+            signing_key: SIGNING_KEY,
+            accept_unsigned_sensors: ACCEPT_UNSIGNED_SENSORS,
             ..paper
         }
     }

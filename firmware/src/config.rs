@@ -258,6 +258,12 @@ pub struct FlightConfig {
     pub system_id: u8,
     /// MAVLink component id of this vehicle (1 = autopilot).
     pub component_id: u8,
+    /// MAVLink 2 signing key (32 bytes), or `None`: signed frames are then dropped and a key
+    /// can be installed once, while disarmed, with `SETUP_SIGNING` ([`crate::link::signing`]).
+    pub signing_key: Option<[u8; 32]>,
+    /// With a key: whether unsigned poses and `HIL_SENSOR` samples are used (commands,
+    /// setpoints and `SETUP_SIGNING` must be signed whatever this says).
+    pub accept_unsigned_sensors: bool,
 }
 
 impl FlightConfig {
@@ -333,6 +339,8 @@ impl FlightConfig {
             mahony_dt_max: 0.01,
             system_id: 1,
             component_id: 1,
+            signing_key: None,
+            accept_unsigned_sensors: true,
         }
     }
 }

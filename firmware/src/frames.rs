@@ -43,6 +43,22 @@ pub fn flip_yaw(yaw: f32) -> f32 {
     -yaw
 }
 
+/// MAVLink's roll, pitch, yaw \[rad\] (Z-Y-X Tait-Bryan, FRD body to NED, as in
+/// `VISION_POSITION_ESTIMATE`) as MAVLink's `[w, x, y, z]`, the Hamilton quaternion
+/// `q_yaw(z) ⊗ q_pitch(y) ⊗ q_roll(x)`, which [`flip_quaternion`] then takes to FLU→NWU.
+/// Non-finite angles give non-finite components (the estimator refuses them).
+pub fn euler_to_quaternion(roll: f32, pitch: f32, yaw: f32) -> [f32; 4] {
+    let (sr, cr) = (libm::sinf(roll * 0.5), libm::cosf(roll * 0.5));
+    let (sp, cp) = (libm::sinf(pitch * 0.5), libm::cosf(pitch * 0.5));
+    let (sy, cy) = (libm::sinf(yaw * 0.5), libm::cosf(yaw * 0.5));
+    [
+        cr * cp * cy + sr * sp * sy,
+        sr * cp * cy - cr * sp * sy,
+        cr * sp * cy + sr * cp * sy,
+        cr * cp * sy - sr * sp * cy,
+    ]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -112,5 +128,21 @@ mod tests {
         let q = UnitQuaternion::from_euler_angles(0.3f32, -1.1, 2.9);
         let back = UnitQuaternion::from_quaternion(flip_quaternion(quaternion_to_mavlink(&q)));
         assert!(back.angle_to(&q) < 1e-6);
+    }
+
+    /// Euler angles to a quaternion agree with nalgebra's independent Z-Y-X construction.
+    #[test]
+    fn euler_angles_match_nalgebra() {
+        for &(r, p, y) in &[
+            (0.3f32, -0.7f32, 2.5f32),
+            (-3.0, 1.2, -0.4),
+            (0.0, 0.0, 3.1),
+        ] {
+            let q = euler_to_quaternion(r, p, y);
+            let want = UnitQuaternion::from_euler_angles(r, p, y);
+            // q and −q are the same rotation.
+            let dot = q[0] * want.w + q[1] * want.i + q[2] * want.j + q[3] * want.k;
+            assert!((dot.abs() - 1.0).abs() < 1e-6, "{q:?} vs {want:?}");
+        }
     }
 }

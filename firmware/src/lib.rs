@@ -1,7 +1,7 @@
 //! Board-independent parts of the firmware: the boot report (the set-up, its a-priori bound
 //! certificate and the controller built from it), the device drivers' pure parts ([`drivers`]),
 //! and the flight logic: [`pipeline::FlightPipeline`] composes [`config`], [`frames`] (NED/FRD ↔
-//! NWU/FLU), [`link`] (MAVLink 2, its checksum in [`link_crc`]), [`estimator`], [`imu_attitude`], [`flight_reference`],
+//! NWU/FLU), [`link`] (MAVLink 2: framing, checksum, signing), [`estimator`], [`imu_attitude`], [`flight_reference`],
 //! [`mixer`] and [`safety`]; host-sim flies the same pipeline in software in the loop.
 //!
 //! On the MCU only, [`app`] is the board-independent task layer (control loop, queues, logger,
@@ -45,7 +45,6 @@ pub mod frames;
 pub mod ground_station;
 pub mod imu_attitude;
 pub mod link;
-pub mod link_crc;
 pub mod mixer;
 pub mod pipeline;
 pub mod report;

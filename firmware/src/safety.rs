@@ -73,6 +73,15 @@ impl ArmRefusal {
             Self::ReferenceRefused => "reference refused by the certificate",
         }
     }
+
+    /// Whether waiting alone lifts it (the calibration ends, the estimate converges, the next
+    /// pose arrives): answered `MAV_RESULT_TEMPORARILY_REJECTED`, the others `DENIED`.
+    pub fn is_temporary(&self) -> bool {
+        matches!(
+            self,
+            Self::Calibrating | Self::NotConverged | Self::PoseStale | Self::PoseNonFinite
+        )
+    }
 }
 
 /// What the arm check looks at.

@@ -7,7 +7,7 @@
 //! controller takes it; arming also needs the built set-up's own certificate (its demo mission).
 
 use controller_core::{certify, Controller, FilterStart, TrajectoryConstants};
-use mavlink::dialects::common::{MavResult, MavSeverity};
+use mavlink::dialects::common::{MavCmd, MavResult, MavSeverity};
 use nalgebra::Vector3;
 
 #[cfg(feature = "hil")]
@@ -15,13 +15,15 @@ use super::ImuSample;
 use super::{Event, FlightPipeline, Mode};
 use crate::estimator::PoseCheck;
 use crate::flight_reference::{FlightReference, ReferenceMode};
-use crate::link::{Command, Inbound};
+use crate::link::{Command, CommandFault, Inbound, Sender, SigningConfig};
 use crate::safety::{check_arm, ArmInputs, FlightState};
 
 /// Refusal detail for events and STATUSTEXT: the reason, and for a certificate or
-/// parameter refusal the condition with both sides (`condition` empty otherwise).
+/// parameter refusal the condition with both sides (`condition` empty otherwise); `temporary`
+/// when waiting alone lifts it (answered `TEMPORARILY_REJECTED`, else `DENIED`).
 pub(super) struct Refusal {
     reason: &'static str,
+    temporary: bool,
     condition: &'static str,
     lhs: f32,
     rhs: f32,
@@ -42,7 +44,11 @@ impl FlightPipeline {
                 PoseCheck::BadQuaternion => self.non_finite("pose quaternion"),
                 PoseCheck::OutOfOrder => {}
             },
-            Inbound::Command { command, mav_cmd } => {
+            Inbound::Command {
+                command,
+                mav_cmd,
+                sender,
+            } => {
                 let result = self.command(command, now_us);
                 let r = match result {
                     Ok(()) => {
@@ -53,11 +59,33 @@ impl FlightPipeline {
                     }
                     Err(refusal) => {
                         self.refused(command.name(), &refusal);
-                        MavResult::MAV_RESULT_DENIED
+                        if refusal.temporary {
+                            MavResult::MAV_RESULT_TEMPORARILY_REJECTED
+                        } else {
+                            MavResult::MAV_RESULT_DENIED
+                        }
                     }
                 };
-                if self.acks.push_back((mav_cmd, r)).is_err() {
-                    self.counters.replies_dropped = self.counters.replies_dropped.saturating_add(1);
+                self.ack(mav_cmd, r, sender);
+            }
+            Inbound::CommandFault {
+                mav_cmd,
+                fault,
+                sender,
+            } => {
+                let r = match fault {
+                    CommandFault::Unsupported => MavResult::MAV_RESULT_UNSUPPORTED,
+                    CommandFault::BadParameter => MavResult::MAV_RESULT_DENIED,
+                };
+                self.ack(mav_cmd, r, sender);
+            }
+            Inbound::SetupSigning {
+                key,
+                initial_timestamp,
+                ..
+            } => {
+                if let Err(r) = self.setup_signing(key, initial_timestamp) {
+                    self.refused("setup_signing", &r);
                 }
             }
             Inbound::Setpoint { position, yaw } => {
@@ -88,6 +116,35 @@ impl FlightPipeline {
         self.hil_time_us
     }
 
+    /// Queues a `COMMAND_ACK` for `sender`, or counts it dropped when the queue is full.
+    fn ack(&mut self, mav_cmd: MavCmd, result: MavResult, sender: Sender) {
+        if self.acks.push_back((mav_cmd, result, sender)).is_err() {
+            self.counters.replies_dropped = self.counters.replies_dropped.saturating_add(1);
+        }
+    }
+
+    /// `SETUP_SIGNING`: installs the key while disarmed on a link without one (the decoder has
+    /// already dropped it on a link with one).
+    fn setup_signing(&mut self, key: [u8; 32], initial_timestamp: u64) -> Result<(), Refusal> {
+        if self.supervisor.state() != FlightState::Disarmed {
+            return Err(Self::simple("signing is set up while disarmed"));
+        }
+        let config = SigningConfig {
+            key,
+            link_id: 0,
+            accept_unsigned_sensors: self.cfg.accept_unsigned_sensors,
+        };
+        if !self.decoder.install_signing_key(config, initial_timestamp) {
+            return Err(Self::simple(
+                "signing key refused (all zero, or a key is set)",
+            ));
+        }
+        self.event(Event::CommandAccepted {
+            command: "setup_signing",
+        });
+        Ok(())
+    }
+
     /// Counts and logs a refused command or setpoint, and queues its STATUSTEXT.
     fn refused(&mut self, command: &'static str, r: &Refusal) {
         self.counters.refused_commands = self.counters.refused_commands.saturating_add(1);
@@ -111,10 +168,11 @@ impl FlightPipeline {
         }
     }
 
-    /// A refusal with a reason only.
+    /// A refusal with a reason only, that waiting does not lift.
     fn simple(reason: &'static str) -> Refusal {
         Refusal {
             reason,
+            temporary: false,
             condition: "",
             lhs: 0.0,
             rhs: 0.0,
@@ -134,6 +192,7 @@ impl FlightPipeline {
                 let r = crate::report::refusal(&e);
                 return Err(Refusal {
                     reason: "reference refused: parameter",
+                    temporary: false,
                     condition: r.name,
                     lhs: r.value as f32,
                     rhs: f32::NAN,
@@ -146,6 +205,7 @@ impl FlightPipeline {
             Err(f) => {
                 return Err(Refusal {
                     reason: "reference not certified",
+                    temporary: false,
                     condition: f.condition,
                     lhs: f.lhs,
                     rhs: f.rhs,
@@ -160,6 +220,7 @@ impl FlightPipeline {
             let r = crate::report::refusal(&e);
             return Err(Refusal {
                 reason: "reference refused by the controller",
+                temporary: false,
                 condition: r.name,
                 lhs: r.value as f32,
                 rhs: r.high as f32,
@@ -230,8 +291,10 @@ impl FlightPipeline {
                     up_cos,
                     inverted_requested: inverted,
                 };
-                check_arm(&self.cfg.safety, state, &inputs)
-                    .map_err(|r| Self::simple(r.reason()))?;
+                check_arm(&self.cfg.safety, state, &inputs).map_err(|r| Refusal {
+                    temporary: r.is_temporary(),
+                    ..Self::simple(r.reason())
+                })?;
                 // The set-up the firmware was built with (its demo mission, filters at zero)
                 // must be certified before anything else is.
                 match self.report.gate {
@@ -244,13 +307,17 @@ impl FlightPipeline {
                     Err(f) => {
                         return Err(Refusal {
                             reason: "set-up not certified",
+                            temporary: false,
                             condition: f.condition,
                             lhs: f.lhs,
                             rhs: f.rhs,
                         })
                     }
                 }
-                let est = est.ok_or_else(|| Self::simple("no estimate"))?;
+                let est = est.ok_or(Refusal {
+                    temporary: true,
+                    ..Self::simple("no estimate")
+                })?;
                 let controller = Controller::new(
                     self.cfg.vehicle,
                     self.cfg.gains,
@@ -298,6 +365,10 @@ impl FlightPipeline {
                 self.landed.reset();
                 self.go_to(target, yaw, now_us, Mode::Land)
             }
+            Command::RequestMessage { id } => self.request_message(id).map_err(Self::simple),
+            Command::SetMessageInterval { id, interval_us } => self
+                .set_message_interval(id, interval_us)
+                .map_err(Self::simple),
             Command::StartHelix => {
                 if state != FlightState::Armed {
                     return Err(Self::simple("not armed"));

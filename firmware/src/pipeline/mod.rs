@@ -21,11 +21,14 @@ mod events;
 mod failsafe;
 mod gate;
 mod landed;
+#[cfg(test)]
+mod link_tests;
 #[cfg(feature = "hil")]
 pub mod lockstep;
 #[cfg(all(test, feature = "hil"))]
 mod lockstep_tests;
 mod mission;
+pub mod schedule;
 mod telemetry;
 #[cfg(test)]
 mod tests;
@@ -48,10 +51,11 @@ use crate::config::FlightConfig;
 use crate::estimator::{Estimate, Estimator, EstimatorConfig};
 use crate::flight_reference::{FlightReference, SupTable};
 use crate::imu_attitude::Mahony;
-use crate::link::Decoder;
+use crate::link::{Decoder, Sender, SigningConfig};
 use crate::mixer::{BoxFit, MixOutput, Mixer, MixerError};
 use crate::safety::{FlightState, Supervisor, TickInputs, Transition};
 use events::EventQueue;
+use schedule::Schedule;
 
 /// One IMU sample, body FLU (x forward, y left, z up: the controller's body frame).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -133,11 +137,10 @@ pub struct FlightPipeline {
     last_output: MotorOutput,
     failsafe_thrust: f32,
     events: EventQueue,
-    acks: Deque<(MavCmd, MavResult), 8>,
+    acks: Deque<(MavCmd, MavResult, Sender), 8>,
     texts: Deque<(MavSeverity, &'static str, &'static str), 8>,
     sequence: u8,
-    next_heartbeat_us: u64,
-    next_state_us: u64,
+    schedule: Schedule,
     counters: Counters,
     status_position: [f32; 3],
     status_velocity: [f32; 3],
@@ -208,7 +211,15 @@ impl FlightPipeline {
                 cfg.mahony_gains[1],
                 cfg.vehicle.gravity,
             ),
-            decoder: Decoder::new(cfg.system_id),
+            decoder: Decoder::with_address(
+                cfg.system_id,
+                cfg.component_id,
+                cfg.signing_key.map(|key| SigningConfig {
+                    key,
+                    link_id: 0,
+                    accept_unsigned_sensors: cfg.accept_unsigned_sensors,
+                }),
+            ),
             supervisor: Supervisor::new(cfg.safety),
             controller: None,
             reference,
@@ -223,8 +234,7 @@ impl FlightPipeline {
             acks: Deque::new(),
             texts: Deque::new(),
             sequence: 0,
-            next_heartbeat_us: 0,
-            next_state_us: 0,
+            schedule: Schedule::new(&cfg.telemetry),
             counters: Counters::default(),
             status_position: [0.0; 3],
             status_velocity: [0.0; 3],

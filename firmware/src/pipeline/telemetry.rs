@@ -1,15 +1,17 @@
 //! Telemetry scheduling: what the pipeline sends to the ground station and when. Pending
 //! command acks and status texts first, then a `HEARTBEAT` and the state
 //! (`ATTITUDE_QUATERNION`, `LOCAL_POSITION_NED`) at the rates of
-//! [`crate::config::TelemetryConfig`]; with the `hil` feature, each tick's motor commands and
-//! reference lead. Frames that do not fit the caller's buffer wait for the next call, whole.
+//! [`crate::config::TelemetryConfig`] or as the ground station set them ([`super::schedule`]);
+//! with the `hil` feature, each tick's motor commands and reference lead. Frames that do not fit
+//! the caller's buffer wait for the next call, whole. With a signing key every frame is signed.
 
 use mavlink::dialects::common::{
-    MavAutopilot, MavModeFlag, MavState, MavType, ATTITUDE_QUATERNION_DATA, COMMAND_ACK_DATA,
-    HEARTBEAT_DATA, LOCAL_POSITION_NED_DATA, STATUSTEXT_DATA,
+    MavAutopilot, MavModeFlag, MavState, MavType, ATTITUDE_QUATERNION_DATA, HEARTBEAT_DATA,
+    LOCAL_POSITION_NED_DATA, STATUSTEXT_DATA,
 };
 use nalgebra::Vector3;
 
+use super::schedule::Periodic;
 use super::FlightPipeline;
 use crate::frames;
 use crate::link;
@@ -30,8 +32,13 @@ impl FlightPipeline {
             }
             self.hil_pending = None;
         }
-        while let Some(&(command, result)) = self.acks.front() {
-            let m = COMMAND_ACK_DATA { command, result };
+        while let Some(&(command, result, sender)) = self.acks.front() {
+            let m = link::CommandAck {
+                command,
+                result,
+                target_system: sender.system,
+                target_component: sender.component,
+            };
             match self.put(&m, &mut out[n..]) {
                 0 => return n,
                 k => n += k,
@@ -57,10 +64,13 @@ impl FlightPipeline {
             }
             self.texts.pop_front();
         }
-        if now_us >= self.next_heartbeat_us {
+        if self.schedule.due(Periodic::Heartbeat, now_us) {
             let armed = self.supervisor.state() != FlightState::Disarmed;
+            // `custom_mode` is the mission mode (crate::pipeline::Mode), so the flag that says
+            // it is meaningful is set.
             let mut mode = MavModeFlag::MAV_MODE_FLAG_GUIDED_ENABLED
-                | MavModeFlag::MAV_MODE_FLAG_STABILIZE_ENABLED;
+                | MavModeFlag::MAV_MODE_FLAG_STABILIZE_ENABLED
+                | MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED;
             if armed {
                 mode |= MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED;
             }
@@ -84,10 +94,10 @@ impl FlightPipeline {
                 }
                 k => n += k,
             }
-            self.next_heartbeat_us = now_us + self.cfg.telemetry.heartbeat_period_us;
+            self.schedule.sent(Periodic::Heartbeat, now_us);
         }
-        if now_us >= self.next_state_us {
-            let time_boot_ms = (now_us / 1000) as u32;
+        let time_boot_ms = (now_us / 1000) as u32;
+        if self.schedule.due(Periodic::Attitude, now_us) {
             let q = frames::quaternion_to_mavlink(&self.status_attitude);
             let w = frames::flip_to_array(&Vector3::from(self.status_rates));
             let att = ATTITUDE_QUATERNION_DATA {
@@ -100,6 +110,16 @@ impl FlightPipeline {
                 pitchspeed: w[1],
                 yawspeed: w[2],
             };
+            match self.put(&att, &mut out[n..]) {
+                0 => {
+                    self.counters.telemetry_dropped += 1;
+                    return n;
+                }
+                k => n += k,
+            }
+            self.schedule.sent(Periodic::Attitude, now_us);
+        }
+        if self.schedule.due(Periodic::Position, now_us) {
             let p = frames::flip_to_array(&Vector3::from(self.status_position));
             let v = frames::flip_to_array(&Vector3::from(self.status_velocity));
             let pos = LOCAL_POSITION_NED_DATA {
@@ -111,13 +131,6 @@ impl FlightPipeline {
                 vy: v[1],
                 vz: v[2],
             };
-            match self.put(&att, &mut out[n..]) {
-                0 => {
-                    self.counters.telemetry_dropped += 1;
-                    return n;
-                }
-                k => n += k,
-            }
             match self.put(&pos, &mut out[n..]) {
                 0 => {
                     self.counters.telemetry_dropped += 1;
@@ -125,7 +138,7 @@ impl FlightPipeline {
                 }
                 k => n += k,
             }
-            self.next_state_us = now_us + self.cfg.telemetry.state_period_us;
+            self.schedule.sent(Periodic::Position, now_us);
         }
         n
     }
@@ -153,12 +166,21 @@ impl FlightPipeline {
             },
         };
         let r = frames::flip_to_array(&Vector3::from(self.status_reference));
+        // Only the position is filled in: the mask says so (the velocity, acceleration, yaw
+        // and yaw-rate fields are zeros, not the reference's).
         let target = POSITION_TARGET_LOCAL_NED_DATA {
             time_boot_ms: (tick_us / 1000) as u32,
             x: r[0],
             y: r[1],
             z: r[2],
-            type_mask: PositionTargetTypemask::empty(),
+            type_mask: PositionTargetTypemask::POSITION_TARGET_TYPEMASK_VX_IGNORE
+                | PositionTargetTypemask::POSITION_TARGET_TYPEMASK_VY_IGNORE
+                | PositionTargetTypemask::POSITION_TARGET_TYPEMASK_VZ_IGNORE
+                | PositionTargetTypemask::POSITION_TARGET_TYPEMASK_AX_IGNORE
+                | PositionTargetTypemask::POSITION_TARGET_TYPEMASK_AY_IGNORE
+                | PositionTargetTypemask::POSITION_TARGET_TYPEMASK_AZ_IGNORE
+                | PositionTargetTypemask::POSITION_TARGET_TYPEMASK_YAW_IGNORE
+                | PositionTargetTypemask::POSITION_TARGET_TYPEMASK_YAW_RATE_IGNORE,
             coordinate_frame: MavFrame::MAV_FRAME_LOCAL_NED,
             ..Default::default()
         };
@@ -174,19 +196,39 @@ impl FlightPipeline {
         a + b
     }
 
-    /// Encodes `m` into `out` with the next sequence number; 0 (and the number unused) if it
-    /// does not fit.
+    /// Encodes `m` into `out` with the next sequence number, signed when the link has a key;
+    /// 0 (and the number unused) if it does not fit.
     fn put<D: mavlink::MessageData>(&mut self, m: &D, out: &mut [u8]) -> usize {
+        let mut frame = [0u8; link::MAX_FRAME];
         let k = link::encode_data(
             m,
             self.cfg.system_id,
             self.cfg.component_id,
             self.sequence,
-            out,
+            &mut frame,
         );
-        if k > 0 {
-            self.sequence = self.sequence.wrapping_add(1);
+        let k = self.decoder.sign(&mut frame, k);
+        if k == 0 || k > out.len() {
+            return 0;
         }
+        out[..k].copy_from_slice(&frame[..k]);
+        self.sequence = self.sequence.wrapping_add(1);
         k
+    }
+
+    /// `MAV_CMD_REQUEST_MESSAGE`: a periodic message once, now. Error: one the vehicle does
+    /// not send.
+    pub(super) fn request_message(&mut self, id: u32) -> Result<(), &'static str> {
+        self.schedule.request(id)
+    }
+
+    /// `MAV_CMD_SET_MESSAGE_INTERVAL` ([`super::schedule::Schedule::set_interval`]).
+    pub(super) fn set_message_interval(
+        &mut self,
+        id: u32,
+        interval_us: f32,
+    ) -> Result<(), &'static str> {
+        let min = self.cfg.control_rate.period_us();
+        self.schedule.set_interval(id, interval_us, min)
     }
 }

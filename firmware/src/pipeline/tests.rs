@@ -85,9 +85,10 @@ fn bad_rotors_refused() {
     ));
 }
 
-/// Disarmed at boot: zero throttle; telemetry sends HEARTBEAT (standby, not armed),
-/// ATTITUDE_QUATERNION and LOCAL_POSITION_NED; an arm without pose is denied over MAVLink
-/// (COMMAND_ACK DENIED + STATUSTEXT) and as an event.
+/// Disarmed at boot: zero throttle; telemetry sends HEARTBEAT (standby, not armed, custom
+/// mode flagged as meaningful), ATTITUDE_QUATERNION and LOCAL_POSITION_NED; an arm during the
+/// gyro calibration is refused over MAVLink (COMMAND_ACK TEMPORARILY_REJECTED, addressed to
+/// the sender, + STATUSTEXT) and as an event.
 #[test]
 fn boot_telemetry_and_refusal() {
     let mut p = FlightPipeline::new(&FlightConfig::paper()).unwrap();
@@ -109,6 +110,9 @@ fn boot_telemetry_and_refusal() {
     assert!(!hb
         .base_mode
         .contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED));
+    assert!(hb
+        .base_mode
+        .contains(MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED));
 
     p.on_link_bytes(
         &command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 0.0),
@@ -118,8 +122,9 @@ fn boot_telemetry_and_refusal() {
     let n = p.telemetry(20_000, &mut buf);
     let f = frames(&buf[..n]);
     assert_eq!(f[0].0, COMMAND_ACK_DATA::ID);
-    let ack = COMMAND_ACK_DATA::deser(MavlinkVersion::V2, &f[0].1).unwrap();
-    assert_eq!(ack.result, MavResult::MAV_RESULT_DENIED);
+    let ack = link::CommandAck::deser(MavlinkVersion::V2, &f[0].1).unwrap();
+    assert_eq!(ack.result, MavResult::MAV_RESULT_TEMPORARILY_REJECTED);
+    assert_eq!((ack.target_system, ack.target_component), (255, 190));
     assert_eq!(f[1].0, STATUSTEXT_DATA::ID);
     let text = STATUSTEXT_DATA::deser(MavlinkVersion::V2, &f[1].1).unwrap();
     assert!(text
@@ -340,10 +345,10 @@ fn kill_behind_a_corrupted_length_byte_disarms_and_is_acknowledged() {
         assert_eq!(p.status().counters.replies_dropped, 0);
         let mut buf = [0u8; 1024];
         let n = p.telemetry(now + 10_000, &mut buf);
-        let acks: Vec<COMMAND_ACK_DATA> = frames(&buf[..n])
+        let acks: Vec<link::CommandAck> = frames(&buf[..n])
             .iter()
             .filter(|(id, _)| *id == COMMAND_ACK_DATA::ID)
-            .map(|(_, payload)| COMMAND_ACK_DATA::deser(MavlinkVersion::V2, payload).unwrap())
+            .map(|(_, payload)| link::CommandAck::deser(MavlinkVersion::V2, payload).unwrap())
             .collect();
         assert_eq!(acks.len(), 1, "chunk {chunk}: {acks:?}");
         assert_eq!(acks[0].command, MavCmd::MAV_CMD_COMPONENT_ARM_DISARM);

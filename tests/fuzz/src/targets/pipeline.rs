@@ -139,7 +139,7 @@ impl Harness {
         self.p.on_link_bytes(bytes, self.now);
         let mut commands = 0;
         self.shadow.push(bytes, |m| {
-            if matches!(m, Inbound::Command { .. }) {
+            if matches!(m, Inbound::Command { .. } | Inbound::CommandFault { .. }) {
                 commands += 1;
             }
         });

@@ -1,0 +1,265 @@
+//! The MAVLink 2 frame parser: bytes in any chunking to checked frames (CRC, signature,
+//! addressing), never panicking, counting every failure.
+
+use mavlink::dialects::common::MavMessage;
+use mavlink::Message;
+
+use super::interpret::{self, Address, Interpretation};
+use super::signing::{Check, Signing, SigningConfig, SIGNED_FLAG};
+use super::{
+    Inbound, LinkCounters, Sender, AUTOPILOT_COMPONENT, HEADER, MAX_FRAME, SIGNATURE, STX,
+};
+
+/// Result of looking at the head of the buffer.
+enum Step {
+    /// Nothing to do until the buffer holds this many bytes.
+    NeedMore(usize),
+    /// Drop `n` bytes from the front; `Some` when they were a frame accepted as this message.
+    Consume(usize, Option<Inbound>),
+}
+
+/// The MAVLink 2 stream decoder. Holds at most one partial frame ([`MAX_FRAME`] bytes).
+#[derive(Clone, Debug)]
+pub struct Decoder {
+    buf: [u8; MAX_FRAME],
+    len: usize,
+    /// The buffer length the head frame needs before [`Decoder::poll`] can make progress (0:
+    /// look now). Saves re-parsing the header on every byte of a frame.
+    need: usize,
+    address: Address,
+    signing: Signing,
+    counters: LinkCounters,
+}
+
+impl Decoder {
+    /// A decoder for a vehicle with MAVLink system id `system_id` and component id
+    /// [`AUTOPILOT_COMPONENT`], without signing (commands and setpoints addressed to another
+    /// system or component are dropped; 0 is broadcast).
+    pub fn new(system_id: u8) -> Self {
+        Self::with_address(system_id, AUTOPILOT_COMPONENT, None)
+    }
+
+    /// A decoder for (`system_id`, `component_id`) with `signing` (`None`: no key; signed
+    /// frames are then dropped, see [`super::signing`]).
+    pub fn with_address(system_id: u8, component_id: u8, signing: Option<SigningConfig>) -> Self {
+        Self {
+            buf: [0; MAX_FRAME],
+            len: 0,
+            need: 0,
+            address: Address {
+                system: system_id,
+                component: component_id,
+            },
+            signing: Signing::new(signing),
+            counters: LinkCounters::default(),
+        }
+    }
+
+    /// Whether a signing key is installed.
+    pub fn signing_active(&self) -> bool {
+        self.signing.active()
+    }
+
+    /// Installs a signing key (`SETUP_SIGNING`), with the signing clock at least
+    /// `initial_timestamp` \[10 µs since 2015-01-01\]. Returns false, changing nothing, while
+    /// a key is already installed (a key is changed by rebuilding, never over the link it
+    /// protects) or for the all-zero key.
+    pub fn install_signing_key(&mut self, config: SigningConfig, initial_timestamp: u64) -> bool {
+        self.signing.install(config, initial_timestamp)
+    }
+
+    /// Signs the frame `out[..len]` that [`super::encode`] or [`super::encode_data`] wrote,
+    /// when a key is installed: returns its new length (`len` + [`SIGNATURE`]), `len` without a
+    /// key, 0 (nothing changed) when `out` has no room for the signature or `out[..len]` is not
+    /// a frame.
+    pub fn sign(&mut self, out: &mut [u8], len: usize) -> usize {
+        if len < 1 + HEADER + 2 || len > out.len() || out[0] != STX {
+            return 0;
+        }
+        let msgid = u32::from_le_bytes([out[7], out[8], out[9], 0]);
+        self.signing.sign(out, len, MavMessage::extra_crc(msgid))
+    }
+
+    /// The bytes held back, waiting for the rest of a frame.
+    #[cfg(test)]
+    pub(super) fn pending(&self) -> &[u8] {
+        &self.buf[..self.len]
+    }
+
+    /// Counters so far.
+    pub fn counters(&self) -> LinkCounters {
+        self.counters
+    }
+
+    /// Feeds bytes (any chunking); calls `accept` for every message accepted, in order, as soon
+    /// as the byte that completes it is in. Nothing is buffered between messages, so a burst of
+    /// frames released at once (after a corrupted length byte held them back) loses none.
+    pub fn push(&mut self, mut bytes: &[u8], mut accept: impl FnMut(Inbound)) {
+        while let (used, Some(m)) = self.feed(bytes) {
+            bytes = &bytes[used..];
+            accept(m);
+        }
+    }
+
+    /// Feeds bytes from the front of `bytes` until one completes a message: returns how many
+    /// it took and that message, or `(bytes.len(), None)` when all of them completed none.
+    /// Call again with the rest after a message. Exactly as [`Decoder::push_byte`] then
+    /// [`Decoder::poll`] per byte, but the bytes a frame still needs go in as one copy and its
+    /// header is parsed once, not once per byte.
+    pub fn feed(&mut self, bytes: &[u8]) -> (usize, Option<Inbound>) {
+        let mut used = 0;
+        loop {
+            if let Some(m) = self.poll() {
+                return (used, Some(m));
+            }
+            let rest = &bytes[used..];
+            if rest.is_empty() {
+                return (used, None);
+            }
+            // `poll` cannot progress before `need` bytes; a full buffer (which `poll` always
+            // empties in part, since no frame is longer) goes through `push_byte`.
+            let n = self
+                .need
+                .saturating_sub(self.len)
+                .max(1)
+                .min(MAX_FRAME - self.len)
+                .min(rest.len());
+            if n == 0 {
+                self.push_byte(rest[0]);
+                used += 1;
+            } else {
+                self.buf[self.len..self.len + n].copy_from_slice(&rest[..n]);
+                self.len += n;
+                used += n;
+            }
+        }
+    }
+
+    /// Feeds one byte of the stream. Drain [`Decoder::poll`] (until `None`) before the next
+    /// byte: one byte can release several frames at once. A caller that does not drain loses
+    /// the oldest byte when the buffer is full ([`MAX_FRAME`]), counted in `bytes_discarded`,
+    /// rather than overflowing.
+    pub fn push_byte(&mut self, b: u8) {
+        if self.len == MAX_FRAME {
+            self.buf.copy_within(1.., 0);
+            self.len -= 1;
+            self.need = 0;
+            self.counters.bytes_discarded = self.counters.bytes_discarded.saturating_add(1);
+        }
+        self.buf[self.len] = b;
+        self.len += 1;
+    }
+
+    /// The next message the bytes fed so far complete, in stream order, or `None` when more
+    /// bytes are needed. Every frame looked at is counted (ok, dropped, malformed).
+    pub fn poll(&mut self) -> Option<Inbound> {
+        while self.len > 0 && self.len >= self.need {
+            match self.step() {
+                Step::NeedMore(n) => {
+                    self.need = n;
+                    return None;
+                }
+                Step::Consume(n, message) => {
+                    self.need = 0;
+                    let n = n.min(self.len);
+                    self.buf.copy_within(n..self.len, 0);
+                    self.len -= n;
+                    if message.is_some() {
+                        return message;
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    fn step(&mut self) -> Step {
+        let buf = &self.buf[..self.len];
+        if buf.is_empty() {
+            return Step::NeedMore(1);
+        }
+        if buf[0] != STX {
+            let skip = buf.iter().position(|&b| b == STX).unwrap_or(buf.len());
+            self.counters.bytes_discarded =
+                self.counters.bytes_discarded.saturating_add(skip as u32);
+            return Step::Consume(skip, None);
+        }
+        if buf.len() < 3 {
+            return Step::NeedMore(3);
+        }
+        let incompat = buf[2];
+        if incompat & !0x01 != 0 {
+            // Unknown incompatibility flag (e.g. 32-bit system ids): we must not parse it.
+            self.counters.frames_malformed = self.counters.frames_malformed.saturating_add(1);
+            return Step::Consume(1, None);
+        }
+        let payload_len = buf[1] as usize;
+        let signed = incompat & SIGNED_FLAG != 0;
+        let total = 1 + HEADER + payload_len + 2 + if signed { SIGNATURE } else { 0 };
+        if buf.len() < total {
+            return Step::NeedMore(total);
+        }
+        let msgid = u32::from_le_bytes([buf[7], buf[8], buf[9], 0]);
+        let extra = MavMessage::extra_crc(msgid);
+        if extra == 0 {
+            // Not in the common dialect: its CRC cannot be checked, so it may as well be a
+            // false marker inside other data. Skipping only the marker keeps the frames behind
+            // it (a real unknown frame is then rescanned, which costs at most a few spurious
+            // malformed counts if its payload holds 0xFD).
+            self.counters.frames_dropped = self.counters.frames_dropped.saturating_add(1);
+            return Step::Consume(1, None);
+        }
+        let crc_at = 1 + HEADER + payload_len;
+        let crc = u16::from_le_bytes([buf[crc_at], buf[crc_at + 1]]);
+        if super::crc::frame_crc(&buf[1..crc_at], extra) != crc {
+            self.counters.frames_malformed = self.counters.frames_malformed.saturating_add(1);
+            // A false marker or a corrupted frame: look again from the next byte.
+            return Step::Consume(1, None);
+        }
+        let sender = Sender {
+            system: buf[5],
+            component: buf[6],
+        };
+        let check = self.signing.check(
+            &buf[..total],
+            signed,
+            sender.system,
+            sender.component,
+            interpret::is_command(msgid),
+        );
+        let counter = match check {
+            Check::Accept => None,
+            Check::SignedWithoutKey => Some(&mut self.counters.signed_without_key),
+            Check::BadSignature => Some(&mut self.counters.bad_signature),
+            Check::Stale => Some(&mut self.counters.stale_signature),
+            Check::UnsignedRefused => Some(&mut self.counters.unsigned_refused),
+        };
+        if let Some(c) = counter {
+            *c = c.saturating_add(1);
+            return Step::Consume(total, None);
+        }
+        let payload = &buf[1 + HEADER..crc_at];
+        let interpretation = match interpret::interpret(self.address, sender, msgid, payload) {
+            // Signing is set up once, over a link on which it is not yet active.
+            Interpretation::Accepted(Inbound::SetupSigning { .. }) if self.signing.active() => {
+                Interpretation::Ignored
+            }
+            i => i,
+        };
+        let message = match interpretation {
+            Interpretation::Accepted(m) => {
+                self.counters.frames_ok = self.counters.frames_ok.saturating_add(1);
+                Some(m)
+            }
+            Interpretation::Ignored => {
+                self.counters.frames_dropped = self.counters.frames_dropped.saturating_add(1);
+                None
+            }
+            Interpretation::Malformed => {
+                self.counters.frames_malformed = self.counters.frames_malformed.saturating_add(1);
+                None
+            }
+        };
+        Step::Consume(total, message)
+    }
+}

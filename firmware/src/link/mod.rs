@@ -1,0 +1,231 @@
+//! MAVLink 2 over a byte stream: a decoder that takes bytes in chunks of any size and never
+//! panics ([`Decoder`]), the conversion of the accepted messages to the controller's frames
+//! (through [`crate::frames`], the only place that converts; [`interpret`]), message signing
+//! ([`signing`]) and the encoder for telemetry ([`encode`], [`encode_data`]).
+//!
+//! In: `ODOMETRY` (frame `MAV_FRAME_LOCAL_NED` or `MAV_FRAME_LOCAL_FRD`), `ATT_POS_MOCAP` and
+//! `VISION_POSITION_ESTIMATE` (pose), `COMMAND_LONG` and `COMMAND_INT`
+//! (`MAV_CMD_COMPONENT_ARM_DISARM` arm/disarm, with param2 = [`FORCE_DISARM_PARAM2`] (21196) a
+//! kill, with param1 = 1 and param2 = [`FORCE_ARM_PARAM2`] (2989) an explicit upside-down arm;
+//! `MAV_CMD_DO_FLIGHTTERMINATION` kill; `MAV_CMD_NAV_TAKEOFF` with param7 the height above the
+//! arming point \[m\] (NaN/0: default); `MAV_CMD_NAV_LAND`; `MAV_CMD_MISSION_START` the helix
+//! demo; `MAV_CMD_REQUEST_MESSAGE` and `MAV_CMD_SET_MESSAGE_INTERVAL` for the messages it
+//! sends; any other command addressed to the vehicle is answered `MAV_RESULT_UNSUPPORTED`),
+//! `SET_POSITION_TARGET_LOCAL_NED` (frame `MAV_FRAME_LOCAL_NED`, position and yaw; hover
+//! target) and `SETUP_SIGNING`. Out: `HEARTBEAT`, `ATTITUDE_QUATERNION`, `LOCAL_POSITION_NED`,
+//! `COMMAND_ACK` (to the sender), `STATUSTEXT`.
+//!
+//! Addressing: a message with a target (commands, setpoints, `SETUP_SIGNING`) is used only if
+//! its target system is the vehicle's or 0 (broadcast) and its target component the vehicle's
+//! or 0; any other is dropped and counted.
+//!
+//! With the `hil` feature only (the processor-in-the-loop build, never the flight build), also
+//! in: `HIL_SENSOR` (the IMU over the link, body FRD); the pipeline then sends
+//! `HIL_ACTUATOR_CONTROLS` and `POSITION_TARGET_LOCAL_NED` every tick.
+//!
+//! The frame parser is written here (not mavlink's reader) so that it works on a push of
+//! bytes with no I/O trait, counts every failure, and resynchronises on the byte after a bad
+//! start marker. The payloads are decoded by the `mavlink` crate.
+
+pub use mavlink;
+
+use mavlink::dialects::common::MavCmd;
+use nalgebra::{Quaternion, Vector3};
+
+mod ack;
+pub mod crc;
+mod decoder;
+mod encode;
+mod interpret;
+pub mod signing;
+#[cfg(test)]
+mod tests;
+
+pub use ack::CommandAck;
+pub use decoder::Decoder;
+pub use encode::{encode, encode_data};
+pub use interpret::{FORCE_ARM_PARAM2, FORCE_DISARM_PARAM2};
+pub use signing::{SigningConfig, SIGNATURE};
+
+/// MAVLink 2 start marker.
+const STX: u8 = 0xFD;
+/// Header bytes after the marker.
+const HEADER: usize = 9;
+/// Largest frame: marker + header + 255 payload + CRC + signature.
+pub const MAX_FRAME: usize = 1 + HEADER + 255 + 2 + SIGNATURE;
+/// `MAV_COMP_ID_AUTOPILOT1`: the component id a flight controller answers as.
+pub const AUTOPILOT_COMPONENT: u8 = 1;
+
+/// Where a pose came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PoseSource {
+    /// `ODOMETRY`.
+    Odometry,
+    /// `ATT_POS_MOCAP`.
+    Mocap,
+    /// `VISION_POSITION_ESTIMATE` (what MAVROS' `vision_pose` plugin sends).
+    Vision,
+}
+
+/// Who sent a message: its MAVLink header's system and component ids. Replies (`COMMAND_ACK`)
+/// are addressed to it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Sender {
+    /// Sender's system id.
+    pub system: u8,
+    /// Sender's component id.
+    pub component: u8,
+}
+
+/// A command, already interpreted.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Command {
+    /// Arm; `inverted` when the sender explicitly allows arming upside down.
+    Arm {
+        /// Explicit upside-down permission (param2 = [`FORCE_ARM_PARAM2`]).
+        inverted: bool,
+    },
+    /// Disarm (only on the ground).
+    Disarm,
+    /// Stop the motors now, wherever the vehicle is.
+    Kill,
+    /// Take off to `height` \[m\] above the arming point (`None`: the configured default).
+    Takeoff {
+        /// Height \[m\], z up.
+        height: Option<f32>,
+    },
+    /// Land below the current position.
+    Land,
+    /// Start the helix demo mission.
+    StartHelix,
+    /// Send message `id` once, now (`MAV_CMD_REQUEST_MESSAGE`, param1).
+    RequestMessage {
+        /// MAVLink message id.
+        id: u32,
+    },
+    /// Send message `id` every `interval_us` \[µs\] (`MAV_CMD_SET_MESSAGE_INTERVAL`: param1
+    /// the id, param2 the interval; -1 stops it, 0 restores the default).
+    SetMessageInterval {
+        /// MAVLink message id.
+        id: u32,
+        /// Interval \[µs\] as sent (-1: stop, 0: default, > 0: the period).
+        interval_us: f32,
+    },
+}
+
+impl Command {
+    /// Name for logs.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Arm { .. } => "arm",
+            Self::Disarm => "disarm",
+            Self::Kill => "kill",
+            Self::Takeoff { .. } => "takeoff",
+            Self::Land => "land",
+            Self::StartHelix => "mission_start",
+            Self::RequestMessage { .. } => "request_message",
+            Self::SetMessageInterval { .. } => "set_message_interval",
+        }
+    }
+}
+
+/// Why a command addressed to the vehicle cannot be run as sent: it is answered with a
+/// `COMMAND_ACK` saying so and nothing else happens.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CommandFault {
+    /// Not a command this vehicle runs (`MAV_RESULT_UNSUPPORTED`).
+    Unsupported,
+    /// A command it runs, with parameters it does not accept, e.g. an arm with param1 = 2
+    /// (`MAV_RESULT_DENIED`).
+    BadParameter,
+}
+
+/// An accepted message in the controller's frames (NWU inertial, FLU body, SI units).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Inbound {
+    /// External pose: position \[m\] NWU and attitude FLU→NWU (not yet normalised; values may be
+    /// non-finite, which the estimator refuses and counts).
+    Pose {
+        /// Position \[m\], NWU.
+        position: Vector3<f32>,
+        /// Attitude quaternion, FLU body to NWU, as received (not normalised).
+        attitude: Quaternion<f32>,
+        /// Message type.
+        source: PoseSource,
+    },
+    /// A command with the MAVLink command id to acknowledge and who to acknowledge it to.
+    Command {
+        /// The interpreted command.
+        command: Command,
+        /// The MAVLink command to acknowledge.
+        mav_cmd: MavCmd,
+        /// Who sent it.
+        sender: Sender,
+    },
+    /// A command addressed to the vehicle that it does not run as sent.
+    CommandFault {
+        /// The MAVLink command to acknowledge.
+        mav_cmd: MavCmd,
+        /// Why it is not run.
+        fault: CommandFault,
+        /// Who sent it.
+        sender: Sender,
+    },
+    /// Hover target: position \[m\] NWU and yaw \[rad\] NWU (`None`: keep the current target yaw).
+    Setpoint {
+        /// Position \[m\], NWU.
+        position: Vector3<f32>,
+        /// Yaw \[rad\], NWU, if given.
+        yaw: Option<f32>,
+    },
+    /// `SETUP_SIGNING`: a signing key to install (the pipeline accepts it only while disarmed;
+    /// the decoder only while signing is not yet active).
+    SetupSigning {
+        /// The 32-byte secret key.
+        key: [u8; 32],
+        /// Initial signing timestamp \[10 µs since 2015-01-01\].
+        initial_timestamp: u64,
+        /// Who sent it.
+        sender: Sender,
+    },
+    /// Simulated IMU sample (`HIL_SENSOR`, `hil` feature only), converted to body FLU.
+    #[cfg(feature = "hil")]
+    HilSensor {
+        /// Angular rate \[rad/s\], body FLU (may be non-finite: the estimator refuses it).
+        gyro_rad_s: [f32; 3],
+        /// Specific force \[m/s²\], body FLU.
+        accel_m_s2: [f32; 3],
+        /// Sample time \[µs\] on the simulation's clock (`time_usec`).
+        time_us: u64,
+    },
+}
+
+/// `HIL_SENSOR.fields_updated` bits 0–5: accelerometer x, y, z and gyro x, y, z (MAVLink
+/// `HIL_SENSOR_UPDATED_FLAGS`). A sample without all six is not an IMU sample.
+#[cfg(feature = "hil")]
+pub const HIL_SENSOR_IMU_FIELDS: u32 = 0b11_1111;
+
+/// Link counters (monotone, wrapping never in practice: u32 at 300 frames/s lasts 165 days).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LinkCounters {
+    /// Frames with a valid CRC (and signature, where one is required) that were used.
+    pub frames_ok: u32,
+    /// Valid frames not used: unknown message id, another target, a frame or command not
+    /// supported, a `SETUP_SIGNING` while signing is active.
+    pub frames_dropped: u32,
+    /// Frames refused: bad CRC, unknown incompatibility flags, undecodable payload.
+    pub frames_malformed: u32,
+    /// Bytes skipped while looking for a start marker.
+    pub bytes_discarded: u32,
+    /// Signed frames dropped because the vehicle has no key (the MAVLink 2 signing rule for a
+    /// system that does not verify signatures).
+    pub signed_without_key: u32,
+    /// Signed frames whose signature does not match the vehicle's key.
+    pub bad_signature: u32,
+    /// Signed frames with a timestamp not after the last one of their stream (a replay), or a
+    /// new stream more than a minute behind the vehicle's signing clock.
+    pub stale_signature: u32,
+    /// Unsigned frames refused while signing is active (commands, setpoints, signing set-up;
+    /// poses and sensor samples too unless [`SigningConfig::accept_unsigned_sensors`]).
+    pub unsigned_refused: u32,
+}

@@ -1,0 +1,248 @@
+//! The pipeline as a MAVLink peer: acknowledgements to the sender with the right result,
+//! message requests and intervals, signing end to end. Given/when/then, on the host.
+
+use super::*;
+use crate::link::{self, SIGNATURE};
+use mavlink::dialects::common::{
+    MavMessage, ATTITUDE_QUATERNION_DATA, COMMAND_ACK_DATA, COMMAND_LONG_DATA, HEARTBEAT_DATA,
+    SETUP_SIGNING_DATA,
+};
+use mavlink::{MavlinkVersion, MessageData};
+
+/// A frame from the ground station (255, 190).
+fn gcs_frame(m: &MavMessage) -> Vec<u8> {
+    let mut b = [0u8; link::MAX_FRAME];
+    let n = link::encode(m, 255, 190, 0, &mut b);
+    b[..n].to_vec()
+}
+
+fn command(c: MavCmd, p1: f32, p2: f32) -> MavMessage {
+    MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+        param1: p1,
+        param2: p2,
+        command: c,
+        target_system: 1,
+        target_component: 1,
+        ..Default::default()
+    })
+}
+
+/// (message id, payload, signed) of every frame in `bytes` (whole frames, as telemetry writes).
+fn frames(bytes: &[u8]) -> Vec<(u32, Vec<u8>, bool)> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < bytes.len() {
+        assert_eq!(bytes[i], 0xFD);
+        let len = bytes[i + 1] as usize;
+        let signed = bytes[i + 2] & 1 != 0;
+        let id = u32::from_le_bytes([bytes[i + 7], bytes[i + 8], bytes[i + 9], 0]);
+        out.push((id, bytes[i + 10..i + 10 + len].to_vec(), signed));
+        i += 12 + len + if signed { SIGNATURE } else { 0 };
+    }
+    out
+}
+
+fn acks(p: &mut FlightPipeline, now_us: u64) -> Vec<link::CommandAck> {
+    let mut buf = [0u8; 2048];
+    let n = p.telemetry(now_us, &mut buf);
+    frames(&buf[..n])
+        .into_iter()
+        .filter(|f| f.0 == COMMAND_ACK_DATA::ID)
+        .map(|f| link::CommandAck::deser(MavlinkVersion::V2, &f.1).unwrap())
+        .collect()
+}
+
+/// Given a disarmed vehicle, when the ground station sends a command it does not run, one with
+/// a bad parameter and a mission start before arming, then each gets one COMMAND_ACK addressed
+/// to (255, 190): UNSUPPORTED, DENIED, DENIED.
+#[test]
+fn every_command_is_acknowledged_to_its_sender() {
+    let mut p = FlightPipeline::new(&FlightConfig::built()).unwrap();
+    for m in [
+        command(MavCmd::MAV_CMD_DO_SET_MODE, 1.0, 4.0),
+        command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 2.0, 0.0),
+        command(MavCmd::MAV_CMD_MISSION_START, 0.0, 0.0),
+    ] {
+        p.on_link_bytes(&gcs_frame(&m), 1_000);
+    }
+    let got: Vec<_> = acks(&mut p, 1_000)
+        .iter()
+        .map(|a| (a.command, a.result, a.target_system, a.target_component))
+        .collect();
+    assert_eq!(
+        got,
+        [
+            (
+                MavCmd::MAV_CMD_DO_SET_MODE,
+                MavResult::MAV_RESULT_UNSUPPORTED,
+                255,
+                190
+            ),
+            (
+                MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+                MavResult::MAV_RESULT_DENIED,
+                255,
+                190
+            ),
+            (
+                MavCmd::MAV_CMD_MISSION_START,
+                MavResult::MAV_RESULT_DENIED,
+                255,
+                190
+            ),
+        ]
+    );
+}
+
+/// Given the default telemetry, when the attitude interval is set to 200 ms, the heartbeat
+/// requested and an unknown message requested, then the attitude comes 5 times a second
+/// (position still 20), the heartbeat at once instead of a second later, and the unknown
+/// request is DENIED.
+#[test]
+fn message_requests_and_intervals() {
+    let mut p = FlightPipeline::new(&FlightConfig::built()).unwrap();
+    let mut buf = [0u8; 4096];
+    p.telemetry(0, &mut buf);
+    p.on_link_bytes(
+        &gcs_frame(&command(
+            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+            ATTITUDE_QUATERNION_DATA::ID as f32,
+            200_000.0,
+        )),
+        0,
+    );
+    p.on_link_bytes(
+        &gcs_frame(&command(
+            MavCmd::MAV_CMD_REQUEST_MESSAGE,
+            HEARTBEAT_DATA::ID as f32,
+            0.0,
+        )),
+        0,
+    );
+    p.on_link_bytes(
+        &gcs_frame(&command(MavCmd::MAV_CMD_REQUEST_MESSAGE, 77.0, 0.0)),
+        0,
+    );
+    let mut counts = std::collections::HashMap::new();
+    let mut results = Vec::new();
+    let mut heartbeats = Vec::new();
+    for t in (10_000..=1_000_000).step_by(10_000) {
+        let n = p.telemetry(t, &mut buf);
+        for (id, payload, _) in frames(&buf[..n]) {
+            *counts.entry(id).or_insert(0) += 1;
+            if id == HEARTBEAT_DATA::ID {
+                heartbeats.push(t);
+            }
+            if id == COMMAND_ACK_DATA::ID {
+                results.push(
+                    link::CommandAck::deser(MavlinkVersion::V2, &payload)
+                        .unwrap()
+                        .result,
+                );
+            }
+        }
+    }
+    assert_eq!(
+        results,
+        [
+            MavResult::MAV_RESULT_ACCEPTED,
+            MavResult::MAV_RESULT_ACCEPTED,
+            MavResult::MAV_RESULT_DENIED
+        ]
+    );
+    assert_eq!(counts[&ATTITUDE_QUATERNION_DATA::ID], 5);
+    assert_eq!(counts[&LOCAL_POSITION_NED_DATA_ID], 20);
+    // The requested heartbeat at once (the periodic one was sent at 0 and is next due at 1 s:
+    // a request restarts its period).
+    assert_eq!(heartbeats, [10_000]);
+}
+
+const LOCAL_POSITION_NED_DATA_ID: u32 = mavlink::dialects::common::LOCAL_POSITION_NED_DATA::ID;
+
+const KEY: [u8; 32] = [0x42; 32];
+
+/// A frame from the ground station, signed with `key` at `timestamp` on link 0.
+fn signed_gcs_frame(m: &MavMessage, key: [u8; 32], timestamp: u64) -> Vec<u8> {
+    let mut gcs = link::Decoder::with_address(255, 190, None);
+    assert!(gcs.install_signing_key(
+        link::SigningConfig {
+            key,
+            link_id: 0,
+            accept_unsigned_sensors: true,
+        },
+        timestamp,
+    ));
+    let mut b = [0u8; link::MAX_FRAME];
+    let n = link::encode(m, 255, 190, 0, &mut b);
+    let k = gcs.sign(&mut b, n);
+    b[..k].to_vec()
+}
+
+/// Given a build with a signing key, when an unsigned arm and one signed with another key
+/// arrive, then both are refused and counted with no ACK; a correctly signed disarm is
+/// accepted; everything the vehicle sends is signed, and verifies with the key only.
+#[test]
+fn a_signing_vehicle_acts_only_on_signed_commands_and_signs_its_telemetry() {
+    let mut cfg = FlightConfig::built();
+    cfg.signing_key = Some(KEY);
+    let mut p = FlightPipeline::new(&cfg).unwrap();
+    let arm = command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 0.0);
+    p.on_link_bytes(&gcs_frame(&arm), 1_000);
+    p.on_link_bytes(&signed_gcs_frame(&arm, [1; 32], 10), 1_000);
+    let c = p.status().counters.link;
+    assert_eq!((c.unsigned_refused, c.bad_signature), (1, 1));
+    assert!(acks(&mut p, 1_000).is_empty());
+    let disarm = command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 0.0, 0.0);
+    p.on_link_bytes(&signed_gcs_frame(&disarm, KEY, 20), 2_000);
+    let mut buf = [0u8; 2048];
+    let n = p.telemetry(2_000, &mut buf);
+    let f = frames(&buf[..n]);
+    assert!(f.iter().any(|f| f.0 == COMMAND_ACK_DATA::ID));
+    assert!(f.iter().all(|f| f.2), "every frame signed");
+    // The ground station with the key reads every frame; with another key, none.
+    let mut right = link::Decoder::with_address(255, 190, None);
+    right.install_signing_key(
+        link::SigningConfig {
+            key: KEY,
+            link_id: 0,
+            accept_unsigned_sensors: false,
+        },
+        0,
+    );
+    right.push(&buf[..n], |_| {});
+    let r = right.counters();
+    assert_eq!((r.frames_dropped, r.bad_signature), (f.len() as u32, 0));
+    let mut wrong = link::Decoder::with_address(255, 190, None);
+    wrong.install_signing_key(
+        link::SigningConfig {
+            key: [9; 32],
+            link_id: 0,
+            accept_unsigned_sensors: false,
+        },
+        0,
+    );
+    wrong.push(&buf[..n], |_| {});
+    assert_eq!(wrong.counters().bad_signature, f.len() as u32);
+}
+
+/// Given a vehicle without a key, when SETUP_SIGNING arrives while disarmed, then signing is
+/// on: an unsigned command is refused afterwards, a second SETUP_SIGNING is dropped.
+#[test]
+fn setup_signing_while_disarmed_turns_signing_on() {
+    let mut p = FlightPipeline::new(&FlightConfig::built()).unwrap();
+    let setup = MavMessage::SETUP_SIGNING(SETUP_SIGNING_DATA {
+        initial_timestamp: 1000,
+        target_system: 1,
+        target_component: 1,
+        secret_key: KEY,
+    });
+    p.on_link_bytes(&gcs_frame(&setup), 1_000);
+    let land = command(MavCmd::MAV_CMD_NAV_LAND, 0.0, 0.0);
+    p.on_link_bytes(&gcs_frame(&land), 2_000);
+    assert_eq!(p.status().counters.link.unsigned_refused, 1);
+    p.on_link_bytes(&signed_gcs_frame(&setup, KEY, 2000), 3_000);
+    assert_eq!(p.status().counters.link.frames_dropped, 1);
+    // Signed commands are acted on and answered.
+    p.on_link_bytes(&signed_gcs_frame(&land, KEY, 3000), 4_000);
+    assert_eq!(acks(&mut p, 4_000).len(), 1);
+}
