@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The project's test command (README, "The two commands"; .ci/run calls exactly this).
-# Installs what it needs (the thumbv7em target, clippy, rustfmt, QEMU), then: formatting, every
+# Installs what it needs (the thumbv7em target, clippy, rustfmt, QEMU, a Python virtual environment
+# with pymavlink), then: formatting, every
 # host test (unit, property, cross-crate, end to end), clippy with warnings denied, the no_std
 # controller-core and the firmware built for the Cortex-M4F (thumbv7em-none-eabihf) for both
 # boards, the processor-in-the-loop flight on QEMU and the M4F instruction budget.
@@ -82,6 +83,9 @@ mkdir -p "$target_dir/pil-1khz" && cp "$elf_mps2" "$target_dir/pil-1khz/"
 cargo fw-qemu
 PIL_FIRMWARE_ELF="$elf_mps2" PIL_FIRMWARE_ELF_1KHZ="$target_dir/pil-1khz/firmware-mps2-an386" \
   cargo test -p tests --test pil_qemu -- --ignored --nocapture --test-threads 1
+
+step "a real MAVLink client: pymavlink (pinned, own virtual environment) as ground station and mocap bridge against the firmware on QEMU"
+bash tests/mavlink-client/run.sh "$elf_mps2"
 
 step "Cortex-M4F instruction counts of the control step, f32 on ARM vs host, budget"
 bash firmware/qemu/bench.sh

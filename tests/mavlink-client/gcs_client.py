@@ -1,0 +1,277 @@
+#!/usr/bin/env python3
+"""A real MAVLink client against the firmware on QEMU (mps2-an386), in lockstep.
+
+pymavlink plays the ground station (system 255, component 190) and the motion-capture bridge:
+it feeds the firmware a HIL_SENSOR every millisecond of simulated time (a vehicle at rest,
+level, on the ground) and an ATT_POS_MOCAP every 10 ms, waits for each control tick's
+HIL_ACTUATOR_CONTROLS, and sends a script of commands at fixed simulated times. It then
+asserts what docs/mavlink.md promises. Usage: gcs_client.py <firmware-mps2-an386 ELF>.
+Exit status 0 when every check passes; each check is printed.
+"""
+
+import os
+import queue
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+from pymavlink.dialects.v20 import common as mavlink2
+
+GCS_SYSTEM, GCS_COMPONENT = 255, 190
+VEHICLE_SYSTEM, VEHICLE_COMPONENT = 1, 1
+TICK_US = 10_000  # the default build's law runs at 100 Hz
+END_US = 1_700_000
+KEY = bytes(range(1, 33))
+WRONG_KEY = bytes([0x5A] * 32)
+GRAVITY = 9.80665
+# The ignore bits of POSITION_TARGET_LOCAL_NED for velocity, acceleration, yaw and yaw rate.
+POSITION_ONLY_MASK = 8 | 16 | 32 | 64 | 128 | 256 | 1024 | 2048
+TIMEOUT_S = 30.0
+
+C = mavlink2
+
+
+class Qemu:
+    """The firmware on QEMU, its UART 0 on our pipes, its defmt log in a file."""
+
+    def __init__(self, elf, log_path):
+        args = [
+            "qemu-system-arm", "-machine", "mps2-an386", "-cpu", "cortex-m4",
+            "-display", "none", "-monitor", "none", "-serial", "stdio",
+            "-icount", "shift=3,align=off,sleep=on",
+            "-semihosting-config", "enable=on,target=native,chardev=defmt",
+            "-chardev", f"file,id=defmt,path={log_path}", "-kernel", elf,
+        ]
+        self.proc = subprocess.Popen(
+            args, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL
+        )
+        self.chunks = queue.Queue()
+        threading.Thread(target=self._read, daemon=True).start()
+
+    def _read(self):
+        fd = self.proc.stdout.fileno()
+        while True:
+            data = os.read(fd, 4096)
+            if not data:
+                self.chunks.put(None)
+                return
+            self.chunks.put(data)
+
+    def send(self, data):
+        self.proc.stdin.write(data)
+        self.proc.stdin.flush()
+
+    def receive(self, timeout):
+        try:
+            return self.chunks.get(timeout=timeout)
+        except queue.Empty:
+            return b""
+
+    def stop(self):
+        self.proc.kill()
+        self.proc.wait()
+
+
+def sender(key=None, timestamp=0):
+    """A pymavlink encoder as the ground station, signing with `key` when given."""
+    m = C.MAVLink(None, srcSystem=GCS_SYSTEM, srcComponent=GCS_COMPONENT)
+    if key is not None:
+        m.signing.secret_key = key
+        m.signing.sign_outgoing = True
+        m.signing.link_id = 0
+        m.signing.timestamp = timestamp
+    return m
+
+
+def command_long(mav, command, p1=0.0, p2=0.0, p7=0.0, component=VEHICLE_COMPONENT):
+    return mav.command_long_encode(
+        VEHICLE_SYSTEM, component, command, 0, p1, p2, 0, 0, 0, 0, p7
+    ).pack(mav)
+
+
+def command_int(mav, command, p1=0.0):
+    return mav.command_int_encode(
+        VEHICLE_SYSTEM, VEHICLE_COMPONENT, C.MAV_FRAME_LOCAL_NED, command, 0, 0,
+        p1, 0, 0, 0, 0, 0, 0.0,
+    ).pack(mav)
+
+
+class Check:
+    def __init__(self):
+        self.failed = []
+
+    def __call__(self, ok, what):
+        print(f"  {'ok  ' if ok else 'FAIL'} {what}")
+        if not ok:
+            self.failed.append(what)
+
+
+def main():
+    elf = sys.argv[1]
+    gcs = sender()
+    stream = sender()  # sensors and poses, unsigned throughout (accepted by default)
+    signed = sender(KEY, timestamp=2_000_000)
+    forger = sender(WRONG_KEY, timestamp=3_000_000)
+    # Commands at simulated times [µs]: (time, label, bytes).
+    script = [
+        (100_000, "arm while calibrating",
+         command_long(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 1.0)),
+        (110_000, "arm to component 99",
+         command_long(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 1.0, component=99)),
+        (120_000, "DO_SET_MODE", command_long(gcs, C.MAV_CMD_DO_SET_MODE, 1.0, 4.0)),
+        (130_000, "COMMAND_INT arm with param1 = 2",
+         command_int(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 2.0)),
+        (140_000, "REQUEST_MESSAGE HEARTBEAT",
+         command_long(gcs, C.MAV_CMD_REQUEST_MESSAGE, float(C.MAVLINK_MSG_ID_HEARTBEAT))),
+        (150_000, "SET_MESSAGE_INTERVAL ATTITUDE_QUATERNION 100 ms",
+         command_long(gcs, C.MAV_CMD_SET_MESSAGE_INTERVAL,
+                      float(C.MAVLINK_MSG_ID_ATTITUDE_QUATERNION), 100_000.0)),
+        (160_000, "arm signed while signing is off",
+         command_long(forger, C.MAV_CMD_COMPONENT_ARM_DISARM, 1.0)),
+        (1_200_000, "disarm (unsigned, signing off)",
+         command_long(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)),
+        (1_300_000, "SETUP_SIGNING",
+         gcs.setup_signing_encode(VEHICLE_SYSTEM, VEHICLE_COMPONENT, KEY, 1_000_000).pack(gcs)),
+        (1_400_000, "unsigned disarm with signing on",
+         command_long(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)),
+        (1_410_000, "disarm signed with another key",
+         command_long(forger, C.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)),
+        (1_420_000, "disarm signed with the key",
+         command_long(signed, C.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)),
+    ]
+    events = {}
+    for t, label, frame in script:
+        events.setdefault(t, []).append((label, frame))
+
+    rx = C.MAVLink(None)
+    rx.robust_parsing = True
+    unsigned_after_signed = []
+    received = []  # (simulated time, message)
+    state = {"signed_seen": False}
+
+    def allow_unsigned(mav, msg_id):
+        # Called by pymavlink for an unsigned frame once it holds the key.
+        if state["signed_seen"]:
+            unsigned_after_signed.append(msg_id)
+        return True
+
+    log = tempfile.NamedTemporaryFile(prefix="defmt-", suffix=".bin", delete=False)
+    log.close()
+    qemu = Qemu(elf, log.name)
+    started = time.monotonic()
+    ticks = 0
+    try:
+        for t in range(0, END_US + 1, 1000):
+            out = bytearray()
+            for label, frame in events.get(t, []):
+                out += frame
+                if label == "SETUP_SIGNING":
+                    rx.signing.secret_key = KEY
+                    rx.signing.allow_unsigned_callback = allow_unsigned
+            if t % TICK_US == 0:
+                out += stream.att_pos_mocap_encode(t, [1.0, 0.0, 0.0, 0.0], 0.0, 0.0, 0.0).pack(stream)
+            out += stream.hil_sensor_encode(
+                t, 0.0, 0.0, -GRAVITY, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 20.0, 0x3F
+            ).pack(stream)
+            qemu.send(bytes(out))
+            if t % TICK_US:
+                continue
+            deadline = time.monotonic() + TIMEOUT_S
+            answered = False
+            while not answered:
+                data = qemu.receive(max(0.0, deadline - time.monotonic()))
+                if data is None:
+                    raise SystemExit(f"QEMU exited at t = {t} us")
+                if not data and time.monotonic() >= deadline:
+                    raise SystemExit(f"no HIL_ACTUATOR_CONTROLS for t = {t} us in {TIMEOUT_S} s")
+                for m in rx.parse_buffer(data) or []:
+                    received.append((t, m))
+                    if m.get_signed():
+                        state["signed_seen"] = True
+                    if m.get_type() == "HIL_ACTUATOR_CONTROLS" and m.time_usec == t:
+                        answered = True
+            ticks += 1
+    finally:
+        qemu.stop()
+        os.unlink(log.name)
+    wall = time.monotonic() - started
+    print(f"pymavlink client: {END_US / 1e6:.2f} s simulated, {ticks} ticks answered, "
+          f"{len(received)} frames received, {rx.total_receive_errors} receive errors, "
+          f"{wall:.1f} s wall clock")
+
+    check = Check()
+    bad = [m for _, m in received if m.get_type() == "BAD_DATA"]
+    check(rx.total_receive_errors == 0 and not bad,
+          f"0 parse errors ({rx.total_receive_errors} receive errors, {len(bad)} BAD_DATA)")
+    acks = [(t, m) for t, m in received if m.get_type() == "COMMAND_ACK"]
+
+    def acks_between(t0, t1):
+        return [m for t, m in acks if t0 <= t < t1]
+
+    def one_ack(label, t0, command, result):
+        got = acks_between(t0, t0 + 10_000)
+        ok = (len(got) == 1 and got[0].command == command and got[0].result == result
+              and (got[0].target_system, got[0].target_component) == (GCS_SYSTEM, GCS_COMPONENT))
+        names = [(C.enums["MAV_CMD"][a.command].name, C.enums["MAV_RESULT"][a.result].name,
+                  a.target_system, a.target_component) for a in got]
+        want = C.enums["MAV_RESULT"][result].name
+        check(ok, f"{label}: one ACK {want} to {GCS_SYSTEM}/{GCS_COMPONENT} (got {names})")
+
+    def no_ack(label, t0):
+        got = acks_between(t0, t0 + 10_000)
+        check(not got, f"{label}: no ACK (got {len(got)})")
+
+    one_ack("arm while calibrating", 100_000, C.MAV_CMD_COMPONENT_ARM_DISARM,
+            C.MAV_RESULT_TEMPORARILY_REJECTED)
+    no_ack("arm to component 99", 110_000)
+    one_ack("DO_SET_MODE", 120_000, C.MAV_CMD_DO_SET_MODE, C.MAV_RESULT_UNSUPPORTED)
+    one_ack("COMMAND_INT arm with param1 = 2", 130_000, C.MAV_CMD_COMPONENT_ARM_DISARM,
+            C.MAV_RESULT_DENIED)
+    one_ack("REQUEST_MESSAGE HEARTBEAT", 140_000, C.MAV_CMD_REQUEST_MESSAGE,
+            C.MAV_RESULT_ACCEPTED)
+    heartbeats = [t for t, m in received if m.get_type() == "HEARTBEAT"]
+    check(any(140_000 <= t < 160_000 for t in heartbeats),
+          f"the requested HEARTBEAT comes at once (heartbeats at {heartbeats} us)")
+    one_ack("SET_MESSAGE_INTERVAL", 150_000, C.MAV_CMD_SET_MESSAGE_INTERVAL,
+            C.MAV_RESULT_ACCEPTED)
+    attitude = sum(1 for t, m in received
+                   if m.get_type() == "ATTITUDE_QUATERNION" and 200_000 <= t < 1_200_000)
+    position = sum(1 for t, m in received
+                   if m.get_type() == "LOCAL_POSITION_NED" and 200_000 <= t < 1_200_000)
+    check(attitude == 10 and position == 20,
+          f"over 1 s: ATTITUDE_QUATERNION {attitude} (100 ms), LOCAL_POSITION_NED {position} (50 ms)")
+    no_ack("arm signed while signing is off (dropped)", 160_000)
+    one_ack("disarm, signing off", 1_200_000, C.MAV_CMD_COMPONENT_ARM_DISARM,
+            C.MAV_RESULT_ACCEPTED)
+    no_ack("unsigned disarm with signing on", 1_400_000)
+    no_ack("disarm signed with another key", 1_410_000)
+    one_ack("disarm signed with the key", 1_420_000, C.MAV_CMD_COMPONENT_ARM_DISARM,
+            C.MAV_RESULT_ACCEPTED)
+    after = [m for t, m in received if t >= 1_320_000]
+    check(after and all(m.get_signed() for m in after) and rx.signing.badsig_count == 0
+          and not unsigned_after_signed,
+          f"after SETUP_SIGNING every vehicle frame is signed and verifies with the key "
+          f"({len(after)} frames, {rx.signing.badsig_count} bad signatures, "
+          f"{len(unsigned_after_signed)} unsigned after the first signed)")
+    hb = [m for _, m in received if m.get_type() == "HEARTBEAT"]
+    check(hb and all(m.base_mode & C.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED for m in hb),
+          "HEARTBEAT: custom mode flagged as meaningful")
+    act = [m for _, m in received if m.get_type() == "HIL_ACTUATOR_CONTROLS"]
+    check(act and all(m.flags & C.HIL_ACTUATOR_CONTROLS_FLAGS_LOCKSTEP for m in act),
+          f"HIL_ACTUATOR_CONTROLS: LOCKSTEP flag on all {len(act)}")
+    targets = [m for _, m in received if m.get_type() == "POSITION_TARGET_LOCAL_NED"]
+    check(targets and all(m.type_mask == POSITION_ONLY_MASK for m in targets),
+          f"POSITION_TARGET_LOCAL_NED: type_mask {POSITION_ONLY_MASK} (position only)")
+    sources = {(m.get_srcSystem(), m.get_srcComponent()) for _, m in received}
+    check(sources == {(VEHICLE_SYSTEM, VEHICLE_COMPONENT)}, f"every frame from 1/1 ({sources})")
+    if check.failed:
+        print(f"pymavlink client: {len(check.failed)} check(s) failed")
+        return 1
+    print("pymavlink client: all checks passed")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
