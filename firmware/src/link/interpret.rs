@@ -4,8 +4,9 @@
 #[cfg(feature = "hil")]
 use mavlink::dialects::common::HIL_SENSOR_DATA;
 use mavlink::dialects::common::{
-    MavCmd, MavFrame, ATT_POS_MOCAP_DATA, COMMAND_INT_DATA, COMMAND_LONG_DATA, ODOMETRY_DATA,
-    SETUP_SIGNING_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA, VISION_POSITION_ESTIMATE_DATA,
+    MavCmd, MavFrame, ATT_POS_MOCAP_DATA, AUTOPILOT_VERSION_DATA, COMMAND_INT_DATA,
+    COMMAND_LONG_DATA, ODOMETRY_DATA, SETUP_SIGNING_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
+    TIMESYNC_DATA, VISION_POSITION_ESTIMATE_DATA,
 };
 use mavlink::{MavlinkVersion, MessageData};
 
@@ -129,6 +130,13 @@ pub(super) fn interpret(us: Address, sender: Sender, msgid: u32, payload: &[u8])
                 sender,
             })
         }
+        TIMESYNC_DATA::ID => {
+            let m = decode!(TIMESYNC_DATA);
+            Interpretation::Accepted(Inbound::Timesync {
+                tc1: m.tc1,
+                ts1: m.ts1,
+            })
+        }
         #[cfg(feature = "hil")]
         HIL_SENSOR_DATA::ID => hil_sensor(&decode!(HIL_SENSOR_DATA)),
         _ => Interpretation::Ignored,
@@ -167,6 +175,9 @@ fn odometry(m: &ODOMETRY_DATA) -> Interpretation {
 /// A command from `COMMAND_LONG` or `COMMAND_INT`: `p` is param1–4 and param7 (`COMMAND_INT`'s
 /// z). Every command gets an [`Inbound`] so that it is acknowledged: the ones run here as
 /// [`Inbound::Command`], the others as [`Inbound::CommandFault`].
+// MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES is deprecated for REQUEST_MESSAGE, but MAVProxy and
+// older ground stations still send it.
+#[allow(deprecated)]
 fn command(mav_cmd: MavCmd, p: [f32; 5], sender: Sender) -> Interpretation {
     let [p1, p2, _p3, _p4, p7] = p;
     let fault = |fault| {
@@ -203,6 +214,20 @@ fn command(mav_cmd: MavCmd, p: [f32; 5], sender: Sender) -> Interpretation {
             Some(id) => Command::RequestMessage { id },
             None => return fault(CommandFault::BadParameter),
         },
+        MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES if p1 == 1.0 => Command::RequestMessage {
+            id: AUTOPILOT_VERSION_DATA::ID,
+        },
+        MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES => return fault(CommandFault::BadParameter),
+        MavCmd::MAV_CMD_DO_SET_MODE => {
+            // MAV_MODE_FLAG_CUSTOM_MODE_ENABLED (1) must be set; the custom modes are 1-4.
+            let custom = message_id(p2).filter(|m| (1..=4).contains(m));
+            match custom {
+                Some(m) if (p1 as u32) & 1 == 1 && p1.is_finite() => Command::SetMode {
+                    custom_mode: m as u8,
+                },
+                _ => return fault(CommandFault::BadParameter),
+            }
+        }
         MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL => match message_id(p1) {
             Some(id) if p2.is_finite() && p2 >= -1.0 => Command::SetMessageInterval {
                 id,

@@ -10,10 +10,12 @@
 //! `MAV_CMD_DO_FLIGHTTERMINATION` kill; `MAV_CMD_NAV_TAKEOFF` with param7 the height above the
 //! arming point \[m\] (NaN/0: default); `MAV_CMD_NAV_LAND`; `MAV_CMD_MISSION_START` the helix
 //! demo; `MAV_CMD_REQUEST_MESSAGE` and `MAV_CMD_SET_MESSAGE_INTERVAL` for the messages it
-//! sends; any other command addressed to the vehicle is answered `MAV_RESULT_UNSUPPORTED`),
+//! sends; `MAV_CMD_DO_SET_MODE` with a custom mode; `MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES`;
+//! any other command addressed to the vehicle is answered `MAV_RESULT_UNSUPPORTED`), `TIMESYNC`,
 //! `SET_POSITION_TARGET_LOCAL_NED` (frame `MAV_FRAME_LOCAL_NED`, position and yaw; hover
 //! target) and `SETUP_SIGNING`. Out: `HEARTBEAT`, `ATTITUDE_QUATERNION`, `LOCAL_POSITION_NED`,
-//! `COMMAND_ACK` (to the sender), `STATUSTEXT`.
+//! `SYS_STATUS`, `EXTENDED_SYS_STATE`, `ATTITUDE`, `HOME_POSITION` and `AUTOPILOT_VERSION` (on
+//! request), `TIMESYNC`, `COMMAND_ACK` (to the sender), `STATUSTEXT`.
 //!
 //! Addressing: a message with a target (commands, setpoints, `SETUP_SIGNING`) is used only if
 //! its target system is the vehicle's or 0 (broadcast) and its target component the vehicle's
@@ -103,6 +105,13 @@ pub enum Command {
         /// MAVLink message id.
         id: u32,
     },
+    /// Fly in the reference mode `custom_mode` (`MAV_CMD_DO_SET_MODE` with
+    /// `MAV_MODE_FLAG_CUSTOM_MODE_ENABLED` in param1 and the mode in param2: 1 hover where it
+    /// is, 2 take off, 3 land, 4 the helix; as `HEARTBEAT.custom_mode`).
+    SetMode {
+        /// The custom mode, 1 to 4.
+        custom_mode: u8,
+    },
     /// Send message `id` every `interval_us` \[µs\] (`MAV_CMD_SET_MESSAGE_INTERVAL`: param1
     /// the id, param2 the interval; -1 stops it, 0 restores the default).
     SetMessageInterval {
@@ -125,6 +134,7 @@ impl Command {
             Self::StartHelix => "mission_start",
             Self::RequestMessage { .. } => "request_message",
             Self::SetMessageInterval { .. } => "set_message_interval",
+            Self::SetMode { .. } => "set_mode",
         }
     }
 }
@@ -187,6 +197,13 @@ pub enum Inbound {
         initial_timestamp: u64,
         /// Who sent it.
         sender: Sender,
+    },
+    /// `TIMESYNC` (no target: every system answers): a request when `tc1` is 0.
+    Timesync {
+        /// The responder's time \[ns\] (0 in a request).
+        tc1: i64,
+        /// The requester's time \[ns\], echoed in the answer.
+        ts1: i64,
     },
     /// Simulated IMU sample (`HIL_SENSOR`, `hil` feature only), converted to body FLU.
     #[cfg(feature = "hil")]

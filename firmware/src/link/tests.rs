@@ -301,8 +301,23 @@ fn every_command_is_answerable_with_its_sender() {
     };
     let cases = [
         (
-            command_long(MavCmd::MAV_CMD_DO_SET_MODE, 1.0, 1, 1),
+            command_long(MavCmd::MAV_CMD_DO_REPOSITION, 1.0, 1, 1),
             Err(CommandFault::Unsupported),
+        ),
+        (
+            MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+                param1: 1.0,
+                param2: 4.0,
+                command: MavCmd::MAV_CMD_DO_SET_MODE,
+                target_system: 1,
+                ..Default::default()
+            }),
+            Ok(Command::SetMode { custom_mode: 4 }),
+        ),
+        (
+            // Base mode without MAV_MODE_FLAG_CUSTOM_MODE_ENABLED.
+            command_long(MavCmd::MAV_CMD_DO_SET_MODE, 0.0, 1, 1),
+            Err(CommandFault::BadParameter),
         ),
         (
             command_long(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 2.0, 1, 1),

@@ -79,6 +79,14 @@ impl FlightPipeline {
                 };
                 self.ack(mav_cmd, r, sender);
             }
+            Inbound::Timesync { tc1: 0, ts1 } => {
+                let tc1 = (now_us as i64).saturating_mul(1000);
+                if self.timesync.push_back((tc1, ts1)).is_err() {
+                    self.counters.replies_dropped = self.counters.replies_dropped.saturating_add(1);
+                }
+            }
+            // An answer to someone else's request.
+            Inbound::Timesync { .. } => {}
             Inbound::SetupSigning {
                 key,
                 initial_timestamp,
@@ -344,6 +352,8 @@ impl FlightPipeline {
                 }
                 let t = self.supervisor.arm(now_us);
                 self.transition(t);
+                self.home = est.position;
+                self.schedule.request_now(super::schedule::Periodic::Home);
                 Ok(())
             }
             Command::Takeoff { height } => {
@@ -366,6 +376,7 @@ impl FlightPipeline {
                 self.go_to(target, yaw, now_us, Mode::Land)
             }
             Command::RequestMessage { id } => self.request_message(id).map_err(Self::simple),
+            Command::SetMode { custom_mode } => self.set_mode_command(custom_mode, now_us),
             Command::SetMessageInterval { id, interval_us } => self
                 .set_message_interval(id, interval_us)
                 .map_err(Self::simple),
@@ -379,6 +390,25 @@ impl FlightPipeline {
                 self.set_mode(Mode::Helix);
                 Ok(())
             }
+        }
+    }
+
+    /// `MAV_CMD_DO_SET_MODE`: custom mode 1 hovers where the vehicle is, 2 takes off, 3 lands,
+    /// 4 flies the helix, through the same checks as their own commands.
+    fn set_mode_command(&mut self, custom_mode: u8, now_us: u64) -> Result<(), Refusal> {
+        match custom_mode {
+            1 => {
+                let est = self
+                    .estimator
+                    .estimate(now_us)
+                    .ok_or_else(|| Self::simple("no estimate"))?;
+                let (_, _, yaw) = est.attitude.euler_angles();
+                self.setpoint(est.position, Some(yaw), now_us)
+            }
+            2 => self.command(Command::Takeoff { height: None }, now_us),
+            3 => self.command(Command::Land, now_us),
+            4 => self.command(Command::StartHelix, now_us),
+            _ => Err(Self::simple("unknown mode")),
         }
     }
 

@@ -59,7 +59,7 @@ fn acks(p: &mut FlightPipeline, now_us: u64) -> Vec<link::CommandAck> {
 fn every_command_is_acknowledged_to_its_sender() {
     let mut p = FlightPipeline::new(&FlightConfig::built()).unwrap();
     for m in [
-        command(MavCmd::MAV_CMD_DO_SET_MODE, 1.0, 4.0),
+        command(MavCmd::MAV_CMD_DO_REPOSITION, 1.0, 4.0),
         command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 2.0, 0.0),
         command(MavCmd::MAV_CMD_MISSION_START, 0.0, 0.0),
     ] {
@@ -73,7 +73,7 @@ fn every_command_is_acknowledged_to_its_sender() {
         got,
         [
             (
-                MavCmd::MAV_CMD_DO_SET_MODE,
+                MavCmd::MAV_CMD_DO_REPOSITION,
                 MavResult::MAV_RESULT_UNSUPPORTED,
                 255,
                 190
@@ -245,4 +245,87 @@ fn setup_signing_while_disarmed_turns_signing_on() {
     // Signed commands are acted on and answered.
     p.on_link_bytes(&signed_gcs_frame(&land, KEY, 3000), 4_000);
     assert_eq!(acks(&mut p, 4_000).len(), 1);
+}
+
+/// Given a disarmed vehicle during its gyro calibration, when a ground station syncs its clock,
+/// asks for the capabilities and the home position, and asks for the helix mode, then: the
+/// TIMESYNC answer echoes its ts1 with the vehicle's time in ns; AUTOPILOT_VERSION and
+/// HOME_POSITION come once each with their ACKs; SYS_STATUS says the IMU is present but not
+/// yet healthy; EXTENDED_SYS_STATE says on the ground; the helix mode is DENIED (not armed).
+#[test]
+fn status_messages_for_a_ground_station() {
+    use mavlink::dialects::common::{
+        MavLandedState, MavSysStatusSensor, AUTOPILOT_VERSION_DATA, EXTENDED_SYS_STATE_DATA,
+        HOME_POSITION_DATA, SYS_STATUS_DATA, TIMESYNC_DATA,
+    };
+    let mut p = FlightPipeline::new(&FlightConfig::built()).unwrap();
+    let timesync = MavMessage::TIMESYNC(TIMESYNC_DATA {
+        tc1: 0,
+        ts1: 123_456_789,
+    });
+    p.on_link_bytes(&gcs_frame(&timesync), 5_000);
+    #[allow(deprecated)]
+    let capabilities = command(MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES, 1.0, 0.0);
+    p.on_link_bytes(&gcs_frame(&capabilities), 5_000);
+    let home = command(
+        MavCmd::MAV_CMD_REQUEST_MESSAGE,
+        HOME_POSITION_DATA::ID as f32,
+        0.0,
+    );
+    p.on_link_bytes(&gcs_frame(&home), 5_000);
+    p.on_link_bytes(
+        &gcs_frame(&command(MavCmd::MAV_CMD_DO_SET_MODE, 1.0, 4.0)),
+        5_000,
+    );
+    let mut buf = [0u8; 4096];
+    let n = p.telemetry(5_000, &mut buf);
+    let f = frames(&buf[..n]);
+    let one = |id: u32| {
+        let v: Vec<_> = f.iter().filter(|x| x.0 == id).collect();
+        assert_eq!(v.len(), 1, "message {id}");
+        v[0].1.clone()
+    };
+    let t = TIMESYNC_DATA::deser(MavlinkVersion::V2, &one(TIMESYNC_DATA::ID)).unwrap();
+    assert_eq!((t.tc1, t.ts1), (5_000_000, 123_456_789));
+    let v = AUTOPILOT_VERSION_DATA::deser(MavlinkVersion::V2, &one(AUTOPILOT_VERSION_DATA::ID))
+        .unwrap();
+    assert_eq!(v.capabilities, status_messages::CAPABILITIES);
+    HOME_POSITION_DATA::deser(MavlinkVersion::V2, &one(HOME_POSITION_DATA::ID)).unwrap();
+    let s = SYS_STATUS_DATA::deser(MavlinkVersion::V2, &one(SYS_STATUS_DATA::ID)).unwrap();
+    assert!(s
+        .onboard_control_sensors_present
+        .contains(MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_GYRO));
+    assert!(!s
+        .onboard_control_sensors_health
+        .contains(MavSysStatusSensor::MAV_SYS_STATUS_SENSOR_3D_GYRO));
+    let e = EXTENDED_SYS_STATE_DATA::deser(MavlinkVersion::V2, &one(EXTENDED_SYS_STATE_DATA::ID))
+        .unwrap();
+    assert_eq!(e.landed_state, MavLandedState::MAV_LANDED_STATE_ON_GROUND);
+    let results: Vec<_> = f
+        .iter()
+        .filter(|x| x.0 == COMMAND_ACK_DATA::ID)
+        .map(|x| {
+            link::CommandAck::deser(MavlinkVersion::V2, &x.1)
+                .unwrap()
+                .result
+        })
+        .collect();
+    assert_eq!(
+        results,
+        [
+            MavResult::MAV_RESULT_ACCEPTED,
+            MavResult::MAV_RESULT_ACCEPTED,
+            MavResult::MAV_RESULT_DENIED
+        ]
+    );
+    // On request only: nothing more in the next second.
+    let mut again = 0;
+    for t in (10_000..=1_000_000).step_by(10_000) {
+        let n = p.telemetry(t, &mut buf);
+        again += frames(&buf[..n])
+            .iter()
+            .filter(|x| x.0 == HOME_POSITION_DATA::ID || x.0 == AUTOPILOT_VERSION_DATA::ID)
+            .count();
+    }
+    assert_eq!(again, 0);
 }

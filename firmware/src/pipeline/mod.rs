@@ -29,6 +29,7 @@ pub mod lockstep;
 mod lockstep_tests;
 mod mission;
 pub mod schedule;
+mod status_messages;
 mod telemetry;
 #[cfg(test)]
 mod tests;
@@ -141,6 +142,12 @@ pub struct FlightPipeline {
     texts: Deque<(MavSeverity, &'static str, &'static str), 8>,
     sequence: u8,
     schedule: Schedule,
+    /// `TIMESYNC` answers due: (tc1 \[ns\], the request's ts1).
+    timesync: Deque<(i64, i64), 2>,
+    /// The last arming point \[m\], NWU (`HOME_POSITION`).
+    home: Vector3<f32>,
+    /// The control step's share of its period \[per mille\] (`SYS_STATUS.load`).
+    load_permille: u16,
     counters: Counters,
     status_position: [f32; 3],
     status_velocity: [f32; 3],
@@ -235,6 +242,9 @@ impl FlightPipeline {
             texts: Deque::new(),
             sequence: 0,
             schedule: Schedule::new(&cfg.telemetry),
+            timesync: Deque::new(),
+            home: Vector3::zeros(),
+            load_permille: 0,
             counters: Counters::default(),
             status_position: [0.0; 3],
             status_velocity: [0.0; 3],

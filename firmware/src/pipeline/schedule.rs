@@ -1,8 +1,11 @@
 //! When each periodic telemetry message is next due, and the ground station's control of it
 //! (`MAV_CMD_REQUEST_MESSAGE`: once, now; `MAV_CMD_SET_MESSAGE_INTERVAL`: its period).
+//! `HOME_POSITION` and `AUTOPILOT_VERSION` are stopped by default: sent on request (and the
+//! home position once at every arming).
 
 use mavlink::dialects::common::{
-    ATTITUDE_QUATERNION_DATA, HEARTBEAT_DATA, LOCAL_POSITION_NED_DATA,
+    ATTITUDE_DATA, ATTITUDE_QUATERNION_DATA, AUTOPILOT_VERSION_DATA, EXTENDED_SYS_STATE_DATA,
+    HEARTBEAT_DATA, HOME_POSITION_DATA, LOCAL_POSITION_NED_DATA, SYS_STATUS_DATA,
 };
 use mavlink::MessageData;
 
@@ -17,6 +20,33 @@ pub enum Periodic {
     Attitude = 1,
     /// `LOCAL_POSITION_NED`.
     Position = 2,
+    /// `SYS_STATUS`.
+    SysStatus = 3,
+    /// `EXTENDED_SYS_STATE`.
+    ExtendedSysState = 4,
+    /// `ATTITUDE` (Euler angles, what ground-station HUDs draw).
+    AttitudeEuler = 5,
+    /// `HOME_POSITION` (the arming point).
+    Home = 6,
+    /// `AUTOPILOT_VERSION`.
+    Version = 7,
+}
+
+/// Number of [`Periodic`] messages.
+const COUNT: usize = 8;
+
+impl Periodic {
+    /// Every periodic message, in the order telemetry sends them when several are due.
+    pub const ALL: [Periodic; COUNT] = [
+        Self::Heartbeat,
+        Self::Attitude,
+        Self::Position,
+        Self::SysStatus,
+        Self::ExtendedSysState,
+        Self::AttitudeEuler,
+        Self::Home,
+        Self::Version,
+    ];
 }
 
 impl Periodic {
@@ -26,6 +56,11 @@ impl Periodic {
             HEARTBEAT_DATA::ID => Some(Self::Heartbeat),
             ATTITUDE_QUATERNION_DATA::ID => Some(Self::Attitude),
             LOCAL_POSITION_NED_DATA::ID => Some(Self::Position),
+            SYS_STATUS_DATA::ID => Some(Self::SysStatus),
+            EXTENDED_SYS_STATE_DATA::ID => Some(Self::ExtendedSysState),
+            ATTITUDE_DATA::ID => Some(Self::AttitudeEuler),
+            HOME_POSITION_DATA::ID => Some(Self::Home),
+            AUTOPILOT_VERSION_DATA::ID => Some(Self::Version),
             _ => None,
         }
     }
@@ -34,24 +69,30 @@ impl Periodic {
 /// Periods (`u64::MAX`: stopped) and next due times \[µs\] of the periodic messages.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Schedule {
-    default_us: [u64; 3],
-    period_us: [u64; 3],
-    next_us: [u64; 3],
+    default_us: [u64; COUNT],
+    period_us: [u64; COUNT],
+    next_us: [u64; COUNT],
 }
 
 impl Schedule {
-    /// The configured periods, everything due at once.
+    /// The configured periods (the status messages at the heartbeat's, `ATTITUDE` at the
+    /// state's), everything periodic due at once, the on-request messages stopped.
     pub fn new(cfg: &TelemetryConfig) -> Self {
-        let default_us = [
-            cfg.heartbeat_period_us,
-            cfg.state_period_us,
-            cfg.state_period_us,
-        ];
+        let (slow, fast) = (cfg.heartbeat_period_us, cfg.state_period_us);
+        let default_us = [slow, fast, fast, slow, slow, fast, u64::MAX, u64::MAX];
+        let mut next_us = [0; COUNT];
+        next_us[Periodic::Home as usize] = u64::MAX;
+        next_us[Periodic::Version as usize] = u64::MAX;
         Self {
             default_us,
             period_us: default_us,
-            next_us: [0; 3],
+            next_us,
         }
+    }
+
+    /// `m` once, at the next telemetry call.
+    pub fn request_now(&mut self, m: Periodic) {
+        self.next_us[m as usize] = 0;
     }
 
     /// Whether `m` is due at `now_us`.

@@ -7,7 +7,7 @@
 
 use mavlink::dialects::common::{
     MavAutopilot, MavModeFlag, MavState, MavType, ATTITUDE_QUATERNION_DATA, HEARTBEAT_DATA,
-    LOCAL_POSITION_NED_DATA, STATUSTEXT_DATA,
+    LOCAL_POSITION_NED_DATA, STATUSTEXT_DATA, TIMESYNC_DATA,
 };
 use nalgebra::Vector3;
 
@@ -44,6 +44,13 @@ impl FlightPipeline {
                 k => n += k,
             }
             self.acks.pop_front();
+        }
+        while let Some(&(tc1, ts1)) = self.timesync.front() {
+            match self.put(&TIMESYNC_DATA { tc1, ts1 }, &mut out[n..]) {
+                0 => return n,
+                k => n += k,
+            }
+            self.timesync.pop_front();
         }
         while let Some(&(severity, a, b)) = self.texts.front() {
             let mut text = [0u8; 50];
@@ -139,6 +146,26 @@ impl FlightPipeline {
                 k => n += k,
             }
             self.schedule.sent(Periodic::Position, now_us);
+        }
+        for m in &Periodic::ALL[3..] {
+            if !self.schedule.due(*m, now_us) {
+                continue;
+            }
+            let k = match m {
+                Periodic::SysStatus => self.put(&self.sys_status(), &mut out[n..]),
+                Periodic::ExtendedSysState => self.put(&self.extended_sys_state(), &mut out[n..]),
+                Periodic::AttitudeEuler => self.put(&self.attitude_euler(now_us), &mut out[n..]),
+                Periodic::Home => self.put(&self.home_position(), &mut out[n..]),
+                Periodic::Version => self.put(&self.autopilot_version(), &mut out[n..]),
+                // Sent above.
+                Periodic::Heartbeat | Periodic::Attitude | Periodic::Position => continue,
+            };
+            if k == 0 {
+                self.counters.telemetry_dropped += 1;
+                return n;
+            }
+            n += k;
+            self.schedule.sent(*m, now_us);
         }
         n
     }

@@ -86,7 +86,8 @@ fn bad_rotors_refused() {
 }
 
 /// Disarmed at boot: zero throttle; telemetry sends HEARTBEAT (standby, not armed, custom
-/// mode flagged as meaningful), ATTITUDE_QUATERNION and LOCAL_POSITION_NED; an arm during the
+/// mode flagged as meaningful), ATTITUDE_QUATERNION, LOCAL_POSITION_NED, SYS_STATUS,
+/// EXTENDED_SYS_STATE and ATTITUDE (HOME_POSITION and AUTOPILOT_VERSION only on request); an arm during the
 /// gyro calibration is refused over MAVLink (COMMAND_ACK TEMPORARILY_REJECTED, addressed to
 /// the sender, + STATUSTEXT) and as an event.
 #[test]
@@ -102,7 +103,10 @@ fn boot_telemetry_and_refusal() {
         [
             HEARTBEAT_DATA::ID,
             ATTITUDE_QUATERNION_DATA::ID,
-            LOCAL_POSITION_NED_DATA::ID
+            LOCAL_POSITION_NED_DATA::ID,
+            mavlink::dialects::common::SYS_STATUS_DATA::ID,
+            mavlink::dialects::common::EXTENDED_SYS_STATE_DATA::ID,
+            mavlink::dialects::common::ATTITUDE_DATA::ID,
         ]
     );
     let hb = HEARTBEAT_DATA::deser(MavlinkVersion::V2, &frames(&buf[..n])[0].1).unwrap();
