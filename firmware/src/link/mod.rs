@@ -12,12 +12,14 @@
 //! demo; `MAV_CMD_REQUEST_MESSAGE` and `MAV_CMD_SET_MESSAGE_INTERVAL` for the messages it
 //! sends; any other command addressed to the vehicle is answered `MAV_RESULT_UNSUPPORTED`),
 //! `SET_POSITION_TARGET_LOCAL_NED` (frame `MAV_FRAME_LOCAL_NED`, position and yaw; hover
-//! target) and `SETUP_SIGNING`. Out: `HEARTBEAT`, `ATTITUDE_QUATERNION`, `LOCAL_POSITION_NED`,
-//! `COMMAND_ACK` (to the sender), `STATUSTEXT`.
+//! target), `SETUP_SIGNING` and the parameter protocol (`PARAM_REQUEST_LIST`,
+//! `PARAM_REQUEST_READ`, `PARAM_SET`; [`crate::params`]). Out: `HEARTBEAT`,
+//! `ATTITUDE_QUATERNION`, `LOCAL_POSITION_NED`, `COMMAND_ACK` (to the sender), `STATUSTEXT`,
+//! `PARAM_VALUE`.
 //!
-//! Addressing: a message with a target (commands, setpoints, `SETUP_SIGNING`) is used only if
-//! its target system is the vehicle's or 0 (broadcast) and its target component the vehicle's
-//! or 0; any other is dropped and counted.
+//! Addressing: a message with a target (commands, setpoints, `SETUP_SIGNING`, parameter
+//! messages) is used only if its target system is the vehicle's or 0 (broadcast) and its target
+//! component the vehicle's or 0; any other is dropped and counted.
 //!
 //! With the `hil` feature only (the processor-in-the-loop build, never the flight build), also
 //! in: `HIL_SENSOR` (the IMU over the link, body FRD); the pipeline then sends
@@ -187,6 +189,25 @@ pub enum Inbound {
         initial_timestamp: u64,
         /// Who sent it.
         sender: Sender,
+    },
+    /// `PARAM_REQUEST_LIST`: send every parameter (`PARAM_VALUE`).
+    ParamRequestList,
+    /// `PARAM_REQUEST_READ`: send one parameter, by `index` when it is `>= 0`, else by name.
+    ParamRequestRead {
+        /// `param_id` as sent: NUL-padded ASCII, or 16 bytes with no NUL (unchecked).
+        id: [u8; 16],
+        /// `param_index` as sent (`-1`: use `id`).
+        index: i16,
+    },
+    /// `PARAM_SET`: set a parameter (answered with `PARAM_VALUE`).
+    ParamSet {
+        /// `param_id` as sent: NUL-padded ASCII, or 16 bytes with no NUL (unchecked).
+        id: [u8; 16],
+        /// `param_value` as sent (may be non-finite: the pipeline refuses it).
+        value: f32,
+        /// Whether `param_type` is `MAV_PARAM_TYPE_REAL32`, the only type of this vehicle's
+        /// parameters.
+        real32: bool,
     },
     /// Simulated IMU sample (`HIL_SENSOR`, `hil` feature only), converted to body FLU.
     #[cfg(feature = "hil")]

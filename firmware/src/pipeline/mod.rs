@@ -11,7 +11,8 @@
 //! One facet per file, each an `impl FlightPipeline` block or a small pure type:
 //! `commands.rs` (commands and the certificate gate), `mission.rs` (the takeoff/land mode
 //! machine, [`ModeMachine`]), `landed.rs` (the landed detector, [`LandedDetector`]),
-//! `failsafe.rs` (the failsafe law), `telemetry.rs` (telemetry scheduling) and `events.rs`
+//! `failsafe.rs` (the failsafe law), `telemetry.rs` (telemetry scheduling), `params.rs` (the
+//! MAVLink parameter protocol, each change certified like the boot set-up) and `events.rs`
 //! (events, counters, status). This file holds the pipeline's state, its construction and the
 //! per-sample and per-tick flow.
 
@@ -23,6 +24,10 @@ mod landed;
 #[cfg(test)]
 mod link_tests;
 mod mission;
+#[cfg(test)]
+mod param_tests;
+mod param_text;
+mod params;
 pub mod schedule;
 mod telemetry;
 #[cfg(test)]
@@ -32,6 +37,7 @@ pub use events::{Counters, Event, PipelineStatus};
 pub use gate::{box_margin, check as gate_check, GateFailure, BOX_FIT};
 pub use landed::{LandedDetector, LandedInputs};
 pub use mission::{Mode, ModeMachine};
+pub use params::STREAM_PERIOD_US as PARAM_STREAM_PERIOD_US;
 
 use controller_core::scalar::{fmin, norm};
 use controller_core::{
@@ -50,6 +56,7 @@ use crate::link::{Decoder, Sender, SigningConfig};
 use crate::mixer::{BoxFit, MixOutput, Mixer, MixerError};
 use crate::safety::{FlightState, Supervisor, TickInputs, Transition};
 use events::EventQueue;
+use params::ParamQueue;
 use schedule::Schedule;
 
 /// One IMU sample, body FLU (x forward, y left, z up: the controller's body frame).
@@ -134,6 +141,7 @@ pub struct FlightPipeline {
     events: EventQueue,
     acks: Deque<(MavCmd, MavResult, Sender), 8>,
     texts: Deque<(MavSeverity, &'static str, &'static str), 8>,
+    params: ParamQueue,
     sequence: u8,
     schedule: Schedule,
     counters: Counters,
@@ -153,6 +161,40 @@ pub struct FlightPipeline {
     hil_pending: Option<u64>,
 }
 
+/// The boot checks of set-up `cfg` on the rotors of `mixer`: the certificate of its demo mission
+/// (filters starting at zero), the hover controller (constants zero) and the gate with
+/// `cfg.box_margin`. Boot and every parameter change run this one function. Errors: a
+/// parameter controller-core refuses ([`BootError::Parameter`]).
+fn certify_setup(cfg: &FlightConfig, mixer: &Mixer) -> Result<BootReport, BootError> {
+    let reference = FlightReference::new(
+        cfg.reference.smoothing_rate,
+        Vector3::zeros(),
+        0.0,
+        SupTable::PRECOMPUTED,
+        cfg.mission,
+    );
+    let certificate = certify(
+        &cfg.vehicle,
+        &cfg.limits,
+        &cfg.gains,
+        &reference.helix_constants(),
+        FilterStart::Zero,
+    )
+    .map_err(BootError::Parameter)?;
+    // The controller must accept a hover (constants zero) too.
+    Controller::new(cfg.vehicle, cfg.gains, &TrajectoryConstants::zero())
+        .map_err(BootError::Parameter)?;
+    let b = &certificate.bounds;
+    Ok(BootReport {
+        certificate,
+        a_priori_fit: mixer.box_fit(b.thrust_min, b.thrust_max, &b.torque_max),
+        box_margin: gate::box_margin(&certificate, mixer),
+        required_margin: cfg.box_margin,
+        gate: gate::check(&certificate, mixer, cfg.box_margin),
+        thrust_capacity: 4.0 * cfg.rotors.thrust_max,
+    })
+}
+
 impl FlightPipeline {
     /// Builds the pipeline: certifies the demo mission, builds the mixer and checks the a-priori
     /// box against the rotors. Errors: [`BootError`].
@@ -167,27 +209,7 @@ impl FlightPipeline {
             table,
             cfg.mission,
         );
-        let certificate = certify(
-            &cfg.vehicle,
-            &cfg.limits,
-            &cfg.gains,
-            &reference.helix_constants(),
-            FilterStart::Zero,
-        )
-        .map_err(BootError::Parameter)?;
-        // The controller must accept a hover (constants zero) too.
-        Controller::new(cfg.vehicle, cfg.gains, &TrajectoryConstants::zero())
-            .map_err(BootError::Parameter)?;
-        let b = &certificate.bounds;
-        let a_priori_fit = mixer.box_fit(b.thrust_min, b.thrust_max, &b.torque_max);
-        let report = BootReport {
-            certificate,
-            a_priori_fit,
-            box_margin: gate::box_margin(&certificate, &mixer),
-            required_margin: cfg.box_margin,
-            gate: gate::check(&certificate, &mixer, cfg.box_margin),
-            thrust_capacity: 4.0 * cfg.rotors.thrust_max,
-        };
+        let report = certify_setup(&cfg, &mixer)?;
         let estimator = Estimator::new(EstimatorConfig {
             latency_us: cfg.mocap_latency_us,
             calibration_samples: cfg.gyro_calibration_samples,
@@ -228,6 +250,7 @@ impl FlightPipeline {
             events: Deque::new(),
             acks: Deque::new(),
             texts: Deque::new(),
+            params: ParamQueue::new(),
             sequence: 0,
             schedule: Schedule::new(&cfg.telemetry),
             counters: Counters::default(),
@@ -246,12 +269,13 @@ impl FlightPipeline {
         })
     }
 
-    /// The boot certificate and the mixer fit, for the defmt banner.
+    /// The certificate and the mixer fit of the set-up flown now, for the defmt banner: boot's,
+    /// or the latest accepted parameter change's.
     pub fn boot_report(&self) -> BootReport {
         self.report
     }
 
-    /// The configuration.
+    /// The configuration (with the accepted parameter changes).
     pub fn config(&self) -> &FlightConfig {
         &self.cfg
     }
