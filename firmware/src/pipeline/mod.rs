@@ -25,6 +25,8 @@ mod landed;
 mod link_tests;
 mod mission;
 #[cfg(test)]
+mod param_store_tests;
+#[cfg(test)]
 mod param_tests;
 mod param_text;
 mod params;
@@ -37,7 +39,7 @@ pub use events::{Counters, Event, PipelineStatus};
 pub use gate::{box_margin, check as gate_check, GateFailure, BOX_FIT};
 pub use landed::{LandedDetector, LandedInputs};
 pub use mission::{Mode, ModeMachine};
-pub use params::STREAM_PERIOD_US as PARAM_STREAM_PERIOD_US;
+pub use params::{ParamRefusal, RestoreError, STREAM_PERIOD_US as PARAM_STREAM_PERIOD_US};
 
 use controller_core::scalar::{fmin, norm};
 use controller_core::{
@@ -164,8 +166,8 @@ pub struct FlightPipeline {
 /// The boot checks of set-up `cfg` on the rotors of `mixer`: the certificate of its demo mission
 /// (filters starting at zero), the hover controller (constants zero) and the gate with
 /// `cfg.box_margin`. Boot and every parameter change run this one function. Errors: a
-/// parameter controller-core refuses ([`BootError::Parameter`]).
-fn certify_setup(cfg: &FlightConfig, mixer: &Mixer) -> Result<BootReport, BootError> {
+/// parameter controller-core refuses.
+fn certify_setup(cfg: &FlightConfig, mixer: &Mixer) -> Result<BootReport, ParameterError> {
     let reference = FlightReference::new(
         cfg.reference.smoothing_rate,
         Vector3::zeros(),
@@ -179,11 +181,9 @@ fn certify_setup(cfg: &FlightConfig, mixer: &Mixer) -> Result<BootReport, BootEr
         &cfg.gains,
         &reference.helix_constants(),
         FilterStart::Zero,
-    )
-    .map_err(BootError::Parameter)?;
+    )?;
     // The controller must accept a hover (constants zero) too.
-    Controller::new(cfg.vehicle, cfg.gains, &TrajectoryConstants::zero())
-        .map_err(BootError::Parameter)?;
+    Controller::new(cfg.vehicle, cfg.gains, &TrajectoryConstants::zero())?;
     let b = &certificate.bounds;
     Ok(BootReport {
         certificate,
@@ -209,7 +209,7 @@ impl FlightPipeline {
             table,
             cfg.mission,
         );
-        let report = certify_setup(&cfg, &mixer)?;
+        let report = certify_setup(&cfg, &mixer).map_err(BootError::Parameter)?;
         let estimator = Estimator::new(EstimatorConfig {
             latency_us: cfg.mocap_latency_us,
             calibration_samples: cfg.gyro_calibration_samples,

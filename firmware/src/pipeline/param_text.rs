@@ -1,8 +1,6 @@
 //! The STATUSTEXTs of the parameter protocol: 50 bytes (MAVLink's `text`), numbers in three
-//! significant digits. The numbers are written with integer formatting only: core's float
-//! formatting would link several KiB of flash for a message sent a few times per session.
-
-use core::fmt::Write;
+//! significant digits. Numbers are written by hand: `core::fmt` (and its float formatting)
+//! would link several KiB of flash for a message sent a few times per session.
 
 use heapless::String;
 
@@ -23,33 +21,35 @@ pub fn number<const N: usize>(out: &mut String<N>, x: f32) {
     if x < 0.0 {
         let _ = out.push('-');
     }
-    let a = libm::fabsf(x);
-    if a.is_infinite() {
+    let mut m = libm::fabsf(x);
+    if m.is_infinite() {
         let _ = out.push_str("inf");
         return;
     }
-    if a == 0.0 {
+    if m == 0.0 {
         let _ = out.push('0');
         return;
     }
-    let mut e = libm::floorf(libm::log10f(a)) as i32;
-    // Three digits `d` with a = d · 10^(e − 2); log10f may be one off near powers of ten.
-    let mut d = libm::roundf(a * pow10(2 - e)) as u32;
-    if d >= 1000 {
+    // |x| = m · 10^e with m in [1, 10); at most 45 steps either way for a finite f32, each
+    // exact to half an ulp, far below the third digit.
+    let mut e = 0i32;
+    while m >= 10.0 {
+        m /= 10.0;
         e += 1;
-        d = libm::roundf(a * pow10(2 - e)) as u32;
-    } else if d < 100 {
-        e -= 1;
-        d = libm::roundf(a * pow10(2 - e)) as u32;
     }
+    while m < 1.0 {
+        m *= 10.0;
+        e -= 1;
+    }
+    // Three digits `d` with |x| ≈ d · 10^(e − 2).
+    let mut d = libm::roundf(m * 100.0) as u32;
     if d >= 1000 {
-        // 999.5 and up rounds to the next power of ten.
-        e += 1;
         d = 100;
+        e += 1;
     }
     if (-3..5).contains(&e) {
         if e >= 2 {
-            let _ = write!(out, "{}", d * 10u32.pow((e - 2) as u32));
+            uint(out, d * 10u32.pow((e - 2) as u32), 1);
         } else {
             let decimals = (2 - e) as u32;
             let scale = 10u32.pow(decimals);
@@ -57,7 +57,11 @@ pub fn number<const N: usize>(out: &mut String<N>, x: f32) {
         }
     } else {
         fraction(out, d / 100, d % 100, 2);
-        let _ = write!(out, "e{e}");
+        let _ = out.push('e');
+        if e < 0 {
+            let _ = out.push('-');
+        }
+        uint(out, e.unsigned_abs(), 1);
     }
 }
 
@@ -67,16 +71,29 @@ fn fraction<const N: usize>(out: &mut String<N>, int: u32, mut frac: u32, mut de
         frac /= 10;
         decimals -= 1;
     }
-    let _ = if decimals == 0 {
-        write!(out, "{int}")
-    } else {
-        write!(out, "{int}.{frac:0w$}", w = decimals as usize)
-    };
+    uint(out, int, 1);
+    if decimals > 0 {
+        let _ = out.push('.');
+        uint(out, frac, decimals);
+    }
 }
 
-/// `10^k` for the exponents [`number`] needs (|k| within f32's range).
-fn pow10(k: i32) -> f32 {
-    libm::powf(10.0, k as f32)
+/// Appends `n` in decimal, zero-padded to at least `digits` digits. Written out rather than
+/// with `core::fmt`, which this crate does not link otherwise.
+fn uint<const N: usize>(out: &mut String<N>, mut n: u32, digits: u32) {
+    let mut buf = [b'0'; 10];
+    let mut i = buf.len();
+    while n > 0 || buf.len() - i < digits as usize {
+        i -= 1;
+        buf[i] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if i == 0 {
+            break;
+        }
+    }
+    for &b in &buf[i..] {
+        let _ = out.push(b as char);
+    }
 }
 
 /// `"{name} refused: {reason}"`, cut at 50 bytes.
@@ -128,15 +145,12 @@ pub fn out_of_range(name: &str, min: f32, max: f32) -> Text {
     t
 }
 
-/// `"param unknown: {id}"`, the name as sent with non-printable bytes as `?`.
+/// `"param unknown: {id}"`, the name as sent (up to 16 bytes) with non-printable bytes as `?`.
 pub fn unknown(id: &[u8]) -> Text {
     let mut t = Text::new();
     push_cut(&mut t, "param unknown: ");
-    for &b in id.iter().take_while(|&&b| b != 0) {
-        let c = if b.is_ascii_graphic() { b as char } else { '?' };
-        if t.push(c).is_err() {
-            break;
-        }
+    for &b in id.iter().take(16).take_while(|&&b| b != 0) {
+        let _ = t.push(if b.is_ascii_graphic() { b as char } else { '?' });
     }
     t
 }
@@ -144,7 +158,12 @@ pub fn unknown(id: &[u8]) -> Text {
 /// `"param index {index} unknown"`.
 pub fn unknown_index(index: i16) -> Text {
     let mut t = Text::new();
-    let _ = write!(t, "param index {index} unknown");
+    push_cut(&mut t, "param index ");
+    if index < 0 {
+        let _ = t.push('-');
+    }
+    uint(&mut t, u32::from(index.unsigned_abs()), 1);
+    push_cut(&mut t, " unknown");
     t
 }
 
@@ -176,7 +195,10 @@ mod tests {
     /// Three significant digits, trailing zeros dropped, exponents outside [1e-3, 1e5).
     #[test]
     fn numbers_are_compact() {
-        let cases: [(f32, &str); 16] = [
+        let cases: [(f32, &str); 19] = [
+            (1e-10, "1e-10"),
+            (3.4e38, "3.4e38"),
+            (-0.0123, "-0.0123"),
             (0.0, "0"),
             (0.5, "0.5"),
             (0.615, "0.615"),
@@ -238,5 +260,10 @@ mod tests {
         id[..4].copy_from_slice(b"AB\x01C");
         assert_eq!(unknown(&id).as_str(), "param unknown: AB?C");
         assert_eq!(unknown(&[b'Z'; 16]).len(), 15 + 16);
+        assert_eq!(unknown_index(-7).as_str(), "param index -7 unknown");
+        assert_eq!(
+            unknown_index(i16::MIN).as_str(),
+            "param index -32768 unknown"
+        );
     }
 }

@@ -15,8 +15,10 @@ use mavlink::dialects::common::{MavParamType, MavSeverity, PARAM_VALUE_DATA, STA
 use nalgebra::Vector3;
 
 use super::param_text::{self, Text};
-use super::{certify_setup, BootError, Event, FlightPipeline};
+use super::{certify_setup, BootReport, Event, FlightPipeline, GateFailure};
+use crate::config::FlightConfig;
 use crate::flight_reference::FlightReference;
+use crate::param_store::ParamStore;
 use crate::params::{self, ParamError, COUNT, NAME_LEN, PARAMS};
 use crate::safety::{FlightState, Supervisor};
 
@@ -51,19 +53,30 @@ impl ParamQueue {
 // The reply queue holds indices as u8.
 const _: () = assert!(COUNT <= u8::MAX as usize);
 
-/// Why a `PARAM_SET` is not taken.
-enum Refused {
-    /// A static reason (armed, wrong type).
-    Reason(&'static str),
-    /// The value alone is unusable.
+/// Why a parameter change ([`FlightPipeline`]'s `PARAM_SET`, or
+/// [`FlightPipeline::restore_params`]) is not taken. Nothing changes on a refusal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ParamRefusal {
+    /// The vehicle is armed (or in the failsafe): parameters change only on the ground,
+    /// disarmed.
+    Armed,
+    /// `param_type` is not `MAV_PARAM_TYPE_REAL32`.
+    NotReal32,
+    /// The value alone is unusable (non-finite, out of range).
     Value(ParamError),
-    /// A condition of the certificate, the gate or the parameters' orderings, with both sides
-    /// (`rhs` NaN for a parameter controller-core refuses on its own).
-    Condition {
-        condition: &'static str,
-        lhs: f32,
-        rhs: f32,
-    },
+    /// The candidate set-up fails a condition: the parameters' orderings
+    /// ([`params::consistency`]), a parameter controller-core refuses (`lhs` its value, `rhs`
+    /// the bound or NaN), a certificate condition or the box fit ([`super::gate_check`]).
+    Condition(GateFailure),
+}
+
+/// Why [`FlightPipeline::restore_params`] restored nothing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RestoreError {
+    /// The parameter whose stored value is refused on its own, if the refusal is about one.
+    pub name: Option<&'static str>,
+    /// Why.
+    pub refusal: ParamRefusal,
 }
 
 impl FlightPipeline {
@@ -108,26 +121,26 @@ impl FlightPipeline {
             Err(r) => {
                 self.counters.refused_commands = self.counters.refused_commands.saturating_add(1);
                 let (reason, text) = match r {
-                    Refused::Reason(reason) => (reason, param_text::refused(name, reason)),
-                    Refused::Value(ParamError::NotFinite) => {
+                    ParamRefusal::Armed => ("armed", param_text::refused(name, "disarm first")),
+                    ParamRefusal::NotReal32 => (
+                        "not REAL32",
+                        param_text::refused(name, "type must be REAL32"),
+                    ),
+                    ParamRefusal::Value(ParamError::NotFinite) => {
                         ("not finite", param_text::refused(name, "not finite"))
                     }
-                    Refused::Value(ParamError::OutOfRange { min, max }) => {
+                    ParamRefusal::Value(ParamError::OutOfRange { min, max }) => {
                         ("out of range", param_text::out_of_range(name, min, max))
                     }
-                    Refused::Condition {
-                        condition,
-                        lhs,
-                        rhs,
-                    } => {
+                    ParamRefusal::Condition(f) => {
                         self.event(Event::ReferenceRefused {
-                            condition,
-                            lhs,
-                            rhs,
+                            condition: f.condition,
+                            lhs: f.lhs,
+                            rhs: f.rhs,
                         });
                         (
                             "set-up not certified",
-                            param_text::condition(name, condition, lhs, rhs),
+                            param_text::condition(name, f.condition, f.lhs, f.rhs),
                         )
                     }
                 };
@@ -142,49 +155,81 @@ impl FlightPipeline {
     }
 
     /// Takes `value` for parameter `i` if the vehicle is disarmed, the value is REAL32, finite
-    /// and in range, the parameters stay ordered ([`params::consistency`]) and the candidate
-    /// set-up passes boot's checks and the gate. On success the configuration, the boot report
-    /// (what arming checks and the banner shows), the supervisor's timings and the reference's
-    /// filter are the candidate's.
-    fn try_param_set(&mut self, i: usize, value: f32, real32: bool) -> Result<(), Refused> {
+    /// and in range, and the candidate set-up passes [`FlightPipeline::check_candidate`].
+    fn try_param_set(&mut self, i: usize, value: f32, real32: bool) -> Result<(), ParamRefusal> {
         if self.supervisor.state() != FlightState::Disarmed {
-            return Err(Refused::Reason("disarm first"));
+            return Err(ParamRefusal::Armed);
         }
         if !real32 {
-            return Err(Refused::Reason("type must be REAL32"));
+            return Err(ParamRefusal::NotReal32);
         }
         let mut candidate = self.cfg;
         PARAMS[i]
             .apply(&mut candidate, value)
-            .map_err(Refused::Value)?;
-        params::consistency(&candidate).map_err(|f| Refused::Condition {
-            condition: f.condition,
-            lhs: f.lhs,
-            rhs: f.rhs,
-        })?;
-        let report = certify_setup(&candidate, &self.mixer).map_err(|e| match e {
-            BootError::Parameter(e) => {
-                let r = crate::report::refusal(&e);
-                Refused::Condition {
-                    condition: r.name,
-                    lhs: r.value as f32,
-                    rhs: if r.high.is_finite() {
-                        r.high as f32
-                    } else {
-                        f32::NAN
-                    },
-                }
-            }
-            // The rotors are not parameters: the mixer was built at boot and stays.
-            BootError::Mixer(_) => Refused::Reason("rotors refused"),
-        })?;
-        if let Err(f) = report.gate {
-            return Err(Refused::Condition {
-                condition: f.condition,
-                lhs: f.lhs,
-                rhs: f.rhs,
+            .map_err(ParamRefusal::Value)?;
+        let report = self.check_candidate(&candidate)?;
+        self.take_candidate(candidate, report);
+        Ok(())
+    }
+
+    /// Restores the parameters stored in `store` (those it has; the others keep their built
+    /// values), all at once, while disarmed (at boot): the candidate set-up with every stored
+    /// value must pass the checks of a `PARAM_SET`, or nothing is restored. Returns how many
+    /// values were taken. Errors: [`RestoreError`], naming the first refused value or the
+    /// failed condition.
+    pub fn restore_params<S: ParamStore>(&mut self, store: &S) -> Result<usize, RestoreError> {
+        if self.supervisor.state() != FlightState::Disarmed {
+            return Err(RestoreError {
+                name: None,
+                refusal: ParamRefusal::Armed,
             });
         }
+        let mut candidate = self.cfg;
+        let mut restored = 0;
+        for (i, p) in PARAMS.iter().enumerate() {
+            if let Some(v) = store.load(i) {
+                p.apply(&mut candidate, v).map_err(|e| RestoreError {
+                    name: Some(p.name),
+                    refusal: ParamRefusal::Value(e),
+                })?;
+                restored += 1;
+            }
+        }
+        let report = self
+            .check_candidate(&candidate)
+            .map_err(|refusal| RestoreError {
+                name: None,
+                refusal,
+            })?;
+        self.take_candidate(candidate, report);
+        Ok(restored)
+    }
+
+    /// The checks every parameter change runs on the whole candidate set-up: the orderings
+    /// ([`params::consistency`]), then boot's [`certify_setup`] and its gate. Returns the
+    /// candidate's boot report.
+    fn check_candidate(&self, candidate: &FlightConfig) -> Result<BootReport, ParamRefusal> {
+        params::consistency(candidate).map_err(ParamRefusal::Condition)?;
+        let report = certify_setup(candidate, &self.mixer).map_err(|e| {
+            let r = crate::report::refusal(&e);
+            ParamRefusal::Condition(GateFailure {
+                condition: r.name,
+                lhs: r.value as f32,
+                rhs: if r.high.is_finite() {
+                    r.high as f32
+                } else {
+                    f32::NAN
+                },
+            })
+        })?;
+        report.gate.map_err(ParamRefusal::Condition)?;
+        Ok(report)
+    }
+
+    /// Flies `candidate` from now on (disarmed): its configuration and boot report (what
+    /// arming checks and the banner shows), the supervisor's timings and the reference's
+    /// filter. The mixer stays: the rotors are not parameters.
+    fn take_candidate(&mut self, candidate: FlightConfig, report: BootReport) {
         self.cfg = candidate;
         self.report = report;
         // Disarmed: a fresh supervisor is in the same state, with the new timings.
@@ -198,7 +243,6 @@ impl FlightPipeline {
             self.table,
             candidate.mission,
         );
-        Ok(())
     }
 
     /// Queues a `PARAM_VALUE` of parameter `i`, or counts it dropped.
