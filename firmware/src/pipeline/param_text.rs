@@ -1,33 +1,87 @@
 //! The STATUSTEXTs of the parameter protocol: 50 bytes (MAVLink's `text`), numbers in three
-//! significant digits. Numbers are written by hand: `core::fmt` (and its float formatting)
-//! would link several KiB of flash for a message sent a few times per session.
-
-use heapless::String;
+//! significant digits. Texts are ASCII bytes in a fixed buffer, written by hand rather than with
+//! `core::fmt`: its float formatting alone would link several KiB of flash (Grisu and Dragon)
+//! for a message sent a few times per session, and a byte buffer is what STATUSTEXT carries.
 
 /// STATUSTEXT `text` length.
 pub const TEXT_LEN: usize = 50;
 
-/// One STATUSTEXT's text.
-pub type Text = String<TEXT_LEN>;
+/// One STATUSTEXT's text: ASCII, at most [`TEXT_LEN`] bytes; what does not fit is cut.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Text {
+    bytes: [u8; TEXT_LEN],
+    len: usize,
+}
+
+impl Text {
+    /// Empty.
+    pub const fn new() -> Self {
+        Self {
+            bytes: [0; TEXT_LEN],
+            len: 0,
+        }
+    }
+
+    /// Appends `b` if there is room.
+    fn push(&mut self, b: u8) {
+        if let Some(slot) = self.bytes.get_mut(self.len) {
+            *slot = b;
+            self.len += 1;
+        }
+    }
+
+    /// Appends as much of `s` as fits.
+    fn push_str(&mut self, s: &str) {
+        for b in s.bytes() {
+            self.push(b);
+        }
+    }
+
+    /// Length in bytes.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// STATUSTEXT's `text` field: the bytes, NUL-padded.
+    pub fn field(&self) -> [u8; TEXT_LEN] {
+        self.bytes
+    }
+
+    /// The text (up to the first byte that is not valid UTF-8, which an ASCII input never has).
+    #[cfg(test)]
+    pub fn as_str(&self) -> &str {
+        let b = &self.bytes[..self.len];
+        match core::str::from_utf8(b) {
+            Ok(s) => s,
+            Err(e) => core::str::from_utf8(&b[..e.valid_up_to()]).unwrap_or(""),
+        }
+    }
+}
+
+impl Default for Text {
+    fn default() -> Self {
+        Self::new()
+    }
+}
 
 /// Appends `x` in at most three significant digits, trailing zeros dropped: `0.615`, `12.3`,
 /// exponents outside `[1e-3, 1e5)` (`1.23e5`, `5e-4`), `nan`, `inf`, `-inf`.
 /// Rounds half away from zero. Never fails: a full `out` keeps what fitted.
-pub fn number<const N: usize>(out: &mut String<N>, x: f32) {
+pub fn number(out: &mut Text, x: f32) {
     if x.is_nan() {
-        let _ = out.push_str("nan");
+        out.push_str("nan");
         return;
     }
     if x < 0.0 {
-        let _ = out.push('-');
+        out.push(b'-');
     }
     let mut m = libm::fabsf(x);
     if m.is_infinite() {
-        let _ = out.push_str("inf");
+        out.push_str("inf");
         return;
     }
     if m == 0.0 {
-        let _ = out.push('0');
+        out.push(b'0');
         return;
     }
     // |x| = m · 10^e with m in [1, 10); at most 45 steps either way for a finite f32, each
@@ -57,30 +111,30 @@ pub fn number<const N: usize>(out: &mut String<N>, x: f32) {
         }
     } else {
         fraction(out, d / 100, d % 100, 2);
-        let _ = out.push('e');
+        out.push(b'e');
         if e < 0 {
-            let _ = out.push('-');
+            out.push(b'-');
         }
         uint(out, e.unsigned_abs(), 1);
     }
 }
 
 /// Writes `int.frac` with `frac` on `decimals` digits, trailing zeros (and a bare point) dropped.
-fn fraction<const N: usize>(out: &mut String<N>, int: u32, mut frac: u32, mut decimals: u32) {
+fn fraction(out: &mut Text, int: u32, mut frac: u32, mut decimals: u32) {
     while decimals > 0 && frac % 10 == 0 {
         frac /= 10;
         decimals -= 1;
     }
     uint(out, int, 1);
     if decimals > 0 {
-        let _ = out.push('.');
+        out.push(b'.');
         uint(out, frac, decimals);
     }
 }
 
 /// Appends `n` in decimal, zero-padded to at least `digits` digits. Written out rather than
 /// with `core::fmt`, which this crate does not link otherwise.
-fn uint<const N: usize>(out: &mut String<N>, mut n: u32, digits: u32) {
+fn uint(out: &mut Text, mut n: u32, digits: u32) {
     let mut buf = [b'0'; 10];
     let mut i = buf.len();
     while n > 0 || buf.len() - i < digits as usize {
@@ -92,16 +146,16 @@ fn uint<const N: usize>(out: &mut String<N>, mut n: u32, digits: u32) {
         }
     }
     for &b in &buf[i..] {
-        let _ = out.push(b as char);
+        out.push(b);
     }
 }
 
 /// `"{name} refused: {reason}"`, cut at 50 bytes.
 pub fn refused(name: &str, reason: &str) -> Text {
     let mut t = Text::new();
-    push_cut(&mut t, name);
-    push_cut(&mut t, " refused: ");
-    push_cut(&mut t, reason);
+    t.push_str(name);
+    t.push_str(" refused: ");
+    t.push_str(reason);
     t
 }
 
@@ -111,28 +165,32 @@ pub fn refused(name: &str, reason: &str) -> Text {
 /// (the event log has it whole).
 pub fn condition(name: &str, condition: &str, lhs: f32, rhs: f32) -> Text {
     let mut tail = Text::new();
-    let _ = tail.push(' ');
+    tail.push(b' ');
     number(&mut tail, lhs);
     if !rhs.is_nan() {
         let relation = if lhs < rhs {
-            '<'
+            b'<'
         } else if lhs > rhs {
-            '>'
+            b'>'
         } else {
-            '='
+            b'='
         };
-        let _ = tail.push(relation);
+        tail.push(relation);
         number(&mut tail, rhs);
     }
     let mut t = refused(name, "");
     if t.len() + condition.len() + tail.len() > TEXT_LEN {
-        t.clear();
-        push_cut(&mut t, name);
-        push_cut(&mut t, ": ");
+        t = Text::new();
+        t.push_str(name);
+        t.push_str(": ");
     }
     let room = TEXT_LEN.saturating_sub(t.len() + tail.len());
-    push_cut(&mut t, &condition[..floor_char_boundary(condition, room)]);
-    push_cut(&mut t, &tail);
+    for &b in condition.as_bytes().iter().take(room) {
+        t.push(b);
+    }
+    for &b in &tail.bytes[..tail.len] {
+        t.push(b);
+    }
     t
 }
 
@@ -140,7 +198,7 @@ pub fn condition(name: &str, condition: &str, lhs: f32, rhs: f32) -> Text {
 pub fn out_of_range(name: &str, min: f32, max: f32) -> Text {
     let mut t = refused(name, "range ");
     number(&mut t, min);
-    push_cut(&mut t, "..");
+    t.push_str("..");
     number(&mut t, max);
     t
 }
@@ -148,9 +206,9 @@ pub fn out_of_range(name: &str, min: f32, max: f32) -> Text {
 /// `"param unknown: {id}"`, the name as sent (up to 16 bytes) with non-printable bytes as `?`.
 pub fn unknown(id: &[u8]) -> Text {
     let mut t = Text::new();
-    push_cut(&mut t, "param unknown: ");
+    t.push_str("param unknown: ");
     for &b in id.iter().take(16).take_while(|&&b| b != 0) {
-        let _ = t.push(if b.is_ascii_graphic() { b as char } else { '?' });
+        t.push(if b.is_ascii_graphic() { b } else { b'?' });
     }
     t
 }
@@ -158,28 +216,13 @@ pub fn unknown(id: &[u8]) -> Text {
 /// `"param index {index} unknown"`.
 pub fn unknown_index(index: i16) -> Text {
     let mut t = Text::new();
-    push_cut(&mut t, "param index ");
+    t.push_str("param index ");
     if index < 0 {
-        let _ = t.push('-');
+        t.push(b'-');
     }
     uint(&mut t, u32::from(index.unsigned_abs()), 1);
-    push_cut(&mut t, " unknown");
+    t.push_str(" unknown");
     t
-}
-
-/// Appends as much of `s` as fits (at a character boundary).
-fn push_cut(t: &mut Text, s: &str) {
-    let room = TEXT_LEN - t.len();
-    let _ = t.push_str(&s[..floor_char_boundary(s, room)]);
-}
-
-/// The largest `i <= max` that is a character boundary of `s`.
-fn floor_char_boundary(s: &str, max: usize) -> usize {
-    let mut i = max.min(s.len());
-    while !s.is_char_boundary(i) {
-        i -= 1;
-    }
-    i
 }
 
 #[cfg(test)]
@@ -187,7 +230,7 @@ mod tests {
     use super::*;
 
     fn n(x: f32) -> std::string::String {
-        let mut s = String::<24>::new();
+        let mut s = Text::new();
         number(&mut s, x);
         s.as_str().into()
     }
@@ -238,10 +281,11 @@ mod tests {
         );
         assert_eq!(t.len(), TEXT_LEN);
         assert!(
-            t.starts_with("SAF_DISARM_AGE: theorem1.thrust_bound"),
-            "{t}"
+            t.as_str()
+                .starts_with("SAF_DISARM_AGE: theorem1.thrust_bound"),
+            "{t:?}"
         );
-        assert!(t.ends_with(" 7.25>7"), "{t}");
+        assert!(t.as_str().ends_with(" 7.25>7"), "{t:?}");
         let t = condition("POS_KP", "theorem2.torque_max_yaw", 0.5, 0.61);
         assert_eq!(
             t.as_str(),

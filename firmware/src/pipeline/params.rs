@@ -265,11 +265,9 @@ impl FlightPipeline {
     pub(super) fn param_telemetry(&mut self, now_us: u64, out: &mut [u8]) -> (usize, bool) {
         let mut n = 0;
         while let Some(t) = self.params.texts.front() {
-            let mut text = [0u8; param_text::TEXT_LEN];
-            text[..t.len()].copy_from_slice(t.as_bytes());
             let m = STATUSTEXT_DATA {
                 severity: MavSeverity::MAV_SEVERITY_WARNING,
-                text: text.into(),
+                text: t.field().into(),
             };
             match self.put(&m, &mut out[n..]) {
                 0 => return (n, false),
