@@ -81,9 +81,10 @@ impl ParamDesc {
     }
 }
 
-/// One line per parameter: a plain `FlightConfig` field, read and written as is.
+/// One entry per parameter: name, unit, range, the `FlightConfig` field (read and written as
+/// is), documentation. Brace-delimited in the table so that it stays one entry per two lines.
 macro_rules! field {
-    ($name:literal, $unit:literal, $min:expr, $max:expr, $doc:literal, $($f:ident).+) => {
+    ($name:literal, $unit:literal, $min:expr, $max:expr, $($f:ident).+, $doc:literal) => {
         ParamDesc {
             name: $name,
             unit: $unit,
@@ -98,7 +99,7 @@ macro_rules! field {
 
 /// A safety timing stored in µs, sent in ms.
 macro_rules! millis {
-    ($name:literal, $doc:literal, $($f:ident).+) => {
+    ($name:literal, $($f:ident).+, $doc:literal) => {
         ParamDesc {
             name: $name,
             unit: "ms",
@@ -116,157 +117,46 @@ macro_rules! millis {
 /// The ranges are sanity limits against a mistyped value (a gain of 1e6, a negative level);
 /// the certificate gate decides what may fly.
 pub const PARAMS: &[ParamDesc] = &[
-    field!(
-        "POS_KP",
-        "1/s^2",
-        1e-3,
-        100.0,
-        "k_p, position error gain (Table I; Section IV)",
-        gains.position.kp
-    ),
-    field!(
-        "POS_KV",
-        "1/s",
-        1e-3,
-        100.0,
-        "k_v, velocity error gain (Table I; Section IV)",
-        gains.position.kv
-    ),
-    field!(
-        "POS_KF",
-        "1/s",
-        1e-3,
-        100.0,
-        "k_f, output filter bandwidth (Table I; Section IV)",
-        gains.position.kf
-    ),
-    field!(
-        "POS_KS",
-        "1/s",
-        1e-3,
-        1000.0,
-        "k_s, inner filter bandwidth (Table I; Section IV)",
-        gains.position.ks
-    ),
-    field!(
-        "POS_MP",
-        "m/s^2",
-        1e-3,
-        20.0,
-        "M_p, position saturation level, M_p < g - K_a3 (Table I; Section IV)",
-        gains.position.saturation
-    ),
-    field!(
-        "ATT_KTH",
-        "N m",
-        1e-3,
-        1000.0,
-        "k_theta, MRP error gain before saturation (Table I; Section V)",
-        gains.attitude.k_mrp
-    ),
-    field!(
-        "ATT_KW",
-        "N m s/rad",
-        1e-4,
-        100.0,
-        "k_omega, angular velocity error gain (Table I; Section V)",
-        gains.attitude.k_omega
-    ),
-    field!(
-        "ATT_MTH",
-        "N m",
-        1e-4,
-        100.0,
-        "M_theta, MRP saturation level (Table I; Section V)",
-        gains.attitude.mrp_saturation
-    ),
-    field!(
-        "ATT_MW",
-        "N m",
-        1e-4,
-        100.0,
-        "M_omega, angular velocity saturation level (Table I; Section V)",
-        gains.attitude.omega_saturation
-    ),
-    field!(
-        "ATT_HYST",
-        "-",
-        1e-4,
-        1.0,
-        "delta, hysteresis of the MRP shadow switch (Table I; Appendix)",
-        gains.hysteresis
-    ),
-    field!(
-        "ATT_RST_ALPHA",
-        "-",
-        1e-3,
-        0.999,
-        "alpha, path-lifting memory reset threshold in (0, 1) (Table I; Appendix)",
-        gains.reset_threshold
-    ),
-    field!(
-        "LIM_TMAX",
-        "N",
-        1e-2,
-        1000.0,
-        "T_max, thrust limit the certificate assumes (Section III, Omega_T)",
-        limits.thrust_max
-    ),
-    field!(
-        "LIM_TAU_X",
-        "N m",
-        1e-4,
-        100.0,
-        "tau_max,1, roll torque limit, body x (Section III, Omega_tau)",
-        limits.torque_max.x
-    ),
-    field!(
-        "LIM_TAU_Y",
-        "N m",
-        1e-4,
-        100.0,
-        "tau_max,2, pitch torque limit, body y (Section III, Omega_tau)",
-        limits.torque_max.y
-    ),
-    field!(
-        "LIM_TAU_Z",
-        "N m",
-        1e-4,
-        100.0,
-        "tau_max,3, yaw torque limit, body z (Section III, Omega_tau)",
-        limits.torque_max.z
-    ),
-    field!(
-        "REF_SMOOTH",
-        "1/s",
-        1e-2,
-        10.0,
-        "lambda, setpoint filter bandwidth (ReferenceConfig::smoothing_rate)",
-        reference.smoothing_rate
-    ),
-    field!(
-        "REF_TKOFF_H",
-        "m",
-        1e-2,
-        100.0,
-        "default takeoff height above the arming point (ReferenceConfig::takeoff_height)",
-        reference.takeoff_height
-    ),
-    millis!(
-        "SAF_ARM_AGE",
-        "a pose older than this refuses arming (SafetyConfig::arm_pose_max_age_us)",
-        safety.arm_pose_max_age_us
-    ),
-    millis!(
-        "SAF_FS_AGE",
-        "a pose older than this in flight starts the failsafe (failsafe_pose_age_us)",
-        safety.failsafe_pose_age_us
-    ),
-    millis!(
-        "SAF_DISARM_AGE",
-        "pose lost this long disarms (SafetyConfig::disarm_pose_age_us)",
-        safety.disarm_pose_age_us
-    ),
+    field! { "POS_KP", "1/s^2", 1e-3, 100.0, gains.position.kp,
+    "k_p, position error gain (Table I; Section IV)" },
+    field! { "POS_KV", "1/s", 1e-3, 100.0, gains.position.kv,
+    "k_v, velocity error gain (Table I; Section IV)" },
+    field! { "POS_KF", "1/s", 1e-3, 100.0, gains.position.kf,
+    "k_f, output filter bandwidth (Table I; Section IV)" },
+    field! { "POS_KS", "1/s", 1e-3, 1000.0, gains.position.ks,
+    "k_s, inner filter bandwidth (Table I; Section IV)" },
+    field! { "POS_MP", "m/s^2", 1e-3, 20.0, gains.position.saturation,
+    "M_p, position saturation level, M_p < g - K_a3 (Table I; Section IV)" },
+    field! { "ATT_KTH", "N m", 1e-3, 1000.0, gains.attitude.k_mrp,
+    "k_theta, MRP error gain before saturation (Table I; Section V)" },
+    field! { "ATT_KW", "N m s/rad", 1e-4, 100.0, gains.attitude.k_omega,
+    "k_omega, angular velocity error gain (Table I; Section V)" },
+    field! { "ATT_MTH", "N m", 1e-4, 100.0, gains.attitude.mrp_saturation,
+    "M_theta, MRP saturation level (Table I; Section V)" },
+    field! { "ATT_MW", "N m", 1e-4, 100.0, gains.attitude.omega_saturation,
+    "M_omega, angular velocity saturation level (Table I; Section V)" },
+    field! { "ATT_HYST", "-", 1e-4, 1.0, gains.hysteresis,
+    "delta, hysteresis of the MRP shadow switch (Table I; Appendix)" },
+    field! { "ATT_RST_ALPHA", "-", 1e-3, 0.999, gains.reset_threshold,
+    "alpha, path-lifting memory reset threshold in (0, 1) (Table I; Appendix)" },
+    field! { "LIM_TMAX", "N", 1e-2, 1000.0, limits.thrust_max,
+    "T_max, thrust limit the certificate assumes (Section III, Omega_T)" },
+    field! { "LIM_TAU_X", "N m", 1e-4, 100.0, limits.torque_max.x,
+    "tau_max,1, roll torque limit, body x (Section III, Omega_tau)" },
+    field! { "LIM_TAU_Y", "N m", 1e-4, 100.0, limits.torque_max.y,
+    "tau_max,2, pitch torque limit, body y (Section III, Omega_tau)" },
+    field! { "LIM_TAU_Z", "N m", 1e-4, 100.0, limits.torque_max.z,
+    "tau_max,3, yaw torque limit, body z (Section III, Omega_tau)" },
+    field! { "REF_SMOOTH", "1/s", 1e-2, 10.0, reference.smoothing_rate,
+    "lambda, setpoint filter bandwidth (ReferenceConfig::smoothing_rate)" },
+    field! { "REF_TKOFF_H", "m", 1e-2, 100.0, reference.takeoff_height,
+    "default takeoff height above the arming point (ReferenceConfig::takeoff_height)" },
+    millis! { "SAF_ARM_AGE", safety.arm_pose_max_age_us,
+    "a pose older than this refuses arming (SafetyConfig::arm_pose_max_age_us)" },
+    millis! { "SAF_FS_AGE", safety.failsafe_pose_age_us,
+    "a pose older than this in flight starts the failsafe (failsafe_pose_age_us)" },
+    millis! { "SAF_DISARM_AGE", safety.disarm_pose_age_us,
+    "pose lost this long disarms (SafetyConfig::disarm_pose_age_us)" },
 ];
 
 /// Number of parameters (`param_count`).
