@@ -2,7 +2,9 @@
 //! certificate and the controller built from it), the device drivers' pure parts ([`drivers`]),
 //! and the flight logic: [`pipeline::FlightPipeline`] composes [`config`], [`frames`] (NED/FRD ↔
 //! NWU/FLU), [`link`] (MAVLink 2: framing, checksum, signing), [`estimator`], [`imu_attitude`], [`flight_reference`],
-//! [`mixer`] and [`safety`]; host-sim flies the same pipeline in software in the loop.
+//! [`mixer`] and [`safety`]; [`params`] is the table of parameters a ground station may tune
+//! (MAVLink parameter protocol, each change certified); host-sim flies the same pipeline in
+//! software in the loop.
 //!
 //! On the MCU only, [`app`] is the board-independent task layer (control loop, queues, logger,
 //! boot banner) that every board runs. Each board is one folder of binary sources, with its
@@ -46,6 +48,8 @@ pub mod ground_station;
 pub mod imu_attitude;
 pub mod link;
 pub mod mixer;
+pub mod param_store;
+pub mod params;
 pub mod pipeline;
 pub mod report;
 pub mod safety;

@@ -66,7 +66,7 @@ impl ArmRefusal {
             Self::NotDisarmed => "not disarmed",
             Self::Calibrating => "gyro calibrating, keep still",
             Self::NotConverged => "estimate not converged",
-            Self::PoseStale => "pose stale (> 50 ms)",
+            Self::PoseStale => "pose stale (> SAF_ARM_AGE)",
             Self::PoseNonFinite => "pose non-finite",
             Self::NotUpright => "not upright (use the inverted-arm flag)",
             Self::InvertedNotAllowed => "inverted arming disabled",
@@ -235,7 +235,7 @@ impl Supervisor {
                 if i.non_finite {
                     self.go(FlightState::Failsafe, now_us, "non-finite value")
                 } else if age > c.failsafe_pose_age_us {
-                    self.go(FlightState::Failsafe, now_us, "pose lost (> 100 ms)")
+                    self.go(FlightState::Failsafe, now_us, "pose lost (> SAF_FS_AGE)")
                 } else if i.landed {
                     self.go(FlightState::Disarmed, now_us, "landed")
                 } else {
@@ -246,7 +246,11 @@ impl Supervisor {
                 let in_failsafe = now_us.saturating_sub(self.failsafe_since_us);
                 let limit = c.disarm_pose_age_us.saturating_sub(c.failsafe_pose_age_us);
                 if age > c.disarm_pose_age_us {
-                    self.go(FlightState::Disarmed, now_us, "pose lost (> 2 s)")
+                    self.go(
+                        FlightState::Disarmed,
+                        now_us,
+                        "pose lost (> SAF_DISARM_AGE)",
+                    )
                 } else if in_failsafe >= limit {
                     self.go(FlightState::Disarmed, now_us, "failsafe time out")
                 } else if i.landed {

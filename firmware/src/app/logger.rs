@@ -93,6 +93,9 @@ fn log_event(event: &Event) {
              (lhs = {=f32}, rhs = {=f32}); the a-priori bounds are NOT guaranteed",
             condition, lhs, rhs
         ),
+        Event::ParamChanged { name, value } => {
+            info!("event: parameter {=str} = {=f32} (certified)", name, value)
+        }
         Event::NonFinite { source } => warn!("event: non-finite value in {=str}", source),
     }
 }

@@ -1,12 +1,14 @@
 //! From a checked MAVLink payload to an [`Inbound`] message in the controller's frames: which
 //! messages are used, addressing (target system and component), command parameters.
+//! Parameter messages are passed on as sent (names and values are the pipeline's to check).
 
 #[cfg(feature = "hil")]
 use mavlink::dialects::common::HIL_SENSOR_DATA;
 use mavlink::dialects::common::{
-    MavCmd, MavFrame, ATT_POS_MOCAP_DATA, AUTOPILOT_VERSION_DATA, COMMAND_INT_DATA,
-    COMMAND_LONG_DATA, ODOMETRY_DATA, SETUP_SIGNING_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
-    TIMESYNC_DATA, VISION_POSITION_ESTIMATE_DATA,
+    MavCmd, MavFrame, MavParamType, ATT_POS_MOCAP_DATA, AUTOPILOT_VERSION_DATA, COMMAND_INT_DATA,
+    COMMAND_LONG_DATA, ODOMETRY_DATA, PARAM_REQUEST_LIST_DATA, PARAM_REQUEST_READ_DATA,
+    PARAM_SET_DATA, SETUP_SIGNING_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA, TIMESYNC_DATA,
+    VISION_POSITION_ESTIMATE_DATA,
 };
 use mavlink::{MavlinkVersion, MessageData};
 
@@ -45,8 +47,9 @@ impl Address {
     }
 }
 
-/// Message ids whose frames carry commands or change what the vehicle does: with signing
-/// active they must be signed, whatever the settings.
+/// Message ids whose frames carry commands or change what the vehicle does (`PARAM_SET`
+/// changes gains and limits): with signing active they must be signed, whatever the settings.
+/// Parameter reads are not: they change nothing.
 pub(super) fn is_command(msgid: u32) -> bool {
     matches!(
         msgid,
@@ -54,6 +57,7 @@ pub(super) fn is_command(msgid: u32) -> bool {
             | COMMAND_INT_DATA::ID
             | SET_POSITION_TARGET_LOCAL_NED_DATA::ID
             | SETUP_SIGNING_DATA::ID
+            | PARAM_SET_DATA::ID
     )
 }
 
@@ -135,6 +139,34 @@ pub(super) fn interpret(us: Address, sender: Sender, msgid: u32, payload: &[u8])
             Interpretation::Accepted(Inbound::Timesync {
                 tc1: m.tc1,
                 ts1: m.ts1,
+            })
+        }
+        PARAM_REQUEST_LIST_DATA::ID => {
+            let m = decode!(PARAM_REQUEST_LIST_DATA);
+            if !us.accepts(m.target_system, m.target_component) {
+                return Interpretation::Ignored;
+            }
+            Interpretation::Accepted(Inbound::ParamRequestList)
+        }
+        PARAM_REQUEST_READ_DATA::ID => {
+            let m = decode!(PARAM_REQUEST_READ_DATA);
+            if !us.accepts(m.target_system, m.target_component) {
+                return Interpretation::Ignored;
+            }
+            Interpretation::Accepted(Inbound::ParamRequestRead {
+                id: m.param_id.into(),
+                index: m.param_index,
+            })
+        }
+        PARAM_SET_DATA::ID => {
+            let m = decode!(PARAM_SET_DATA);
+            if !us.accepts(m.target_system, m.target_component) {
+                return Interpretation::Ignored;
+            }
+            Interpretation::Accepted(Inbound::ParamSet {
+                id: m.param_id.into(),
+                value: m.param_value,
+                real32: m.param_type == MavParamType::MAV_PARAM_TYPE_REAL32,
             })
         }
         #[cfg(feature = "hil")]

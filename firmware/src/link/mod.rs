@@ -11,15 +11,17 @@
 //! arming point \[m\] (NaN/0: default); `MAV_CMD_NAV_LAND`; `MAV_CMD_MISSION_START` the helix
 //! demo; `MAV_CMD_REQUEST_MESSAGE` and `MAV_CMD_SET_MESSAGE_INTERVAL` for the messages it
 //! sends; `MAV_CMD_DO_SET_MODE` with a custom mode; `MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES`;
-//! any other command addressed to the vehicle is answered `MAV_RESULT_UNSUPPORTED`), `TIMESYNC`,
+//! any other command addressed to the vehicle is answered `MAV_RESULT_UNSUPPORTED`),
 //! `SET_POSITION_TARGET_LOCAL_NED` (frame `MAV_FRAME_LOCAL_NED`, position and yaw; hover
-//! target) and `SETUP_SIGNING`. Out: `HEARTBEAT`, `ATTITUDE_QUATERNION`, `LOCAL_POSITION_NED`,
-//! `SYS_STATUS`, `EXTENDED_SYS_STATE`, `ATTITUDE`, `HOME_POSITION` and `AUTOPILOT_VERSION` (on
-//! request), `TIMESYNC`, `COMMAND_ACK` (to the sender), `STATUSTEXT`.
+//! target), `SETUP_SIGNING`, `TIMESYNC` and the parameter protocol (`PARAM_REQUEST_LIST`,
+//! `PARAM_REQUEST_READ`, `PARAM_SET`; [`crate::params`]). Out: `HEARTBEAT`,
+//! `ATTITUDE_QUATERNION`, `LOCAL_POSITION_NED`, `SYS_STATUS`, `EXTENDED_SYS_STATE`, `ATTITUDE`,
+//! `HOME_POSITION` and `AUTOPILOT_VERSION` (on request), `TIMESYNC`, `COMMAND_ACK` (to the
+//! sender), `STATUSTEXT`, `PARAM_VALUE`.
 //!
-//! Addressing: a message with a target (commands, setpoints, `SETUP_SIGNING`) is used only if
-//! its target system is the vehicle's or 0 (broadcast) and its target component the vehicle's
-//! or 0; any other is dropped and counted.
+//! Addressing: a message with a target (commands, setpoints, `SETUP_SIGNING`, parameter
+//! messages) is used only if its target system is the vehicle's or 0 (broadcast) and its target
+//! component the vehicle's or 0; any other is dropped and counted.
 //!
 //! With the `hil` feature only (the processor-in-the-loop build, never the flight build), also
 //! in: `HIL_SENSOR` (the IMU over the link, body FRD); the pipeline then sends
@@ -204,6 +206,25 @@ pub enum Inbound {
         tc1: i64,
         /// The requester's time \[ns\], echoed in the answer.
         ts1: i64,
+    },
+    /// `PARAM_REQUEST_LIST`: send every parameter (`PARAM_VALUE`).
+    ParamRequestList,
+    /// `PARAM_REQUEST_READ`: send one parameter, by `index` when it is `>= 0`, else by name.
+    ParamRequestRead {
+        /// `param_id` as sent: NUL-padded ASCII, or 16 bytes with no NUL (unchecked).
+        id: [u8; 16],
+        /// `param_index` as sent (`-1`: use `id`).
+        index: i16,
+    },
+    /// `PARAM_SET`: set a parameter (answered with `PARAM_VALUE`).
+    ParamSet {
+        /// `param_id` as sent: NUL-padded ASCII, or 16 bytes with no NUL (unchecked).
+        id: [u8; 16],
+        /// `param_value` as sent (may be non-finite: the pipeline refuses it).
+        value: f32,
+        /// Whether `param_type` is `MAV_PARAM_TYPE_REAL32`, the only type of this vehicle's
+        /// parameters.
+        real32: bool,
     },
     /// Simulated IMU sample (`HIL_SENSOR`, `hil` feature only), converted to body FLU.
     #[cfg(feature = "hil")]

@@ -101,6 +101,9 @@ impl FlightPipeline {
                     self.refused("setpoint", &r);
                 }
             }
+            Inbound::ParamRequestList => self.param_request_list(),
+            Inbound::ParamRequestRead { id, index } => self.param_request_read(&id, index),
+            Inbound::ParamSet { id, value, real32 } => self.param_set(&id, value, real32),
             #[cfg(feature = "hil")]
             Inbound::HilSensor {
                 gyro_rad_s,

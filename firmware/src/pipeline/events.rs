@@ -35,15 +35,17 @@ pub enum Event {
         /// Command name.
         command: &'static str,
     },
-    /// A command or setpoint was refused.
+    /// A command, setpoint or parameter change was refused.
     CommandRefused {
-        /// Command name (`"setpoint"` for a hover target).
+        /// Command name (`"setpoint"` for a hover target, the parameter's name for a
+        /// `PARAM_SET`, `"param_set"` for one with an unknown name).
         command: &'static str,
         /// Why.
         reason: &'static str,
     },
-    /// A reference was refused by the certificate: the violated condition with both sides
-    /// (`lhs > rhs` should hold), or a parameter refusal (`lhs` = its value, `rhs` = NaN).
+    /// A reference or parameter change was refused by the certificate: the violated condition
+    /// with both sides (`lhs > rhs` should hold), or a parameter refusal (`lhs` = its value,
+    /// `rhs` = NaN or the admissible bound).
     ReferenceRefused {
         /// Condition or parameter name.
         condition: &'static str,
@@ -63,6 +65,14 @@ pub enum Event {
         lhs: f32,
         /// Right-hand side.
         rhs: f32,
+    },
+    /// A `PARAM_SET` was taken: the set-up flown from now on has `name` = `value` (in the
+    /// parameter's unit, [`crate::params::ParamDesc::unit`]) and is certified.
+    ParamChanged {
+        /// Parameter name ([`crate::params::ParamDesc::name`]).
+        name: &'static str,
+        /// The new value.
+        value: f32,
     },
     /// A non-finite value was found (and counted).
     NonFinite {

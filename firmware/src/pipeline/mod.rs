@@ -11,9 +11,12 @@
 //! One facet per file, each an `impl FlightPipeline` block or a small pure type:
 //! `commands.rs` (commands and the certificate gate), `mission.rs` (the takeoff/land mode
 //! machine, [`ModeMachine`]), `landed.rs` (the landed detector, [`LandedDetector`]),
-//! `failsafe.rs` (the failsafe law), `telemetry.rs` (telemetry scheduling), `events.rs`
-//! (events, counters, status) and, with the `hil` feature, `lockstep.rs` (the processor-in-the-loop
-//! pacing rule, `lockstep::Lockstep`). This file holds the pipeline's state, its construction and the
+//! `failsafe.rs` (the failsafe law), `telemetry.rs` (telemetry scheduling), `schedule.rs`
+//! (when each periodic message is due), `status_messages.rs` (what a ground station shows),
+//! `params.rs` (the MAVLink parameter protocol, each change certified like the boot set-up),
+//! `events.rs` (events, counters, status) and, with the `hil` feature, `lockstep.rs` (the
+//! processor-in-the-loop pacing rule, `lockstep::Lockstep`). This file holds the pipeline's
+//! state, its construction and the
 //! per-sample and per-tick flow.
 
 mod commands;
@@ -28,6 +31,12 @@ pub mod lockstep;
 #[cfg(all(test, feature = "hil"))]
 mod lockstep_tests;
 mod mission;
+#[cfg(test)]
+mod param_store_tests;
+#[cfg(test)]
+mod param_tests;
+mod param_text;
+mod params;
 pub mod schedule;
 mod status_messages;
 mod telemetry;
@@ -38,6 +47,7 @@ pub use events::{Counters, Event, PipelineStatus};
 pub use gate::{box_margin, check as gate_check, GateFailure, BOX_FIT};
 pub use landed::{LandedDetector, LandedInputs};
 pub use mission::{Mode, ModeMachine};
+pub use params::{ParamRefusal, RestoreError, STREAM_PERIOD_US as PARAM_STREAM_PERIOD_US};
 
 use controller_core::scalar::{fmin, norm};
 use controller_core::{
@@ -56,6 +66,7 @@ use crate::link::{Decoder, Sender, SigningConfig};
 use crate::mixer::{BoxFit, MixOutput, Mixer, MixerError};
 use crate::safety::{FlightState, Supervisor, TickInputs, Transition};
 use events::EventQueue;
+use params::ParamQueue;
 use schedule::Schedule;
 
 /// One IMU sample, body FLU (x forward, y left, z up: the controller's body frame).
@@ -140,6 +151,7 @@ pub struct FlightPipeline {
     events: EventQueue,
     acks: Deque<(MavCmd, MavResult, Sender), 8>,
     texts: Deque<(MavSeverity, &'static str, &'static str), 8>,
+    params: ParamQueue,
     sequence: u8,
     schedule: Schedule,
     /// `TIMESYNC` answers due: (tc1 \[ns\], the request's ts1).
@@ -165,6 +177,38 @@ pub struct FlightPipeline {
     hil_pending: Option<u64>,
 }
 
+/// The boot checks of set-up `cfg` on the rotors of `mixer`: the certificate of its demo mission
+/// (filters starting at zero), the hover controller (constants zero) and the gate with
+/// `cfg.box_margin`. Boot and every parameter change run this one function. Errors: a
+/// parameter controller-core refuses.
+fn certify_setup(cfg: &FlightConfig, mixer: &Mixer) -> Result<BootReport, ParameterError> {
+    let reference = FlightReference::new(
+        cfg.reference.smoothing_rate,
+        Vector3::zeros(),
+        0.0,
+        SupTable::PRECOMPUTED,
+        cfg.mission,
+    );
+    let certificate = certify(
+        &cfg.vehicle,
+        &cfg.limits,
+        &cfg.gains,
+        &reference.helix_constants(),
+        FilterStart::Zero,
+    )?;
+    // The controller must accept a hover (constants zero) too.
+    Controller::new(cfg.vehicle, cfg.gains, &TrajectoryConstants::zero())?;
+    let b = &certificate.bounds;
+    Ok(BootReport {
+        certificate,
+        a_priori_fit: mixer.box_fit(b.thrust_min, b.thrust_max, &b.torque_max),
+        box_margin: gate::box_margin(&certificate, mixer),
+        required_margin: cfg.box_margin,
+        gate: gate::check(&certificate, mixer, cfg.box_margin),
+        thrust_capacity: 4.0 * cfg.rotors.thrust_max,
+    })
+}
+
 impl FlightPipeline {
     /// Builds the pipeline: certifies the demo mission, builds the mixer and checks the a-priori
     /// box against the rotors. Errors: [`BootError`].
@@ -179,27 +223,7 @@ impl FlightPipeline {
             table,
             cfg.mission,
         );
-        let certificate = certify(
-            &cfg.vehicle,
-            &cfg.limits,
-            &cfg.gains,
-            &reference.helix_constants(),
-            FilterStart::Zero,
-        )
-        .map_err(BootError::Parameter)?;
-        // The controller must accept a hover (constants zero) too.
-        Controller::new(cfg.vehicle, cfg.gains, &TrajectoryConstants::zero())
-            .map_err(BootError::Parameter)?;
-        let b = &certificate.bounds;
-        let a_priori_fit = mixer.box_fit(b.thrust_min, b.thrust_max, &b.torque_max);
-        let report = BootReport {
-            certificate,
-            a_priori_fit,
-            box_margin: gate::box_margin(&certificate, &mixer),
-            required_margin: cfg.box_margin,
-            gate: gate::check(&certificate, &mixer, cfg.box_margin),
-            thrust_capacity: 4.0 * cfg.rotors.thrust_max,
-        };
+        let report = certify_setup(&cfg, &mixer).map_err(BootError::Parameter)?;
         let estimator = Estimator::new(EstimatorConfig {
             latency_us: cfg.mocap_latency_us,
             calibration_samples: cfg.gyro_calibration_samples,
@@ -240,6 +264,7 @@ impl FlightPipeline {
             events: Deque::new(),
             acks: Deque::new(),
             texts: Deque::new(),
+            params: ParamQueue::new(),
             sequence: 0,
             schedule: Schedule::new(&cfg.telemetry),
             timesync: Deque::new(),
@@ -261,12 +286,13 @@ impl FlightPipeline {
         })
     }
 
-    /// The boot certificate and the mixer fit, for the defmt banner.
+    /// The certificate and the mixer fit of the set-up flown now, for the defmt banner: boot's,
+    /// or the latest accepted parameter change's.
     pub fn boot_report(&self) -> BootReport {
         self.report
     }
 
-    /// The configuration.
+    /// The configuration (with the accepted parameter changes).
     pub fn config(&self) -> &FlightConfig {
         &self.cfg
     }

@@ -1,5 +1,6 @@
 //! Telemetry scheduling: what the pipeline sends to the ground station and when. Pending
-//! command acks and status texts first, then a `HEARTBEAT` and the state
+//! command acks and status texts first, parameter replies and one streamed `PARAM_VALUE` at most
+//! ([`super::params`]), then a `HEARTBEAT` and the state
 //! (`ATTITUDE_QUATERNION`, `LOCAL_POSITION_NED`) at the rates of
 //! [`crate::config::TelemetryConfig`] or as the ground station set them ([`super::schedule`]);
 //! with the `hil` feature, each tick's motor commands and reference lead. Frames that do not fit
@@ -18,7 +19,8 @@ use crate::link;
 use crate::safety::FlightState;
 
 impl FlightPipeline {
-    /// MAVLink bytes to send now: pending command acks and status texts, a HEARTBEAT every
+    /// MAVLink bytes to send now: pending command acks and status texts, parameter texts and
+    /// `PARAM_VALUE`s (at most one of a list per call), a HEARTBEAT every
     /// [`crate::config::TelemetryConfig::heartbeat_period_us`], ATTITUDE_QUATERNION and
     /// LOCAL_POSITION_NED every [`crate::config::TelemetryConfig::state_period_us`] (NED/FRD).
     /// Returns the number of bytes written; frames that do not fit wait for the next call.
@@ -70,6 +72,10 @@ impl FlightPipeline {
                 k => n += k,
             }
             self.texts.pop_front();
+        }
+        match self.param_telemetry(now_us, &mut out[n..]) {
+            (k, true) => n += k,
+            (k, false) => return n + k,
         }
         if self.schedule.due(Periodic::Heartbeat, now_us) {
             let armed = self.supervisor.state() != FlightState::Disarmed;
@@ -225,7 +231,7 @@ impl FlightPipeline {
 
     /// Encodes `m` into `out` with the next sequence number, signed when the link has a key;
     /// 0 (and the number unused) if it does not fit.
-    fn put<D: mavlink::MessageData>(&mut self, m: &D, out: &mut [u8]) -> usize {
+    pub(super) fn put<D: mavlink::MessageData>(&mut self, m: &D, out: &mut [u8]) -> usize {
         let mut frame = [0u8; link::MAX_FRAME];
         let k = link::encode_data(
             m,

@@ -28,7 +28,7 @@ fn all_frames(bytes: &[u8]) -> Vec<(u32, Vec<u8>)> {
 
 /// [`all_frames`] without the HIL outputs (`hil` feature), which lead every tick's
 /// telemetry and have their own test.
-fn frames(bytes: &[u8]) -> Vec<(u32, Vec<u8>)> {
+pub(super) fn frames(bytes: &[u8]) -> Vec<(u32, Vec<u8>)> {
     #[cfg(feature = "hil")]
     let hil = [
         mavlink::dialects::common::HIL_ACTUATOR_CONTROLS_DATA::ID,
@@ -42,7 +42,7 @@ fn frames(bytes: &[u8]) -> Vec<(u32, Vec<u8>)> {
         .collect()
 }
 
-fn command(c: MavCmd, p1: f32, p2: f32) -> Vec<u8> {
+pub(super) fn command(c: MavCmd, p1: f32, p2: f32) -> Vec<u8> {
     let m = MavMessage::COMMAND_LONG(mavlink::dialects::common::COMMAND_LONG_DATA {
         param1: p1,
         param2: p2,
@@ -293,7 +293,7 @@ fn armed_pipeline() -> (FlightPipeline, u64) {
 
 /// A pipeline flying `c` (with a short gyro calibration) that has calibrated, converged on a
 /// pose 1 m up (NWU) and been sent an arm command, with the time \[µs\] reached; armed or not.
-fn arm_attempt(mut c: FlightConfig) -> (FlightPipeline, u64) {
+pub(super) fn arm_attempt(mut c: FlightConfig) -> (FlightPipeline, u64) {
     c.gyro_calibration_samples = 50;
     let mut p = FlightPipeline::new(&c).unwrap();
     let now = fly_ticks(&mut p, 0, 60, true);
@@ -361,7 +361,7 @@ fn kill_behind_a_corrupted_length_byte_disarms_and_is_acknowledged() {
 }
 
 /// Every event queued so far, oldest first.
-fn drain_events(p: &mut FlightPipeline) -> Vec<Event> {
+pub(super) fn drain_events(p: &mut FlightPipeline) -> Vec<Event> {
     std::iter::from_fn(|| p.take_events()).collect()
 }
 
@@ -642,7 +642,7 @@ fn estimator_and_telemetry_do_not_depend_on_the_law_rate() {
 
 /// Ticks `p` for `ticks` control periods of 10 ms from `now` (IMU level and still at 1 kHz),
 /// with a pose 1 m up (NED z = −1) each tick when `poses`; returns the time reached.
-fn fly_ticks(p: &mut FlightPipeline, mut now: u64, ticks: u32, poses: bool) -> u64 {
+pub(super) fn fly_ticks(p: &mut FlightPipeline, mut now: u64, ticks: u32, poses: bool) -> u64 {
     for k in 0..ticks {
         for _ in 0..10 {
             now += 1_000;
