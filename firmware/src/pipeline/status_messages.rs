@@ -13,14 +13,15 @@ use super::{FlightPipeline, Mode};
 use crate::frames;
 use crate::safety::FlightState;
 
-/// What the vehicle really does (`AUTOPILOT_VERSION.capabilities`): float parameters,
+/// What the vehicle really does (`AUTOPILOT_VERSION.capabilities`): parameters (REAL32 values,
+/// for which C-cast and bytewise encodings agree),
 /// `COMMAND_INT`, local position targets, flight termination, MAVLink 2.
 pub const CAPABILITIES: MavProtocolCapability =
     MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_COMMAND_INT
         .union(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_LOCAL_NED)
         .union(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_FLIGHT_TERMINATION)
         .union(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MAVLINK2)
-        .union(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_PARAM_FLOAT);
+        .union(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_C_CAST);
 
 /// `flight_sw_version`: major, minor, patch of the crate, and `FIRMWARE_VERSION_TYPE_DEV` (0)
 /// in the low byte (MAVLink's packing).
