@@ -114,32 +114,76 @@ def main():
     stream = sender()  # sensors and poses, unsigned throughout (accepted by default)
     signed = sender(KEY, timestamp=2_000_000)
     forger = sender(WRONG_KEY, timestamp=3_000_000)
-    # Commands at simulated times [µs]: (time, label, bytes).
+    received = []  # (tick [µs] of the actuator frame before it, message)
+
+    def param(name):
+        """The last PARAM_VALUE received for `name`."""
+        values = [m for _, m in received if m.get_type() == "PARAM_VALUE" and m.param_id == name]
+        if not values:
+            raise SystemExit(f"no PARAM_VALUE for {name} yet")
+        return values[-1].param_value
+
+    def param_set(name, value):
+        return gcs.param_set_encode(
+            VEHICLE_SYSTEM, VEHICLE_COMPONENT, name.encode(), value, C.MAV_PARAM_TYPE_REAL32
+        ).pack(gcs)
+
+    def param_read(name):
+        return gcs.param_request_read_encode(
+            VEHICLE_SYSTEM, VEHICLE_COMPONENT, name.encode(), -1
+        ).pack(gcs)
+
+    chosen = {}
+
+    def set_kf():
+        chosen["POS_KF"] = 0.9 * param("POS_KF")
+        return param_set("POS_KF", chosen["POS_KF"])
+
+    def set_tau_z():
+        chosen["LIM_TAU_Z"] = param("LIM_TAU_Z")
+        return param_set("LIM_TAU_Z", 0.5 * chosen["LIM_TAU_Z"])
+
+    # Commands at simulated times [µs]: (time, label, a function giving the bytes then).
     script = [
         (100_000, "arm while calibrating",
-         command_long(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 1.0)),
+         lambda: command_long(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 1.0)),
         (110_000, "arm to component 99",
-         command_long(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 1.0, component=99)),
-        (120_000, "DO_SET_MODE", command_long(gcs, C.MAV_CMD_DO_SET_MODE, 1.0, 4.0)),
+         lambda: command_long(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 1.0, component=99)),
+        (120_000, "DO_REPOSITION", lambda: command_long(gcs, C.MAV_CMD_DO_REPOSITION, 1.0)),
         (130_000, "COMMAND_INT arm with param1 = 2",
-         command_int(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 2.0)),
+         lambda: command_int(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 2.0)),
         (140_000, "REQUEST_MESSAGE HEARTBEAT",
-         command_long(gcs, C.MAV_CMD_REQUEST_MESSAGE, float(C.MAVLINK_MSG_ID_HEARTBEAT))),
+         lambda: command_long(gcs, C.MAV_CMD_REQUEST_MESSAGE, float(C.MAVLINK_MSG_ID_HEARTBEAT))),
         (150_000, "SET_MESSAGE_INTERVAL ATTITUDE_QUATERNION 100 ms",
-         command_long(gcs, C.MAV_CMD_SET_MESSAGE_INTERVAL,
-                      float(C.MAVLINK_MSG_ID_ATTITUDE_QUATERNION), 100_000.0)),
+         lambda: command_long(gcs, C.MAV_CMD_SET_MESSAGE_INTERVAL,
+                              float(C.MAVLINK_MSG_ID_ATTITUDE_QUATERNION), 100_000.0)),
         (160_000, "arm signed while signing is off",
-         command_long(forger, C.MAV_CMD_COMPONENT_ARM_DISARM, 1.0)),
+         lambda: command_long(forger, C.MAV_CMD_COMPONENT_ARM_DISARM, 1.0)),
+        (170_000, "REQUEST_AUTOPILOT_CAPABILITIES",
+         lambda: command_long(gcs, C.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES, 1.0)),
+        (175_000, "TIMESYNC", lambda: gcs.timesync_encode(0, 777_000).pack(gcs)),
+        (180_000, "REQUEST_MESSAGE HOME_POSITION",
+         lambda: command_long(gcs, C.MAV_CMD_REQUEST_MESSAGE,
+                              float(C.MAVLINK_MSG_ID_HOME_POSITION))),
+        (190_000, "DO_SET_MODE helix while disarmed",
+         lambda: command_long(gcs, C.MAV_CMD_DO_SET_MODE, 1.0, 4.0)),
+        (200_000, "PARAM_REQUEST_LIST",
+         lambda: gcs.param_request_list_encode(VEHICLE_SYSTEM, VEHICLE_COMPONENT).pack(gcs)),
+        (950_000, "PARAM_SET POS_KF to 0.9 of its value", set_kf),
+        (1_000_000, "PARAM_SET LIM_TAU_Z to half its value", set_tau_z),
+        (1_050_000, "PARAM_REQUEST_READ LIM_TAU_Z", lambda: param_read("LIM_TAU_Z")),
         (1_200_000, "disarm (unsigned, signing off)",
-         command_long(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)),
+         lambda: command_long(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)),
         (1_300_000, "SETUP_SIGNING",
-         gcs.setup_signing_encode(VEHICLE_SYSTEM, VEHICLE_COMPONENT, KEY, 1_000_000).pack(gcs)),
+         lambda: gcs.setup_signing_encode(VEHICLE_SYSTEM, VEHICLE_COMPONENT, KEY,
+                                          1_000_000).pack(gcs)),
         (1_400_000, "unsigned disarm with signing on",
-         command_long(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)),
+         lambda: command_long(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)),
         (1_410_000, "disarm signed with another key",
-         command_long(forger, C.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)),
+         lambda: command_long(forger, C.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)),
         (1_420_000, "disarm signed with the key",
-         command_long(signed, C.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)),
+         lambda: command_long(signed, C.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)),
+        (1_430_000, "unsigned PARAM_SET with signing on", lambda: param_set("POS_KF", 1.0)),
     ]
     events = {}
     for t, label, frame in script:
@@ -148,8 +192,7 @@ def main():
     rx = C.MAVLink(None)
     rx.robust_parsing = True
     unsigned_after_signed = []
-    received = []  # (simulated time, message)
-    state = {"signed_seen": False}
+    state = {"signed_seen": False, "tick": 0}
 
     def allow_unsigned(mav, msg_id):
         # Called by pymavlink for an unsigned frame once it holds the key.
@@ -166,7 +209,7 @@ def main():
         for t in range(0, END_US + 1, 1000):
             out = bytearray()
             for label, frame in events.get(t, []):
-                out += frame
+                out += frame()
                 if label == "SETUP_SIGNING":
                     rx.signing.secret_key = KEY
                     rx.signing.allow_unsigned_callback = allow_unsigned
@@ -187,11 +230,15 @@ def main():
                 if not data and time.monotonic() >= deadline:
                     raise SystemExit(f"no HIL_ACTUATOR_CONTROLS for t = {t} us in {TIMEOUT_S} s")
                 for m in rx.parse_buffer(data) or []:
-                    received.append((t, m))
+                    # The firmware sends each tick's actuator frame first, then that tick's
+                    # telemetry: a frame belongs to the tick of the actuator frame before it
+                    # (whatever chunks the bytes arrive in).
+                    if m.get_type() == "HIL_ACTUATOR_CONTROLS":
+                        state["tick"] = m.time_usec
+                        answered |= m.time_usec == t
+                    received.append((state["tick"], m))
                     if m.get_signed():
                         state["signed_seen"] = True
-                    if m.get_type() == "HIL_ACTUATOR_CONTROLS" and m.time_usec == t:
-                        answered = True
             ticks += 1
     finally:
         qemu.stop()
@@ -226,7 +273,9 @@ def main():
     one_ack("arm while calibrating", 100_000, C.MAV_CMD_COMPONENT_ARM_DISARM,
             C.MAV_RESULT_TEMPORARILY_REJECTED)
     no_ack("arm to component 99", 110_000)
-    one_ack("DO_SET_MODE", 120_000, C.MAV_CMD_DO_SET_MODE, C.MAV_RESULT_UNSUPPORTED)
+    one_ack("DO_REPOSITION", 120_000, C.MAV_CMD_DO_REPOSITION, C.MAV_RESULT_UNSUPPORTED)
+    one_ack("DO_SET_MODE helix while disarmed", 190_000, C.MAV_CMD_DO_SET_MODE,
+            C.MAV_RESULT_DENIED)
     one_ack("COMMAND_INT arm with param1 = 2", 130_000, C.MAV_CMD_COMPONENT_ARM_DISARM,
             C.MAV_RESULT_DENIED)
     one_ack("REQUEST_MESSAGE HEARTBEAT", 140_000, C.MAV_CMD_REQUEST_MESSAGE,
@@ -243,6 +292,53 @@ def main():
     check(attitude == 10 and position == 20,
           f"over 1 s: ATTITUDE_QUATERNION {attitude} (100 ms), LOCAL_POSITION_NED {position} (50 ms)")
     no_ack("arm signed while signing is off (dropped)", 160_000)
+    one_ack("REQUEST_AUTOPILOT_CAPABILITIES", 170_000,
+            C.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES, C.MAV_RESULT_ACCEPTED)
+    versions = [m for t, m in received if m.get_type() == "AUTOPILOT_VERSION"]
+    check(len(versions) == 1 and versions[0].capabilities & C.MAV_PROTOCOL_CAPABILITY_MAVLINK2
+          and versions[0].capabilities & C.MAV_PROTOCOL_CAPABILITY_COMMAND_INT,
+          f"one AUTOPILOT_VERSION, MAVLink 2 and COMMAND_INT capable ({len(versions)})")
+    syncs = [m for t, m in received if m.get_type() == "TIMESYNC"]
+    # The request sent before the 175 ms sample is dated by the one before it (174 ms).
+    check([(m.tc1, m.ts1) for m in syncs] == [(174_000_000, 777_000)],
+          f"TIMESYNC answered with the vehicle's time and ts1 echoed "
+          f"({[(m.tc1, m.ts1) for m in syncs]})")
+    one_ack("REQUEST_MESSAGE HOME_POSITION", 180_000, C.MAV_CMD_REQUEST_MESSAGE,
+            C.MAV_RESULT_ACCEPTED)
+    homes = [t for t, m in received if m.get_type() == "HOME_POSITION"]
+    check(len(homes) == 1 and 180_000 <= homes[0] < 200_000, f"one HOME_POSITION ({homes})")
+    status = [m for _, m in received if m.get_type() == "SYS_STATUS"]
+    check(len(status) == 2 and all(
+        m.onboard_control_sensors_present & C.MAV_SYS_STATUS_SENSOR_3D_GYRO for m in status)
+          and not status[0].onboard_control_sensors_health & C.MAV_SYS_STATUS_SENSOR_3D_GYRO
+          and status[1].onboard_control_sensors_health & C.MAV_SYS_STATUS_SENSOR_3D_GYRO,
+          "SYS_STATUS at 1 Hz: gyro present, unhealthy while calibrating, then healthy")
+    ext = [m for _, m in received if m.get_type() == "EXTENDED_SYS_STATE"]
+    check(len(ext) == 2 and all(m.landed_state == C.MAV_LANDED_STATE_ON_GROUND for m in ext),
+          "EXTENDED_SYS_STATE at 1 Hz: on the ground")
+    euler = sum(1 for t, m in received if m.get_type() == "ATTITUDE" and t < 1_000_000)
+    check(euler == 20, f"ATTITUDE at 20 Hz ({euler} in the first second)")
+    values = [(t, m) for t, m in received if m.get_type() == "PARAM_VALUE"]
+    listed = [m for t, m in values if 200_000 <= t < 950_000]
+    count = listed[0].param_count if listed else 0
+    check(count >= 20 and sorted(m.param_index for m in listed) == list(range(count))
+          and all(m.param_type == C.MAV_PARAM_TYPE_REAL32 for m in listed)
+          and all(len(m.param_id) <= 16 for m in listed),
+          f"PARAM_REQUEST_LIST: every parameter once ({len(listed)} of {count})")
+    kf = [m for t, m in values if 950_000 <= t < 960_000]
+    check(len(kf) == 1 and kf[0].param_id == "POS_KF"
+          and abs(kf[0].param_value - chosen["POS_KF"]) <= 1e-6 * chosen["POS_KF"],
+          f"PARAM_SET POS_KF (certificate still holds): the new value {chosen['POS_KF']:.6g} "
+          f"answered ({[m.param_value for m in kf]})")
+    tau = [m for t, m in values if 1_000_000 <= t < 1_060_000]
+    texts = [m.text for t, m in received
+             if m.get_type() == "STATUSTEXT" and 1_000_000 <= t < 1_010_000]
+    check(len(tau) == 2 and all(m.param_value == chosen["LIM_TAU_Z"] for m in tau)
+          and any("LIM_TAU_Z" in x and "theorem2" in x for x in texts),
+          f"PARAM_SET LIM_TAU_Z to half (breaks Theorem 2): refused, value unchanged, "
+          f"the condition named ({texts})")
+    late = [m for t, m in values if t >= 1_430_000]
+    check(not late, f"unsigned PARAM_SET with signing on: not answered ({len(late)})")
     one_ack("disarm, signing off", 1_200_000, C.MAV_CMD_COMPONENT_ARM_DISARM,
             C.MAV_RESULT_ACCEPTED)
     no_ack("unsigned disarm with signing on", 1_400_000)
