@@ -82,6 +82,7 @@ pub async fn run(
     let summary_every = (ticks_per_second / 10).max(1);
     let mut stats = StepStats::new();
     let mut tick: u32 = 0;
+    let mut busy_us: u64 = 0;
     let mut link_buf = [0u8; 256];
     let mut telemetry_buf = [0u8; 512];
 
@@ -143,7 +144,14 @@ pub async fn run(
                 output,
             });
         }
+        busy_us = busy_us.saturating_add(step_us);
         if stats.window_steps() >= ticks_per_second {
+            // SYS_STATUS.load: the steps' share of the window's periods [per mille].
+            let window_us = u64::from(stats.window_steps())
+                .saturating_mul(period_us)
+                .max(1);
+            pipeline.report_load((busy_us.saturating_mul(1000) / window_us).min(1000) as u16);
+            busy_us = 0;
             TIMING.signal(stats.take_window());
         }
     }
