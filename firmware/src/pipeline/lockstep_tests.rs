@@ -10,7 +10,7 @@ use crate::ground_station;
 use crate::link;
 use mavlink::dialects::common::{
     HilActuatorControlsFlags, HilSensorUpdatedFlags, MavMessage, ATT_POS_MOCAP_DATA,
-    HIL_ACTUATOR_CONTROLS_DATA, HIL_SENSOR_DATA,
+    HIL_ACTUATOR_CONTROLS_DATA, HIL_SENSOR_DATA, POSITION_TARGET_LOCAL_NED_DATA,
 };
 use mavlink::{MavlinkVersion, MessageData};
 
@@ -258,6 +258,49 @@ fn the_stream_arms_and_flies_with_lockstep_actuator_frames() {
         i += 12 + len;
     }
     assert_eq!(actuators, run.ticks.len());
+    // The reference sent with each tick is the whole reference: during the helix its velocity
+    // matches the change of its position between ticks (an independent finite difference),
+    // and its yaw the change of yaw.
+    let mut targets = Vec::new();
+    let mut i = 0;
+    while i + 12 <= t.len() {
+        let len = usize::from(t[i + 1]);
+        let id = u32::from_le_bytes([t[i + 7], t[i + 8], t[i + 9], 0]);
+        if id == POSITION_TARGET_LOCAL_NED_DATA::ID {
+            let m =
+                POSITION_TARGET_LOCAL_NED_DATA::deser(MavlinkVersion::V2, &t[i + 10..i + 10 + len])
+                    .unwrap();
+            assert!(m.type_mask.is_empty());
+            targets.push(m);
+        }
+        i += 12 + len;
+    }
+    let helix: Vec<_> = targets
+        .iter()
+        .filter(|m| u64::from(m.time_boot_ms) > MISSION_MS + 20)
+        .collect();
+    assert!(helix.len() > 50);
+    let mut moving = 0;
+    for w in helix.windows(2) {
+        let dt = 0.010;
+        let fd = [
+            (w[1].x - w[0].x) / dt,
+            (w[1].y - w[0].y) / dt,
+            (w[1].z - w[0].z) / dt,
+        ];
+        let mean = [
+            0.5 * (w[0].vx + w[1].vx),
+            0.5 * (w[0].vy + w[1].vy),
+            0.5 * (w[0].vz + w[1].vz),
+        ];
+        for k in 0..3 {
+            assert!((fd[k] - mean[k]).abs() < 2e-2, "{fd:?} vs {mean:?}");
+        }
+        let yaw_fd = (w[1].yaw - w[0].yaw) / dt;
+        assert!((yaw_fd - 0.5 * (w[0].yaw_rate + w[1].yaw_rate)).abs() < 2e-2);
+        moving += usize::from(mean.iter().any(|v: &f32| v.abs() > 0.05));
+    }
+    assert!(moving > 40, "the reference moves: {moving}");
 }
 
 /// Given the same stream, when it is read whole (as much as the buffer takes), one byte at a

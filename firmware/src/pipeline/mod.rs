@@ -166,6 +166,9 @@ pub struct FlightPipeline {
     status_attitude: UnitQuaternion<f32>,
     status_rates: [f32; 3],
     status_reference: [f32; 3],
+    /// The reference's velocity \[m/s\], acceleration \[m/s²\] (NWU), yaw \[rad\] and yaw rate
+    /// \[rad/s\] (about z up) at the last flown tick (`POSITION_TARGET_LOCAL_NED`).
+    status_reference_motion: ([f32; 3], [f32; 3], [f32; 2]),
     status_error: f32,
     status_pose_age: u64,
     was_calibrating: bool,
@@ -276,6 +279,7 @@ impl FlightPipeline {
             status_attitude: UnitQuaternion::identity(),
             status_rates: [0.0; 3],
             status_reference: [0.0; 3],
+            status_reference_motion: ([0.0; 3], [0.0; 3], [0.0; 2]),
             status_error: 0.0,
             status_pose_age: u64::MAX,
             was_calibrating: true,
@@ -560,6 +564,13 @@ impl FlightPipeline {
             reference.position.y,
             reference.position.z,
         ];
+        // The heading is a unit vector (cos ψ, sin ψ): ψ̇ = h × ḣ.
+        let (h, hd) = (reference.heading, reference.heading_rate);
+        self.status_reference_motion = (
+            reference.velocity.into(),
+            reference.acceleration.into(),
+            [libm::atan2f(h.y, h.x), h.x * hd.y - h.y * hd.x],
+        );
         self.status_error = norm(&(e.position - reference.position));
         let target = self.reference.filter().target().0;
         if let Some(mode) = self.mission.tick(&self.cfg.reference, &e.position, &target) {

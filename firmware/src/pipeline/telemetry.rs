@@ -199,23 +199,26 @@ impl FlightPipeline {
             },
         };
         let r = frames::flip_to_array(&Vector3::from(self.status_reference));
-        // Only the position is filled in: the mask says so (the velocity, acceleration, yaw
-        // and yaw-rate fields are zeros, not the reference's).
+        let (v, a, [yaw, yaw_rate]) = self.status_reference_motion;
+        let v = frames::flip_to_array(&Vector3::from(v));
+        let a = frames::flip_to_array(&Vector3::from(a));
+        // Every field is the reference's (the mask ignores none): position, velocity,
+        // acceleration, yaw and yaw rate, NED.
         let target = POSITION_TARGET_LOCAL_NED_DATA {
             time_boot_ms: (tick_us / 1000) as u32,
             x: r[0],
             y: r[1],
             z: r[2],
-            type_mask: PositionTargetTypemask::POSITION_TARGET_TYPEMASK_VX_IGNORE
-                | PositionTargetTypemask::POSITION_TARGET_TYPEMASK_VY_IGNORE
-                | PositionTargetTypemask::POSITION_TARGET_TYPEMASK_VZ_IGNORE
-                | PositionTargetTypemask::POSITION_TARGET_TYPEMASK_AX_IGNORE
-                | PositionTargetTypemask::POSITION_TARGET_TYPEMASK_AY_IGNORE
-                | PositionTargetTypemask::POSITION_TARGET_TYPEMASK_AZ_IGNORE
-                | PositionTargetTypemask::POSITION_TARGET_TYPEMASK_YAW_IGNORE
-                | PositionTargetTypemask::POSITION_TARGET_TYPEMASK_YAW_RATE_IGNORE,
+            vx: v[0],
+            vy: v[1],
+            vz: v[2],
+            afx: a[0],
+            afy: a[1],
+            afz: a[2],
+            yaw: frames::flip_yaw(yaw),
+            yaw_rate: frames::flip_yaw(yaw_rate),
+            type_mask: PositionTargetTypemask::empty(),
             coordinate_frame: MavFrame::MAV_FRAME_LOCAL_NED,
-            ..Default::default()
         };
         // Encode into a scratch copy first, so that a lack of room leaves nothing half-sent.
         let mut scratch = [0u8; 2 * link::MAX_FRAME];
