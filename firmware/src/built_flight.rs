@@ -5,6 +5,7 @@
 
 use crate::airframe::Airframe;
 use crate::config::{FlightConfig, FlightIdentity, ReferenceConfig};
+use crate::motor_order::MotorOrder;
 
 /// The generated items: `FILE`, `airframe()`, `limits()`, `gains()`, `mission()`, `MARGIN`,
 /// `SMOOTHING_RATE`, `CONTROL_RATE`, `DESIGN`.
@@ -69,6 +70,17 @@ pub const fn signing_key_from_hex(hex: &str) -> [u8; 32] {
     key
 }
 
+/// The order of the motor outputs in `HIL_ACTUATOR_CONTROLS`: env `FIRMWARE_HIL_MOTOR_ORDER`
+/// at build time, `mixer` (the default: the vehicle file's order), `px4` or `betaflight`;
+/// anything else stops the build.
+pub const HIL_MOTOR_ORDER: MotorOrder = match option_env!("FIRMWARE_HIL_MOTOR_ORDER") {
+    None => MotorOrder::Mixer,
+    Some(s) => match MotorOrder::parse(s) {
+        Some(o) => o,
+        None => panic!("FIRMWARE_HIL_MOTOR_ORDER must be `mixer`, `px4` or `betaflight`"),
+    },
+};
+
 /// Whether this build may arm an uncertified set-up (cargo feature `uncertified-paper`).
 pub const UNCERTIFIED_BUILD: bool = cfg!(feature = "uncertified-paper");
 
@@ -105,6 +117,7 @@ impl FlightConfig {
             },
             signing_key: SIGNING_KEY,
             accept_unsigned_sensors: ACCEPT_UNSIGNED_SENSORS,
+            hil_motor_order: HIL_MOTOR_ORDER,
             ..paper
         }
     }

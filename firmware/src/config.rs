@@ -261,6 +261,10 @@ pub struct FlightConfig {
     /// MAVLink 2 signing key (32 bytes), or `None`: signed frames are then dropped and a key
     /// can be installed once, while disarmed, with `SETUP_SIGNING` ([`crate::link::signing`]).
     pub signing_key: Option<[u8; 32]>,
+    /// The order of the motor outputs in `HIL_ACTUATOR_CONTROLS` (processor in the loop):
+    /// the vehicle file's, or PX4's or Betaflight's quad X order for simulators that assume it
+    /// ([`crate::motor_order`]).
+    pub hil_motor_order: crate::motor_order::MotorOrder,
     /// With a key: whether unsigned poses and `HIL_SENSOR` samples are used (commands,
     /// setpoints and `SETUP_SIGNING` must be signed whatever this says).
     pub accept_unsigned_sensors: bool,
@@ -341,6 +345,7 @@ impl FlightConfig {
             component_id: 1,
             signing_key: None,
             accept_unsigned_sensors: true,
+            hil_motor_order: crate::motor_order::MotorOrder::Mixer,
         }
     }
 }

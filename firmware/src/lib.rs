@@ -48,6 +48,7 @@ pub mod ground_station;
 pub mod imu_attitude;
 pub mod link;
 pub mod mixer;
+pub mod motor_order;
 pub mod param_store;
 pub mod params;
 pub mod pipeline;

@@ -90,6 +90,7 @@ fn fly_recording(elf: &std::path::Path, chunking: SendChunking, tag: &str) -> (V
         out: out.clone(),
         timeout: Duration::from_secs_f64(pil::DEFAULT_TIMEOUT_S),
         send_chunking: chunking,
+        motor_order: pil::MotorOrder::Mixer,
         record_telemetry: true,
     };
     let mut setup = scenarios::paper(1);
@@ -116,6 +117,7 @@ fn fly_and_check(elf: PathBuf, rate_hz: f64, tag: &str) {
         out: out.clone(),
         timeout: Duration::from_secs_f64(pil::DEFAULT_TIMEOUT_S),
         send_chunking: SendChunking::Whole,
+        motor_order: pil::MotorOrder::Mixer,
         record_telemetry: false,
     };
     let mut setup = scenarios::paper(1);

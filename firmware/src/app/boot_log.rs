@@ -165,6 +165,9 @@ pub fn log_boot_error(e: &BootError) {
         BootError::Mixer(MixerError::BadThrustRange) => {
             error!("pipeline refused: rotor thrust range empty or not finite")
         }
+        BootError::MotorOrder(_) => {
+            error!("pipeline refused: FIRMWARE_HIL_MOTOR_ORDER needs one rotor per quadrant")
+        }
     }
 }
 

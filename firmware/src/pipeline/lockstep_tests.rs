@@ -163,8 +163,12 @@ fn random(seed: u64, max: u64) -> impl FnMut() -> usize {
 
 /// The stream through `app::control::LockstepClock`'s logic ([`Lockstep`] with its 128-byte
 /// buffer), each read taking `read()` bytes (at most what the buffer offers).
-fn run_lockstep(stream: &[u8], mut read: impl FnMut() -> usize) -> Run {
-    let mut p = pipeline();
+fn run_lockstep(stream: &[u8], read: impl FnMut() -> usize) -> Run {
+    run_lockstep_on(pipeline(), stream, read)
+}
+
+/// [`run_lockstep`] on a given pipeline.
+fn run_lockstep_on(mut p: FlightPipeline, stream: &[u8], mut read: impl FnMut() -> usize) -> Run {
     let period = p.config().control_rate.period_us();
     let mut lock = Lockstep::<128>::new(period);
     let mut run = Run {
@@ -350,4 +354,42 @@ proptest! {
         let run = run_lockstep(&stream, cycle(&sizes));
         prop_assert_eq!(difference(&run, &reference), None);
     }
+}
+
+/// Given the x500 (its file in PX4's order) built with `FIRMWARE_HIL_MOTOR_ORDER=betaflight`,
+/// when it flies the stream, then each actuator frame carries the mixer's throttles in
+/// Betaflight's quad X order: rear-right, front-right, rear-left, front-left = rotors 3, 0, 1, 2.
+#[test]
+fn hil_outputs_in_betaflight_order() {
+    let mut c = FlightConfig::built();
+    c.gyro_calibration_samples = 200;
+    c.hil_motor_order = crate::motor_order::MotorOrder::Betaflight;
+    let run = run_lockstep_on(
+        FlightPipeline::new(&c).unwrap(),
+        &pil_stream(),
+        cycle(&[128]),
+    );
+    let t = &run.telemetry;
+    let mut frames = Vec::new();
+    let mut i = 0;
+    while i + 12 <= t.len() {
+        let len = usize::from(t[i + 1]);
+        let id = u32::from_le_bytes([t[i + 7], t[i + 8], t[i + 9], 0]);
+        if id == HIL_ACTUATOR_CONTROLS_DATA::ID {
+            frames.push(
+                HIL_ACTUATOR_CONTROLS_DATA::deser(MavlinkVersion::V2, &t[i + 10..i + 10 + len])
+                    .unwrap(),
+            );
+        }
+        i += 12 + len;
+    }
+    assert_eq!(frames.len(), run.ticks.len());
+    let mut distinct = 0;
+    for (f, (_, out)) in frames.iter().zip(&run.ticks) {
+        let u = out.throttle;
+        assert_eq!(&f.controls[..4], &[u[3], u[0], u[1], u[2]]);
+        distinct += usize::from(u[0] != u[3]);
+    }
+    // The permutation is visible: rotors differ in flight.
+    assert!(distinct > 50, "{distinct}");
 }

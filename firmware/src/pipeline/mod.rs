@@ -105,6 +105,8 @@ pub enum BootError {
     Parameter(ParameterError),
     /// The rotor geometry or range is unusable.
     Mixer(MixerError),
+    /// The HIL motor order ([`FlightConfig::hil_motor_order`]) needs one rotor per quadrant.
+    MotorOrder(crate::motor_order::NotAQuadX),
 }
 
 /// What the board logs at boot: the certificate of the demo mission (the configured trajectory,
@@ -166,6 +168,9 @@ pub struct FlightPipeline {
     status_attitude: UnitQuaternion<f32>,
     status_rates: [f32; 3],
     status_reference: [f32; 3],
+    /// `HIL_ACTUATOR_CONTROLS.controls[k]` carries rotor `motor_slots[k]`'s throttle.
+    #[cfg(feature = "hil")]
+    motor_slots: [usize; 4],
     /// The reference's velocity \[m/s\], acceleration \[m/s²\] (NWU), yaw \[rad\] and yaw rate
     /// \[rad/s\] (about z up) at the last flown tick (`POSITION_TARGET_LOCAL_NED`).
     status_reference_motion: ([f32; 3], [f32; 3], [f32; 2]),
@@ -218,6 +223,13 @@ impl FlightPipeline {
     pub fn new(config: &FlightConfig) -> Result<Self, BootError> {
         let cfg = *config;
         let mixer = Mixer::new(&cfg.rotors).map_err(BootError::Mixer)?;
+        let motor_slots = cfg
+            .hil_motor_order
+            .slots(&cfg.rotors.rotors)
+            .map_err(BootError::MotorOrder)?;
+        // Checked in every build (a flight build refuses what its PIL twin would), used with HIL.
+        #[cfg(not(feature = "hil"))]
+        let _ = motor_slots;
         let table = SupTable::PRECOMPUTED;
         let reference = FlightReference::new(
             cfg.reference.smoothing_rate,
@@ -279,6 +291,8 @@ impl FlightPipeline {
             status_attitude: UnitQuaternion::identity(),
             status_rates: [0.0; 3],
             status_reference: [0.0; 3],
+            #[cfg(feature = "hil")]
+            motor_slots,
             status_reference_motion: ([0.0; 3], [0.0; 3], [0.0; 2]),
             status_error: 0.0,
             status_pose_age: u64::MAX,

@@ -186,7 +186,9 @@ impl FlightPipeline {
             POSITION_TARGET_LOCAL_NED_DATA,
         };
         let mut controls = [0.0f32; 16];
-        controls[..4].copy_from_slice(&self.last_output.throttle);
+        for (c, &rotor) in controls.iter_mut().zip(&self.motor_slots) {
+            *c = self.last_output.throttle[rotor];
+        }
         let actuators = HIL_ACTUATOR_CONTROLS_DATA {
             time_usec: tick_us,
             // The simulator must wait for this frame before it steps (docs/sil-pil.md).

@@ -40,6 +40,10 @@ pub struct PilArgs {
     /// (docs/sil-pil.md).
     #[arg(long, value_name = "HOW", default_value = "whole")]
     pub send_chunking: pil::SendChunking,
+    /// The order of the firmware's motor outputs in HIL_ACTUATOR_CONTROLS, as it was built
+    /// (`FIRMWARE_HIL_MOTOR_ORDER`): `mixer` (the vehicle file's), `px4` or `betaflight`.
+    #[arg(long, value_name = "ORDER", default_value = "mixer", value_parser = parse_motor_order)]
+    pub motor_order: firmware::motor_order::MotorOrder,
     /// Also write telemetry.bin: every MAVLink frame taken in from the firmware, raw, up to
     /// the last tick's answer (compare two runs with `cmp`).
     #[arg(long)]
@@ -57,6 +61,12 @@ pub fn run(args: &PilArgs) -> Result<()> {
         rate_hz: args.rate_hz,
         timeout: args.timeout,
         send_chunking: args.send_chunking,
+        motor_order: args.motor_order,
         record_telemetry: args.record_telemetry,
     })
+}
+
+fn parse_motor_order(s: &str) -> Result<firmware::motor_order::MotorOrder, String> {
+    firmware::motor_order::MotorOrder::parse(s)
+        .ok_or_else(|| format!("`{s}`: expected mixer, px4 or betaflight"))
 }

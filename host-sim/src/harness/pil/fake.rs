@@ -298,6 +298,7 @@ fn run_refuses_a_missing_elf_and_a_slow_imu() {
         out: std::env::temp_dir().join("pil-unit-never-written"),
         timeout: Duration::from_secs(1),
         send_chunking: super::SendChunking::Whole,
+        motor_order: firmware::motor_order::MotorOrder::Mixer,
         record_telemetry: false,
     };
     let e = super::run(&scenarios::paper(1), &options, |_| {}).unwrap_err();

@@ -41,6 +41,9 @@ pub struct FirmwareLink<T: Transport> {
     ack_mode: Option<Mode>,
     last_frames: Vec<&'static str>,
     chunker: Chunker,
+    /// `controls[k]` of `HIL_ACTUATOR_CONTROLS` is rotor `motor_slots[k]`'s throttle
+    /// ([`FirmwareLink::with_motor_order`]).
+    motor_slots: [usize; 4],
     /// Every frame taken in, raw, in order, when recording.
     received: Option<Vec<u8>>,
 }
@@ -101,8 +104,19 @@ impl<T: Transport> FirmwareLink<T> {
             ack_mode: None,
             last_frames: Vec::new(),
             chunker: SendChunking::Whole.chunker(),
+            motor_slots: [0, 1, 2, 3],
             received: None,
         }
+    }
+
+    /// The order the firmware sends its motor outputs in (its `FIRMWARE_HIL_MOTOR_ORDER`;
+    /// default the vehicle file's): the throttles are put back in the mixer's order. Error: the
+    /// rotors are not one per quadrant.
+    pub fn with_motor_order(mut self, order: firmware::motor_order::MotorOrder) -> Result<Self> {
+        self.motor_slots = order.slots(&self.rotors.rotors).map_err(|_| {
+            anyhow::anyhow!("--motor-order {order:?}: the rotors are not one per quadrant")
+        })?;
+        Ok(self)
     }
 
     /// Cuts what is sent into writes as `chunking` says (default: one write per step).
@@ -191,7 +205,11 @@ impl<T: Transport> FirmwareLink<T> {
             .push(firmware::link::mavlink::Message::message_name(&message));
         match message {
             MavMessage::HIL_ACTUATOR_CONTROLS(m) => {
-                let a = Actuators::from_message(&m);
+                let mut a = Actuators::from_message(&m);
+                let sent = a.throttle;
+                for (k, &rotor) in self.motor_slots.iter().enumerate() {
+                    a.throttle[rotor] = sent[k];
+                }
                 if a.time_us != t_us {
                     bail!(
                         "PIL: HIL_ACTUATOR_CONTROLS for t = {} us while waiting for t = {t_us} us \

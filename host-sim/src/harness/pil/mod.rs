@@ -63,6 +63,7 @@ use crate::harness::qemu::Qemu;
 use crate::harness::sil::{self, SilRecord, SilSetup, SilSummary};
 pub use chunking::SendChunking;
 use defmt_log::FirmwareCounters;
+pub use firmware::motor_order::MotorOrder;
 use firmware_link::FirmwareLink;
 use frames::ReaderCounters;
 
@@ -101,6 +102,8 @@ pub struct PilOptions {
     pub timeout: Duration,
     /// How the bytes sent to the firmware are cut into writes (default: one write per step).
     pub send_chunking: SendChunking,
+    /// The order of the firmware's motor outputs (its `FIRMWARE_HIL_MOTOR_ORDER`).
+    pub motor_order: firmware::motor_order::MotorOrder,
     /// Write `telemetry.bin` to `out`: every MAVLink frame taken in from the firmware, raw, in
     /// order, up to the last tick's answer ([`FirmwareLink::received`]).
     pub record_telemetry: bool,
@@ -200,7 +203,8 @@ pub fn run(
         Err(e) => vec![format!("(defmt log not decoded: {e:#})")],
     });
     let mut firmware = FirmwareLink::new(qemu, &setup.flight, b, options.timeout)
-        .with_send_chunking(options.send_chunking);
+        .with_send_chunking(options.send_chunking)
+        .with_motor_order(options.motor_order)?;
     if options.record_telemetry {
         firmware = firmware.recording();
     }
@@ -350,6 +354,9 @@ pub struct PilCommandOptions {
     pub timeout: f64,
     /// How the bytes sent are cut into writes (the command line's default: one per step).
     pub send_chunking: SendChunking,
+    /// The order of the firmware's motor outputs (the command line's default: the vehicle
+    /// file's).
+    pub motor_order: firmware::motor_order::MotorOrder,
     /// Also write [`TELEMETRY_FILE`] (the firmware's frames, raw) to the output directory.
     pub record_telemetry: bool,
 }
@@ -385,6 +392,7 @@ pub fn run_command(args: &PilCommandOptions) -> Result<()> {
             .unwrap_or_else(|| PathBuf::from("out").join("pil")),
         timeout: Duration::from_secs_f64(args.timeout),
         send_chunking: args.send_chunking,
+        motor_order: args.motor_order,
         record_telemetry: args.record_telemetry,
     };
     let (summary, [csv, json]) =
