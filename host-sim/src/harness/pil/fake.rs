@@ -46,6 +46,8 @@ struct FakeFirmware {
     dead: bool,
     /// Every byte received, in order.
     sent: Vec<u8>,
+    /// `controls[k]` carries rotor `slots[k]`'s throttle (the firmware's motor order).
+    slots: [usize; 4],
 }
 
 impl FakeFirmware {
@@ -61,6 +63,7 @@ impl FakeFirmware {
             fault,
             dead: false,
             sent: Vec::new(),
+            slots: [0, 1, 2, 3],
         }
     }
 
@@ -81,7 +84,9 @@ impl FakeFirmware {
         }
         let out = self.pipeline.control_tick(t);
         let mut controls = [0.0f32; 16];
-        controls[..4].copy_from_slice(&out.throttle);
+        for (c, &rotor) in controls.iter_mut().zip(&self.slots) {
+            *c = out.throttle[rotor];
+        }
         let stamp = if self.fault == Fault::WrongTime(t) {
             t + 1
         } else {
@@ -209,6 +214,34 @@ fn fly(mut setup: sil::SilSetup, fault: Fault) -> (Result<sil::SilSummary>, Vec<
     let mut records = Vec::new();
     let s = sil::fly(&setup, &boot, &b, &mut link, |r| records.push(r.clone()));
     (s, records)
+}
+
+/// Given a firmware that sends its motor outputs in Betaflight's order, when the host is told
+/// so, then the flight is the one in the vehicle file's order, record for record; told
+/// nothing, the host applies the throttles to the wrong rotors and the flight differs.
+#[test]
+fn the_host_puts_the_motor_order_back() {
+    use firmware::motor_order::MotorOrder;
+    let mut setup = scenarios::helix(1);
+    setup.duration_s = 2.0;
+    let run = |firmware_order: MotorOrder, host_order: MotorOrder| {
+        let pipeline = FlightPipeline::new(&setup.flight).unwrap();
+        let boot = pipeline.boot_report();
+        let b = pipeline.mixer().effectiveness().cast::<f64>();
+        let mut fake = FakeFirmware::new(FlightPipeline::new(&setup.flight).unwrap(), Fault::None);
+        fake.slots = firmware_order.slots(&setup.flight.rotors.rotors).unwrap();
+        let mut link = FirmwareLink::new(fake, &setup.flight, b, Duration::from_millis(1))
+            .with_motor_order(host_order)
+            .unwrap();
+        let mut records = Vec::new();
+        sil::fly(&setup, &boot, &b, &mut link, |r| records.push(r.clone())).unwrap();
+        records
+    };
+    let mixer = run(MotorOrder::Mixer, MotorOrder::Mixer);
+    let betaflight = run(MotorOrder::Betaflight, MotorOrder::Betaflight);
+    assert_eq!(format!("{mixer:?}"), format!("{betaflight:?}"));
+    let wrong = run(MotorOrder::Betaflight, MotorOrder::Mixer);
+    assert_ne!(format!("{mixer:?}"), format!("{wrong:?}"));
 }
 
 /// The `helix` scenario (the built vehicle's demo mission from an upright start 4.1 m away)
