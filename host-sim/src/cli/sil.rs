@@ -23,6 +23,14 @@ pub struct SilArgs {
     /// Output directory. Default: `./out/sil-<scenario>`. Gets timeseries.csv and summary.json.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Attach a ground station on UDP (QGroundControl's default: 127.0.0.1:14550): the
+    /// vehicle's telemetry goes there, its commands come back, the run is paced to the wall
+    /// clock.
+    #[arg(long, value_name = "ADDR")]
+    pub gcs_udp: Option<std::net::SocketAddr>,
+    /// Flight time after the hold [s] (default: the scenario's).
+    #[arg(long, value_name = "S")]
+    pub duration: Option<f64>,
 }
 
 /// Runs the SIL scenario ([`sil::run_command`]).
@@ -32,5 +40,7 @@ pub fn run(args: &SilArgs) -> Result<()> {
         seed: args.seed,
         rate_hz: args.rate_hz,
         out: args.out.clone(),
+        gcs_udp: args.gcs_udp,
+        duration_s: args.duration,
     })
 }

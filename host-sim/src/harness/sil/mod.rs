@@ -18,6 +18,7 @@
 //! in-process pipeline here, the firmware under QEMU in [`crate::harness::pil`].
 
 mod extremes;
+pub mod gcs_udp;
 mod record;
 pub mod scenario_file;
 pub mod scenarios;
@@ -177,6 +178,7 @@ pub struct InProcess {
     pipeline: FlightPipeline,
     gcs: Decoder,
     telemetry: Vec<u8>,
+    telemetry_len: usize,
 }
 
 impl InProcess {
@@ -189,7 +191,13 @@ impl InProcess {
             pipeline,
             gcs: Decoder::new(255),
             telemetry: vec![0u8; telemetry_room],
+            telemetry_len: 0,
         })
+    }
+
+    /// The telemetry bytes of the last control tick.
+    pub fn last_telemetry(&self) -> &[u8] {
+        &self.telemetry[..self.telemetry_len]
     }
 
     /// The pipeline flown (for its boot report and mixer before the flight).
@@ -212,6 +220,7 @@ impl FlightSoftware for InProcess {
     fn control_tick(&mut self, t_us: u64) -> Result<TickReport> {
         let output = self.pipeline.control_tick(t_us);
         let n = self.pipeline.telemetry(t_us, &mut self.telemetry);
+        self.telemetry_len = n;
         self.gcs.push(&self.telemetry[..n], |_| {});
         let mut events = Vec::new();
         while let Some(e) = self.pipeline.take_events() {
@@ -574,6 +583,12 @@ pub struct SilOptions {
     pub rate_hz: Option<f64>,
     /// Output directory (`None`: `./out/sil-<scenario>`); gets timeseries.csv and summary.json.
     pub out: Option<std::path::PathBuf>,
+    /// A ground station on UDP at this address ([`gcs_udp`]): telemetry to it, its frames into
+    /// the link, the run paced to the wall clock.
+    pub gcs_udp: Option<std::net::SocketAddr>,
+    /// Flight time after the hold \[s\] (`None`: the scenario's), e.g. long enough to fly it
+    /// from a ground station.
+    pub duration_s: Option<f64>,
 }
 
 /// The `sil` subcommand: runs the scenario, prints the summary, writes `timeseries.csv` and
@@ -590,7 +605,28 @@ pub fn run_command(args: &SilOptions) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| std::path::PathBuf::from("out").join(format!("sil-{}", setup.name)));
-    let (summary, [csv_path, json_path]) = record_run(&out, |observe| run(&setup, observe))?;
+    if let Some(d) = args.duration_s {
+        anyhow::ensure!(
+            d.is_finite() && d > 0.0,
+            "--duration must be a positive number of seconds, not {d}"
+        );
+        setup.duration_s = d;
+    }
+    let (summary, [csv_path, json_path]) = match args.gcs_udp {
+        None => record_run(&out, |observe| run(&setup, observe))?,
+        Some(peer) => record_run(&out, |observe| {
+            let inner = InProcess::new(&setup.flight, 1024)?;
+            let boot = inner.pipeline().boot_report();
+            let b = inner.pipeline().mixer().effectiveness().cast::<f64>();
+            let gcs = gcs_udp::GcsUdp::open(peer, true)?;
+            println!(
+                "ground station: telemetry to {peer} from {}, paced to the wall clock",
+                gcs.local_addr()?
+            );
+            let mut software = gcs_udp::WithGcs::new(inner, gcs);
+            fly(&setup, &boot, &b, &mut software, observe)
+        })?,
+    };
     print!("{}", human_summary(&summary));
     println!("Wrote {} and {}", csv_path.display(), json_path.display());
     Ok(())
