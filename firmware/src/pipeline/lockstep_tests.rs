@@ -88,6 +88,21 @@ fn pil_stream() -> Vec<u8> {
     out
 }
 
+/// Every message of type `D` in `telemetry` (unsigned MAVLink 2 frames, back to back).
+fn messages<D: MessageData>(telemetry: &[u8]) -> Vec<D> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i + 12 <= telemetry.len() {
+        let len = usize::from(telemetry[i + 1]);
+        let id = u32::from_le_bytes([telemetry[i + 7], telemetry[i + 8], telemetry[i + 9], 0]);
+        if id == D::ID {
+            out.push(D::deser(MavlinkVersion::V2, &telemetry[i + 10..i + 10 + len]).unwrap());
+        }
+        i += 12 + len;
+    }
+    out
+}
+
 /// The x500 build with a short gyro calibration, so that it arms within the stream.
 fn pipeline() -> FlightPipeline {
     let mut c = FlightConfig::built();
@@ -244,41 +259,16 @@ fn the_stream_arms_and_flies_with_lockstep_actuator_frames() {
         .collect();
     assert!(flying.windows(2).filter(|w| w[0] != w[1]).count() > 50);
     // Every actuator frame says LOCKSTEP.
-    let mut i = 0;
-    let mut actuators = 0;
-    let t = &run.telemetry;
-    while i + 12 <= t.len() {
-        let len = usize::from(t[i + 1]);
-        let id = u32::from_le_bytes([t[i + 7], t[i + 8], t[i + 9], 0]);
-        if id == HIL_ACTUATOR_CONTROLS_DATA::ID {
-            let a = HIL_ACTUATOR_CONTROLS_DATA::deser(MavlinkVersion::V2, &t[i + 10..i + 10 + len])
-                .unwrap();
-            assert_eq!(
-                a.flags,
-                HilActuatorControlsFlags::HIL_ACTUATOR_CONTROLS_FLAGS_LOCKSTEP
-            );
-            actuators += 1;
-        }
-        i += 12 + len;
-    }
-    assert_eq!(actuators, run.ticks.len());
+    let actuators: Vec<HIL_ACTUATOR_CONTROLS_DATA> = messages(&run.telemetry);
+    assert!(actuators
+        .iter()
+        .all(|a| a.flags == HilActuatorControlsFlags::HIL_ACTUATOR_CONTROLS_FLAGS_LOCKSTEP));
+    assert_eq!(actuators.len(), run.ticks.len());
     // The reference sent with each tick is the whole reference: during the helix its velocity
     // matches the change of its position between ticks (an independent finite difference),
     // and its yaw the change of yaw.
-    let mut targets = Vec::new();
-    let mut i = 0;
-    while i + 12 <= t.len() {
-        let len = usize::from(t[i + 1]);
-        let id = u32::from_le_bytes([t[i + 7], t[i + 8], t[i + 9], 0]);
-        if id == POSITION_TARGET_LOCAL_NED_DATA::ID {
-            let m =
-                POSITION_TARGET_LOCAL_NED_DATA::deser(MavlinkVersion::V2, &t[i + 10..i + 10 + len])
-                    .unwrap();
-            assert!(m.type_mask.is_empty());
-            targets.push(m);
-        }
-        i += 12 + len;
-    }
+    let targets: Vec<POSITION_TARGET_LOCAL_NED_DATA> = messages(&run.telemetry);
+    assert!(targets.iter().all(|m| m.type_mask.is_empty()));
     let helix: Vec<_> = targets
         .iter()
         .filter(|m| u64::from(m.time_boot_ms) > MISSION_MS + 20)
@@ -369,20 +359,7 @@ fn hil_outputs_in_betaflight_order() {
         &pil_stream(),
         cycle(&[128]),
     );
-    let t = &run.telemetry;
-    let mut frames = Vec::new();
-    let mut i = 0;
-    while i + 12 <= t.len() {
-        let len = usize::from(t[i + 1]);
-        let id = u32::from_le_bytes([t[i + 7], t[i + 8], t[i + 9], 0]);
-        if id == HIL_ACTUATOR_CONTROLS_DATA::ID {
-            frames.push(
-                HIL_ACTUATOR_CONTROLS_DATA::deser(MavlinkVersion::V2, &t[i + 10..i + 10 + len])
-                    .unwrap(),
-            );
-        }
-        i += 12 + len;
-    }
+    let frames: Vec<HIL_ACTUATOR_CONTROLS_DATA> = messages(&run.telemetry);
     assert_eq!(frames.len(), run.ticks.len());
     let mut distinct = 0;
     for (f, (_, out)) in frames.iter().zip(&run.ticks) {
