@@ -10,6 +10,7 @@ use embassy_sync::channel::Channel;
 use embassy_sync::pipe::Pipe;
 use embassy_sync::signal::Signal;
 
+use crate::config::FlightConfig;
 use crate::pipeline::{Event, ImuSample, MotorOutput, PipelineStatus};
 use crate::timing::WindowReport;
 
@@ -22,6 +23,9 @@ pub static LINK_RX: Pipe<CriticalSectionRawMutex, 1024> = Pipe::new();
 pub static LINK_TX: Pipe<CriticalSectionRawMutex, 1024> = Pipe::new();
 /// Pipeline events (state changes, refused commands) for the logger.
 pub static EVENTS: Channel<CriticalSectionRawMutex, Event, 16> = Channel::new();
+/// The configuration after an accepted `PARAM_SET`, for a board's parameter store task (the
+/// newest only: the store saves whole sets, so an older one pending is superseded).
+pub static PARAM_SAVE: Signal<CriticalSectionRawMutex, FlightConfig> = Signal::new();
 /// 1 Hz step-time window, for the logger.
 pub static TIMING: Signal<CriticalSectionRawMutex, WindowReport> = Signal::new();
 /// 10 Hz flight summary, for the logger.
