@@ -15,7 +15,8 @@
 //! The whole table is one item, written in one `store_item`: a power cut mid-write leaves the
 //! previous record (the new one fails its CRC) or the new one, never a mix of the two sets.
 //! Whatever fails, the vehicle flies the build's flight file and the store is erased, so the
-//! next boot does not meet the same damage.
+//! next boot does not meet the same damage. A record of the header alone ([`FlashStore::clear`])
+//! means "nothing stored": a reset to the flight file without an erase.
 
 use embedded_storage_async::nor_flash::NorFlash;
 use sequential_storage::cache::{Cache, Uncached};
@@ -39,7 +40,10 @@ const KEY: u8 = b'P';
 
 /// Record: [`FORMAT`] (u32 LE), [`TABLE_HASH`] (u32 LE), then one f32 LE per parameter in
 /// [`PARAMS`] order and units \[bytes\].
-pub const RECORD_LEN: usize = 8 + 4 * COUNT;
+pub const RECORD_LEN: usize = HEADER_LEN + 4 * COUNT;
+
+/// A record of the header alone says "nothing stored" ([`FlashStore::clear`]) \[bytes\].
+pub const HEADER_LEN: usize = 8;
 
 /// Scratch for sequential-storage: key + record, rounded up to any flash word (≤ 32 bytes).
 const BUF_LEN: usize = (1 + RECORD_LEN).div_ceil(32) * 32;
@@ -92,7 +96,7 @@ pub enum Fault {
 /// What [`FlashStore::restore`] did at boot.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Restore {
-    /// Nothing stored (blank region): the build's flight file.
+    /// Nothing stored (blank or cleared region): the build's flight file.
     Empty,
     /// The stored set was certified and is flown: `values` parameters taken.
     Restored {
@@ -132,11 +136,11 @@ impl<S: NorFlash> FlashStore<S> {
     }
 
     /// The stored values as a [`ParamStore`] (every parameter, or none: `Ok(None)` on a blank
-    /// region). Errors: [`Fault`] (never `Refused`: nothing is checked against the set-up here).
+    /// or cleared region). Errors: [`Fault`] (never `Refused`: nothing is checked against the set-up here).
     pub async fn load(&mut self) -> Result<Option<MemoryStore>, Fault> {
         let fetched = self.map.fetch_item::<&[u8]>(&mut self.buf.0, &KEY).await;
         match fetched {
-            Ok(Some(bytes)) => decode(bytes).map(Some).ok_or(Fault::OtherTable),
+            Ok(Some(bytes)) => decode(bytes),
             Ok(None) => match self.blank().await {
                 Ok(true) => Ok(None),
                 // Written, yet no intact record: every one failed its CRC.
@@ -163,8 +167,20 @@ impl<S: NorFlash> FlashStore<S> {
             .await
     }
 
-    /// Erases the whole region: the next boot flies the build's flight file
-    /// (`MAV_CMD_PREFLIGHT_STORAGE` reset, or recovery). Errors: the flash driver's.
+    /// Forgets the stored set with one record write (no erase, so it does not stall a
+    /// single-bank flash for seconds): the next boot flies the build's flight file
+    /// (`MAV_CMD_PREFLIGHT_STORAGE` reset). Errors: as [`FlashStore::save`].
+    pub async fn clear(&mut self) -> Result<(), Error<S::Error>> {
+        let mut record = [0u8; HEADER_LEN];
+        record[..4].copy_from_slice(&FORMAT.to_le_bytes());
+        record[4..].copy_from_slice(&TABLE_HASH.to_le_bytes());
+        self.map
+            .store_item(&mut self.buf.0, &KEY, &&record[..])
+            .await
+    }
+
+    /// Erases the whole region (recovery at boot; a sector erase may take seconds): the next
+    /// boot flies the build's flight file. Errors: the flash driver's.
     pub async fn erase(&mut self) -> Result<(), Error<S::Error>> {
         self.map.erase_all().await
     }
@@ -211,21 +227,28 @@ impl<S: NorFlash> FlashStore<S> {
     }
 }
 
-/// The values of a record of this build's layout and table, or `None`.
-fn decode(bytes: &[u8]) -> Option<MemoryStore> {
-    if bytes.len() != RECORD_LEN {
-        return None;
-    }
+/// The values of a record of this build's layout and table (`None`: a cleared store).
+/// Errors: [`Fault::OtherTable`].
+fn decode(bytes: &[u8]) -> Result<Option<MemoryStore>, Fault> {
     let word = |at: usize| -> Option<[u8; 4]> { bytes.get(at..at + 4)?.try_into().ok() };
-    if u32::from_le_bytes(word(0)?) != FORMAT || u32::from_le_bytes(word(4)?) != TABLE_HASH {
-        return None;
+    let header = |at| word(at).map(u32::from_le_bytes);
+    if header(0) != Some(FORMAT) || header(4) != Some(TABLE_HASH) {
+        return Err(Fault::OtherTable);
+    }
+    match bytes.len() {
+        HEADER_LEN => return Ok(None),
+        RECORD_LEN => {}
+        _ => return Err(Fault::OtherTable),
     }
     let mut store = MemoryStore::new();
     for i in 0..COUNT {
+        let v = word(HEADER_LEN + 4 * i).ok_or(Fault::OtherTable)?;
         // Range and finiteness are the pipeline's to check: it names the parameter refused.
-        store.store(i, f32::from_le_bytes(word(8 + 4 * i)?)).ok()?;
+        store
+            .store(i, f32::from_le_bytes(v))
+            .map_err(|_| Fault::OtherTable)?;
     }
-    Some(store)
+    Ok(Some(store))
 }
 
 #[cfg(test)]

@@ -254,3 +254,43 @@ fn a_power_cut_at_any_byte_of_a_save_restarts_on_a_whole_certified_set() {
     assert!(old_seen > 0 && new_seen > 0);
     assert!(erases_cut > 0, "no save erased a page: fill more");
 }
+
+/// Given a saved tuned set, when the store is cleared (the reset of `MAV_CMD_PREFLIGHT_STORAGE`,
+/// one record, no erase), then the restart flies the flight file and reports nothing stored;
+/// with the power cut at any byte of the clear, the restart flies the tuned set or the flight
+/// file, and a later save is restored.
+#[test]
+fn a_cleared_store_restarts_on_the_flight_file() {
+    let a = tuned(0.8 * kf_built());
+    let saved = save(blank(), a.config());
+    let mut n = 0;
+    loop {
+        let mut flash = saved.clone();
+        flash.bytes_until_shutoff = Some(n);
+        let stats = flash.stats_snapshot();
+        let mut s = store(flash);
+        let done = block_on(s.clear()).is_ok();
+        let mut flash = s.into_flash();
+        assert_eq!(stats.compare_to(flash.stats_snapshot()).erases, 0);
+        flash.bytes_until_shutoff = None;
+        let (p, r, flash) = boot(flash);
+        match r {
+            Restore::Restored { .. } => {
+                assert!(!done);
+                assert_eq!(p.config(), a.config(), "cut at {n}");
+            }
+            Restore::Empty => assert_eq!(*p.config(), FlightConfig::built(), "cut at {n}"),
+            Restore::Defaults { .. } => panic!("cut at {n}: {r:?}"),
+        }
+        assert!(certified(&p));
+        assert_eq!(
+            boot(save(flash, a.config())).1,
+            Restore::Restored { values: COUNT }
+        );
+        if done {
+            assert_eq!(r, Restore::Empty);
+            break;
+        }
+        n += 1;
+    }
+}

@@ -13,8 +13,8 @@ use cortex_m::peripheral::DWT;
 use embassy_time::{Duration, Instant, Timer};
 
 use super::queues::{
-    count, try_write_all, Summary, EVENTS, IMU_SAMPLES, IO, LINK_RX, LINK_TX, PARAM_SAVE, SUMMARY,
-    TIMING,
+    count, try_write_all, ParamSave, Summary, EVENTS, IMU_SAMPLES, IO, LINK_RX, LINK_TX,
+    PARAM_SAVE, SUMMARY, TIMING,
 };
 #[cfg(feature = "hil")]
 use crate::pipeline::lockstep::Lockstep;
@@ -113,8 +113,10 @@ pub async fn run(
         let frames = motors.prepare(&output);
         while let Some(event) = pipeline.take_events() {
             // The flash write is a store task's, outside the step; it needs the whole set.
-            if matches!(event, Event::ParamChanged { .. }) {
-                PARAM_SAVE.signal(*pipeline.config());
+            match event {
+                Event::ParamChanged { .. } => PARAM_SAVE.signal(ParamSave::Set(*pipeline.config())),
+                Event::ParamsReset => PARAM_SAVE.signal(ParamSave::Clear),
+                _ => {}
             }
             if EVENTS.try_send(event).is_err() {
                 count(&IO.events_dropped, 1);

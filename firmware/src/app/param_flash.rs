@@ -6,7 +6,7 @@ use defmt::{info, warn};
 use embedded_storage_async::nor_flash::NorFlash;
 
 use super::boot_log;
-use super::queues::PARAM_SAVE;
+use super::queues::{ParamSave, PARAM_SAVE};
 use crate::flash_store::{Fault, FlashStore, Restore};
 use crate::pipeline::FlightPipeline;
 
@@ -39,15 +39,20 @@ pub fn restore<S: NorFlash>(store: &mut FlashStore<S>, pipeline: &mut FlightPipe
     }
 }
 
-/// Saves every accepted parameter set (the newest, [`PARAM_SAVE`]) to `store`. Thread mode,
-/// lowest priority: the control task only signals. A failed save is logged; the set in force
-/// is unchanged and the next accepted one is saved again.
+/// Saves every accepted parameter set, or clears the store on a reset (the newest request,
+/// [`PARAM_SAVE`]). Thread mode, lowest priority: the control task only signals. A failure is
+/// logged; the set in force is unchanged and the next request is tried again.
 pub async fn run<S: NorFlash>(mut store: FlashStore<S>) -> ! {
     loop {
-        let config = PARAM_SAVE.wait().await;
-        match store.save(&config).await {
-            Ok(()) => info!("params: saved to flash"),
-            Err(_) => warn!("params: save to flash failed; a reset flies the previous set"),
+        match PARAM_SAVE.wait().await {
+            ParamSave::Set(config) => match store.save(&config).await {
+                Ok(()) => info!("params: saved to flash"),
+                Err(_) => warn!("params: save to flash failed; a reset flies the previous set"),
+            },
+            ParamSave::Clear => match store.clear().await {
+                Ok(()) => info!("params: store cleared; a reset flies the flight file"),
+                Err(_) => warn!("params: clear failed; a reset restores the stored set"),
+            },
         }
     }
 }
