@@ -136,7 +136,8 @@ impl<S: NorFlash> FlashStore<S> {
     }
 
     /// The stored values as a [`ParamStore`] (every parameter, or none: `Ok(None)` on a blank
-    /// or cleared region). Errors: [`Fault`] (never `Refused`: nothing is checked against the set-up here).
+    /// or cleared region). Errors: [`Fault`] (never `Refused`: nothing is checked against the
+    /// set-up here).
     pub async fn load(&mut self) -> Result<Option<MemoryStore>, Fault> {
         let fetched = self.map.fetch_item::<&[u8]>(&mut self.buf.0, &KEY).await;
         match fetched {

@@ -8,7 +8,7 @@ use embedded_storage_async::nor_flash::NorFlash;
 use super::boot_log;
 use super::queues::{ParamSave, PARAM_SAVE};
 use crate::flash_store::{Fault, FlashStore, Restore};
-use crate::pipeline::FlightPipeline;
+use crate::pipeline::{FlightPipeline, ParamRefusal, RestoreError};
 
 /// Restores `pipeline` (disarmed, at boot) from `store` and logs the outcome; a restored set's
 /// boot report (certificate, box fit) is logged again, since it replaces the banner's.
@@ -29,7 +29,13 @@ pub fn restore<S: NorFlash>(store: &mut FlashStore<S>, pipeline: &mut FlightPipe
                 Fault::Unreadable => "flash error",
                 Fault::Corrupt => "corrupted",
                 Fault::OtherTable => "another build's table",
-                Fault::Refused(e) => e.name.unwrap_or("set-up not certified"),
+                // The parameter refused on its own, or the failed condition.
+                Fault::Refused(RestoreError { name: Some(n), .. }) => n,
+                Fault::Refused(RestoreError {
+                    refusal: ParamRefusal::Condition(f),
+                    ..
+                }) => f.condition,
+                Fault::Refused(_) => "refused",
             };
             warn!(
                 "params: stored set refused ({=str}), flying the flight file; store erased: {=bool}",
