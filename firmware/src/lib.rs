@@ -3,7 +3,8 @@
 //! and the flight logic: [`pipeline::FlightPipeline`] composes [`config`], [`frames`] (NED/FRD ↔
 //! NWU/FLU), [`link`] (MAVLink 2: framing, checksum, signing), [`estimator`], [`imu_attitude`], [`flight_reference`],
 //! [`mixer`] and [`safety`]; [`params`] is the table of parameters a ground station may tune
-//! (MAVLink parameter protocol, each change certified); host-sim flies the same pipeline in
+//! (MAVLink parameter protocol, each change certified), persisted on NOR flash by
+//! [`flash_store`] and restored at boot only if still certified; host-sim flies the same pipeline in
 //! software in the loop.
 //!
 //! On the MCU only, [`app`] is the board-independent task layer (control loop, queues, logger,
@@ -40,6 +41,7 @@ pub mod config;
 pub mod control_rate;
 pub mod drivers;
 pub mod estimator;
+pub mod flash_store;
 pub mod flight_reference;
 #[cfg(feature = "vehicle-file")]
 pub mod flight_tables;

@@ -1,6 +1,7 @@
-//! Where tuned parameters would survive a reset: the [`ParamStore`] interface, an in-memory
-//! implementation ([`MemoryStore`]) and [`save`]. There is no flash driver yet: the boards do
-//! not persist anything, and a reset flies the build's flight file.
+//! What [`crate::pipeline::FlightPipeline::restore_params`] restores from: the [`ParamStore`]
+//! interface, an in-memory implementation ([`MemoryStore`]) and [`save`]. On flash,
+//! [`crate::flash_store::FlashStore`] keeps the whole table as one record and decodes it into
+//! a [`MemoryStore`].
 //!
 //! Stored values are never trusted: [`crate::pipeline::FlightPipeline::restore_params`] applies
 //! them all at once to a candidate set-up and takes it only if it passes the checks of a
@@ -24,8 +25,7 @@ pub trait ParamStore {
     fn store(&mut self, index: usize, value: f32) -> Result<(), Self::Error>;
 }
 
-/// A [`ParamStore`] in RAM (tests, and boards until a flash one exists): one slot per
-/// parameter.
+/// A [`ParamStore`] in RAM (tests, and a flash record once decoded): one slot per parameter.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MemoryStore {
     values: [Option<f32>; COUNT],

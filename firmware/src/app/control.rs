@@ -13,11 +13,12 @@ use cortex_m::peripheral::DWT;
 use embassy_time::{Duration, Instant, Timer};
 
 use super::queues::{
-    count, try_write_all, Summary, EVENTS, IMU_SAMPLES, IO, LINK_RX, LINK_TX, SUMMARY, TIMING,
+    count, try_write_all, ParamSave, Summary, EVENTS, IMU_SAMPLES, IO, LINK_RX, LINK_TX,
+    PARAM_SAVE, SUMMARY, TIMING,
 };
 #[cfg(feature = "hil")]
 use crate::pipeline::lockstep::Lockstep;
-use crate::pipeline::{FlightPipeline, MotorOutput};
+use crate::pipeline::{Event, FlightPipeline, MotorOutput};
 use crate::timing::{self, StepStats};
 
 /// One control instant.
@@ -111,6 +112,12 @@ pub async fn run(
         let output = pipeline.control_tick(now_us);
         let frames = motors.prepare(&output);
         while let Some(event) = pipeline.take_events() {
+            // The flash write is a store task's, outside the step; it needs the whole set.
+            match event {
+                Event::ParamChanged { .. } => PARAM_SAVE.signal(ParamSave::Set(*pipeline.config())),
+                Event::ParamsReset => PARAM_SAVE.signal(ParamSave::Clear),
+                _ => {}
+            }
             if EVENTS.try_send(event).is_err() {
                 count(&IO.events_dropped, 1);
             }

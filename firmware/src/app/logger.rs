@@ -96,6 +96,7 @@ fn log_event(event: &Event) {
         Event::ParamChanged { name, value } => {
             info!("event: parameter {=str} = {=f32} (certified)", name, value)
         }
+        Event::ParamsReset => info!("event: parameters reset to the flight file"),
         Event::NonFinite { source } => warn!("event: non-finite value in {=str}", source),
     }
 }

@@ -8,7 +8,9 @@
 //!   [`control::Watchdog`];
 //! - [`queues`]: the fixed-size queues between the control task and the I/O tasks;
 //! - [`logger`]: the defmt log task (events, 1 Hz timing and counters, 10 Hz flight summary);
-//! - [`boot_log`]: the boot banner (set-up, certificate, mixer fit).
+//! - [`boot_log`]: the boot banner (set-up, certificate, mixer fit);
+//! - [`param_flash`]: restoring the parameters from a board's flash at boot and saving them
+//!   after each accepted `PARAM_SET` ([`crate::flash_store`]).
 //!
 //! Built for the MCU only (`target_os = "none"`): it needs embassy and defmt. Its logic (the
 //! pipeline, the timing statistics, the reports) lives in the host-tested modules it calls.
@@ -16,4 +18,5 @@
 pub mod boot_log;
 pub mod control;
 pub mod logger;
+pub mod param_flash;
 pub mod queues;

@@ -10,6 +10,7 @@ use embassy_sync::channel::Channel;
 use embassy_sync::pipe::Pipe;
 use embassy_sync::signal::Signal;
 
+use crate::config::FlightConfig;
 use crate::pipeline::{Event, ImuSample, MotorOutput, PipelineStatus};
 use crate::timing::WindowReport;
 
@@ -22,6 +23,20 @@ pub static LINK_RX: Pipe<CriticalSectionRawMutex, 1024> = Pipe::new();
 pub static LINK_TX: Pipe<CriticalSectionRawMutex, 1024> = Pipe::new();
 /// Pipeline events (state changes, refused commands) for the logger.
 pub static EVENTS: Channel<CriticalSectionRawMutex, Event, 16> = Channel::new();
+/// What a board's parameter store task should do (the newest request only: each one is about
+/// the whole set, so an older one pending is superseded).
+pub static PARAM_SAVE: Signal<CriticalSectionRawMutex, ParamSave> = Signal::new();
+
+/// A request to a board's parameter store.
+// No allocation to box into, and the signal holds one value of the enum's size either way.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Copy)]
+pub enum ParamSave {
+    /// Save this configuration (after an accepted `PARAM_SET`).
+    Set(FlightConfig),
+    /// Forget the stored parameters (`MAV_CMD_PREFLIGHT_STORAGE` reset).
+    Clear,
+}
 /// 1 Hz step-time window, for the logger.
 pub static TIMING: Signal<CriticalSectionRawMutex, WindowReport> = Signal::new();
 /// 10 Hz flight summary, for the logger.

@@ -267,6 +267,9 @@ fn command(mav_cmd: MavCmd, p: [f32; 5], sender: Sender) -> Interpretation {
             },
             _ => return fault(CommandFault::BadParameter),
         },
+        // 2: reset the parameters to the build's. Reading (0) and writing (1) are not
+        // commands here: every accepted PARAM_SET is saved, and stored values load at boot.
+        MavCmd::MAV_CMD_PREFLIGHT_STORAGE if p1 == 2.0 => Command::ResetParams,
         _ => return fault(CommandFault::Unsupported),
     };
     Interpretation::Accepted(Inbound::Command {

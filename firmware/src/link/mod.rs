@@ -122,6 +122,9 @@ pub enum Command {
         /// Interval \[µs\] as sent (-1: stop, 0: default, > 0: the period).
         interval_us: f32,
     },
+    /// `MAV_CMD_PREFLIGHT_STORAGE` with param1 = 2: back to the build's flight file (the
+    /// set-up the pipeline was built with), stored parameters forgotten. Only while disarmed.
+    ResetParams,
 }
 
 impl Command {
@@ -137,6 +140,7 @@ impl Command {
             Self::RequestMessage { .. } => "request_message",
             Self::SetMessageInterval { .. } => "set_message_interval",
             Self::SetMode { .. } => "set_mode",
+            Self::ResetParams => "reset_params",
         }
     }
 }

@@ -383,6 +383,7 @@ impl FlightPipeline {
             Command::SetMessageInterval { id, interval_us } => self
                 .set_message_interval(id, interval_us)
                 .map_err(Self::simple),
+            Command::ResetParams => self.reset_params().map_err(Self::simple),
             Command::StartHelix => {
                 if state != FlightState::Armed {
                     return Err(Self::simple("not armed"));

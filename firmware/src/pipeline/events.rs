@@ -74,6 +74,9 @@ pub enum Event {
         /// The new value.
         value: f32,
     },
+    /// `MAV_CMD_PREFLIGHT_STORAGE` reset: the build's flight file is flown again, and a board's
+    /// store should forget the saved parameters.
+    ParamsReset,
     /// A non-finite value was found (and counted).
     NonFinite {
         /// Where.

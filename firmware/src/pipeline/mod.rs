@@ -39,6 +39,8 @@ mod param_text;
 mod params;
 pub mod schedule;
 mod status_messages;
+#[cfg(test)]
+mod storage_command_tests;
 mod telemetry;
 #[cfg(test)]
 mod tests;
@@ -134,6 +136,8 @@ pub struct BootReport {
 /// The flight pipeline.
 pub struct FlightPipeline {
     cfg: FlightConfig,
+    /// The set-up the pipeline was built with: what `MAV_CMD_PREFLIGHT_STORAGE` resets to.
+    built: FlightConfig,
     mixer: Mixer,
     report: BootReport,
     table: SupTable,
@@ -248,6 +252,7 @@ impl FlightPipeline {
         });
         Ok(Self {
             cfg,
+            built: cfg,
             mixer,
             report,
             table,

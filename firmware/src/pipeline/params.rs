@@ -206,6 +206,21 @@ impl FlightPipeline {
         Ok(restored)
     }
 
+    /// `MAV_CMD_PREFLIGHT_STORAGE` reset, while disarmed: flies the set-up the pipeline was built
+    /// with (which boot accepted) and emits [`Event::ParamsReset`] for the store. Errors: why
+    /// not (armed; the built set-up no longer certifies, which cannot happen: same checks).
+    pub(super) fn reset_params(&mut self) -> Result<(), &'static str> {
+        if self.supervisor.state() != FlightState::Disarmed {
+            return Err("disarm first");
+        }
+        let built = self.built;
+        let report =
+            certify_setup(&built, &self.mixer).map_err(|_| "built set-up not certified")?;
+        self.take_candidate(built, report);
+        self.event(Event::ParamsReset);
+        Ok(())
+    }
+
     /// The checks every parameter change runs on the whole candidate set-up: the orderings
     /// ([`params::consistency`]), then boot's [`certify_setup`] and its gate. Returns the
     /// candidate's boot report.

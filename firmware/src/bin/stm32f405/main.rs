@@ -13,7 +13,10 @@
 //! - **link_rx** / **link_tx** (thread mode): MAVLink bytes between USART1 (DMA, circular on
 //!   receive) and the control task;
 //! - **logger** (thread mode): state changes and refused commands, 1 Hz timing, 10 Hz flight
-//!   summary, link counters, all as defmt over RTT.
+//!   summary, link counters, all as defmt over RTT;
+//! - **param_store** (thread mode): saves the parameters to flash after each accepted
+//!   `PARAM_SET` (`param_flash.rs`: the last two sectors); they are restored at boot, before
+//!   the control task starts, if still certified.
 //!
 //! The control task owns the pipeline outright: the other tasks only exchange plain values
 //! with it through fixed-size `embassy-sync` queues guarded by short critical sections, so no
@@ -45,6 +48,8 @@ fn main() {
 mod clocks;
 #[cfg(target_os = "none")]
 mod motors;
+#[cfg(target_os = "none")]
+mod param_flash;
 #[cfg_attr(not(target_os = "none"), allow(dead_code))]
 mod pins;
 
@@ -73,7 +78,7 @@ mod mcu {
     use embassy_time::{Delay, Duration, Instant, Timer};
     use firmware::app::control::{self, DeadlineClock, MotorSink, Watchdog};
     use firmware::app::queues::{count, link_received, IMU_SAMPLES, IO, LINK_TX};
-    use firmware::app::{boot_log, logger};
+    use firmware::app::{boot_log, logger, param_flash as params};
     use firmware::config::FlightConfig;
     use firmware::drivers::icm42688::{self, Icm42688};
     use firmware::pipeline::{FlightPipeline, ImuSample, MotorOutput};
@@ -81,6 +86,7 @@ mod mcu {
 
     use crate::clocks::{self, Reported, PLAN};
     use crate::motors::Motors;
+    use crate::param_flash::{self, Store};
     use crate::pins::{self, hw};
 
     // ---------------------------------------------------------------------------------------
@@ -317,10 +323,19 @@ mod mcu {
     }
 
     // ---------------------------------------------------------------------------------------
+    // Parameters: saved to flash after each accepted PARAM_SET, thread mode.
+
+    #[embassy_executor::task]
+    async fn param_store(store: Store) {
+        params::run(store).await
+    }
+
+    // ---------------------------------------------------------------------------------------
     // Boot.
 
-    /// Builds the pipeline (logging the set-up, certificate and mixer fit) and starts the control
-    /// task on the interrupt executor, or gives the motors back if the configuration is
+    /// Builds the pipeline (logging the set-up, certificate and mixer fit), restores the
+    /// parameters stored in `store` if they are still certified, and starts the control task on
+    /// the interrupt executor, or gives the motors back if the configuration is
     /// refused. Not `async` on purpose: the pipeline (several KiB) then never lives in `main`'s
     /// future, only in the control task's.
     // Called once at boot; moving the motors back out on refusal is the point.
@@ -329,10 +344,14 @@ mod mcu {
         config: &FlightConfig,
         motors: Motors,
         iwdg: Peri<'static, IWDG>,
+        store: Option<&mut Store>,
     ) -> Result<(), Motors> {
-        let Some(pipeline) = boot_log::build_pipeline(config) else {
+        let Some(mut pipeline) = boot_log::build_pipeline(config) else {
             return Err(motors);
         };
+        if let Some(store) = store {
+            params::restore(store, &mut pipeline);
+        }
         let period = Duration::from_micros(config.control_rate.period_us());
         // Control on the interrupt executor, above everything in thread mode.
         hw::CONTROL_IRQ.set_priority(Priority::P1);
@@ -369,8 +388,12 @@ mod mcu {
         let mut motors = Motors::new(b.motors, pins::MOTOR_PROTOCOL);
         motors.stop().await;
 
+        let mut store = param_flash::open(b.flash);
+        if store.is_none() {
+            error!("params: no flash store; parameters are not persisted");
+        }
         let config = FlightConfig::built();
-        if let Err(_motors) = start_control(&config, motors, b.iwdg) {
+        if let Err(_motors) = start_control(&config, motors, b.iwdg, store.as_mut()) {
             // `_motors` stays alive and keeps the outputs at stop (DShot: no frame, line low;
             // PWM: 1000 us).
             error!("motors held at zero; not flying");
@@ -416,6 +439,9 @@ mod mcu {
         spawner.spawn(unwrap!(link_rx(rx)));
         spawner.spawn(unwrap!(link_tx(tx)));
         spawner.spawn(unwrap!(logger::logger(CORE_HZ)));
+        if let Some(store) = store {
+            spawner.spawn(unwrap!(param_store(store)));
+        }
 
         // Heartbeat LED: 1 Hz blink while the firmware runs.
         loop {

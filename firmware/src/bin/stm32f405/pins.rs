@@ -121,15 +121,15 @@ pub fn to_motor_outputs<T: Copy + Default>(mixer: [T; 4]) -> [T; 4] {
 pub mod hw {
     use embassy_stm32::gpio::OutputType;
     use embassy_stm32::peripherals::{
-        DMA1_CH2, DMA1_CH6, DMA2_CH0, DMA2_CH3, DMA2_CH5, DMA2_CH7, EXTI4, IWDG, PA10, PA4, PA5,
-        PA6, PA7, PA9, PB0, PB1, PB6, PB7, PC13, PC4, SPI1, TIM3, TIM4, USART1,
+        DMA1_CH2, DMA1_CH6, DMA2_CH0, DMA2_CH3, DMA2_CH5, DMA2_CH7, EXTI4, FLASH, IWDG, PA10, PA4,
+        PA5, PA6, PA7, PA9, PB0, PB1, PB6, PB7, PC13, PC4, SPI1, TIM3, TIM4, USART1,
     };
     use embassy_stm32::spi;
     use embassy_stm32::time::Hertz;
     use embassy_stm32::timer::low_level::CountingMode;
     use embassy_stm32::timer::simple_pwm::{PwmPin, SimplePwm};
     use embassy_stm32::timer::Channel;
-    use embassy_stm32::{bind_interrupts, dma, exti, interrupt, usart, Peri, Peripherals};
+    use embassy_stm32::{bind_interrupts, dma, exti, flash, interrupt, usart, Peri, Peripherals};
 
     bind_interrupts!(
         /// Interrupt bindings of the drivers the board uses.
@@ -142,6 +142,7 @@ pub mod hw {
             DMA1_STREAM2 => dma::InterruptHandler<DMA1_CH2>;
             DMA1_STREAM6 => dma::InterruptHandler<DMA1_CH6>;
             EXTI4 => exti::InterruptHandler<interrupt::typelevel::EXTI4>;
+            FLASH => flash::InterruptHandler;
         }
     );
 
@@ -248,6 +249,7 @@ pub mod hw {
         pub motors: Motors,
         pub led: Peri<'static, PC13>,
         pub iwdg: Peri<'static, IWDG>,
+        pub flash: Peri<'static, FLASH>,
     }
 
     /// Takes the board's resources out of the HAL's peripherals.
@@ -283,6 +285,7 @@ pub mod hw {
             },
             led: p.PC13,
             iwdg: p.IWDG,
+            flash: p.FLASH,
         }
     }
 }
