@@ -175,9 +175,10 @@ pub struct FlightPipeline {
     /// `HIL_ACTUATOR_CONTROLS.controls[k]` carries rotor `motor_slots[k]`'s throttle.
     #[cfg(feature = "hil")]
     motor_slots: [usize; 4],
-    /// The reference's velocity \[m/s\], acceleration \[m/s²\] (NWU), yaw \[rad\] and yaw rate
-    /// \[rad/s\] (about z up) at the last flown tick (`POSITION_TARGET_LOCAL_NED`).
-    status_reference_motion: ([f32; 3], [f32; 3], [f32; 2]),
+    /// The reference's velocity \[m/s\], acceleration \[m/s²\] (NWU), heading (cos ψ, sin ψ)
+    /// and its rate \[1/s\] at the last flown tick (`POSITION_TARGET_LOCAL_NED`; the yaw is
+    /// computed when that is sent, outside the control step).
+    status_reference_motion: ([f32; 3], [f32; 3], [f32; 2], [f32; 2]),
     status_error: f32,
     status_pose_age: u64,
     was_calibrating: bool,
@@ -298,7 +299,7 @@ impl FlightPipeline {
             status_reference: [0.0; 3],
             #[cfg(feature = "hil")]
             motor_slots,
-            status_reference_motion: ([0.0; 3], [0.0; 3], [0.0; 2]),
+            status_reference_motion: ([0.0; 3], [0.0; 3], [1.0, 0.0], [0.0; 2]),
             status_error: 0.0,
             status_pose_age: u64::MAX,
             was_calibrating: true,
@@ -583,12 +584,11 @@ impl FlightPipeline {
             reference.position.y,
             reference.position.z,
         ];
-        // The heading is a unit vector (cos ψ, sin ψ): ψ̇ = h × ḣ.
-        let (h, hd) = (reference.heading, reference.heading_rate);
         self.status_reference_motion = (
             reference.velocity.into(),
             reference.acceleration.into(),
-            [libm::atan2f(h.y, h.x), h.x * hd.y - h.y * hd.x],
+            reference.heading.into(),
+            reference.heading_rate.into(),
         );
         self.status_error = norm(&(e.position - reference.position));
         let target = self.reference.filter().target().0;

@@ -201,7 +201,9 @@ impl FlightPipeline {
             },
         };
         let r = frames::flip_to_array(&Vector3::from(self.status_reference));
-        let (v, a, [yaw, yaw_rate]) = self.status_reference_motion;
+        let (v, a, [hx, hy], [hx_dot, hy_dot]) = self.status_reference_motion;
+        // The heading is a unit vector (cos ψ, sin ψ): ψ = atan2(sin, cos), ψ̇ = h × ḣ.
+        let (yaw, yaw_rate) = (libm::atan2f(hy, hx), hx * hy_dot - hy * hx_dot);
         let v = frames::flip_to_array(&Vector3::from(v));
         let a = frames::flip_to_array(&Vector3::from(a));
         // Every field is the reference's (the mask ignores none): position, velocity,
@@ -237,20 +239,27 @@ impl FlightPipeline {
     /// Encodes `m` into `out` with the next sequence number, signed when the link has a key;
     /// 0 (and the number unused) if it does not fit.
     pub(super) fn put<D: mavlink::MessageData>(&mut self, m: &D, out: &mut [u8]) -> usize {
-        let mut frame = [0u8; link::MAX_FRAME];
-        let k = link::encode_data(
-            m,
-            self.cfg.system_id,
-            self.cfg.component_id,
-            self.sequence,
-            &mut frame,
-        );
-        let k = self.decoder.sign(&mut frame, k);
-        if k == 0 || k > out.len() {
-            return 0;
+        let (system, component, sequence) =
+            (self.cfg.system_id, self.cfg.component_id, self.sequence);
+        let k = if self.decoder.signing_active() {
+            // Signed: built in a scratch frame, so that no room for the signature leaves
+            // nothing half-written in `out`.
+            let mut frame = [0u8; link::MAX_FRAME];
+            let k = link::encode_data(m, system, component, sequence, &mut frame);
+            match self.decoder.sign(&mut frame, k) {
+                k if k > 0 && k <= out.len() => {
+                    out[..k].copy_from_slice(&frame[..k]);
+                    k
+                }
+                _ => 0,
+            }
+        } else {
+            // Unsigned (the common case, inside the timed control step): straight into `out`.
+            link::encode_data(m, system, component, sequence, out)
+        };
+        if k > 0 {
+            self.sequence = self.sequence.wrapping_add(1);
         }
-        out[..k].copy_from_slice(&frame[..k]);
-        self.sequence = self.sequence.wrapping_add(1);
         k
     }
 
