@@ -175,12 +175,12 @@ def main():
         (1_300_000, "SETUP_SIGNING",
          lambda: gcs.setup_signing_encode(VEHICLE_SYSTEM, VEHICLE_COMPONENT, KEY,
                                           1_000_000).pack(gcs)),
-        (1_400_000, "unsigned disarm with signing on",
-         lambda: command_long(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)),
-        (1_410_000, "disarm signed with another key",
-         lambda: command_long(forger, C.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)),
-        (1_420_000, "disarm signed with the key",
-         lambda: command_long(signed, C.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)),
+        (1_400_000, "unsigned arm with signing on",
+         lambda: command_long(gcs, C.MAV_CMD_COMPONENT_ARM_DISARM, 1.0)),
+        (1_410_000, "arm signed with another key",
+         lambda: command_long(forger, C.MAV_CMD_COMPONENT_ARM_DISARM, 1.0)),
+        (1_420_000, "arm signed with the key",
+         lambda: command_long(signed, C.MAV_CMD_COMPONENT_ARM_DISARM, 1.0)),
         (1_430_000, "unsigned PARAM_SET with signing on", lambda: param_set("POS_KF", 1.0)),
     ]
     events = {}
@@ -304,7 +304,8 @@ def main():
     one_ack("REQUEST_MESSAGE HOME_POSITION", 180_000, C.MAV_CMD_REQUEST_MESSAGE,
             C.MAV_RESULT_ACCEPTED)
     homes = [t for t, m in received if m.get_type() == "HOME_POSITION"]
-    check(len(homes) == 1 and 180_000 <= homes[0] < 200_000, f"one HOME_POSITION ({homes})")
+    check(homes == [180_000, 1_420_000],
+          f"HOME_POSITION on request and at the arming, nothing else ({homes})")
     status = [m for _, m in received if m.get_type() == "SYS_STATUS"]
     check(len(status) == 2 and all(
         m.onboard_control_sensors_present & C.MAV_SYS_STATUS_SENSOR_3D_GYRO for m in status)
@@ -339,10 +340,14 @@ def main():
     check(not late, f"unsigned PARAM_SET with signing on: not answered ({len(late)})")
     one_ack("disarm, signing off", 1_200_000, C.MAV_CMD_COMPONENT_ARM_DISARM,
             C.MAV_RESULT_ACCEPTED)
-    no_ack("unsigned disarm with signing on", 1_400_000)
-    no_ack("disarm signed with another key", 1_410_000)
-    one_ack("disarm signed with the key", 1_420_000, C.MAV_CMD_COMPONENT_ARM_DISARM,
+    no_ack("unsigned arm with signing on", 1_400_000)
+    no_ack("arm signed with another key", 1_410_000)
+    one_ack("arm signed with the key", 1_420_000, C.MAV_CMD_COMPONENT_ARM_DISARM,
             C.MAV_RESULT_ACCEPTED)
+    act = [m for t, m in received if m.get_type() == "HIL_ACTUATOR_CONTROLS"]
+    check(all(not (m.mode & C.MAV_MODE_FLAG_SAFETY_ARMED) for m in act if m.time_usec < 1_420_000)
+          and all(m.mode & C.MAV_MODE_FLAG_SAFETY_ARMED for m in act if m.time_usec >= 1_430_000),
+          "disarmed until the signed arm, armed after it (actuator frames)")
     after = [m for t, m in received if t >= 1_320_000]
     check(after and all(m.get_signed() for m in after) and rx.signing.badsig_count == 0
           and not unsigned_after_signed,
