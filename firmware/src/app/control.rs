@@ -153,11 +153,15 @@ pub async fn run(
         }
         busy_us = busy_us.saturating_add(step_us);
         if stats.window_steps() >= ticks_per_second {
-            // SYS_STATUS.load: the steps' share of the window's periods [per mille].
-            let window_us = u64::from(stats.window_steps())
-                .saturating_mul(period_us)
-                .max(1);
-            pipeline.report_load((busy_us.saturating_mul(1000) / window_us).min(1000) as u16);
+            // SYS_STATUS.load: the steps' share of the window's periods [per mille]. Not in
+            // lockstep: there a step's duration depends on the host (UART interrupts arrive in
+            // real time), and the telemetry must be a function of the byte stream alone.
+            if !clock.reads_link() {
+                let window_us = u64::from(stats.window_steps())
+                    .saturating_mul(period_us)
+                    .max(1);
+                pipeline.report_load((busy_us.saturating_mul(1000) / window_us).min(1000) as u16);
+            }
             busy_us = 0;
             TIMING.signal(stats.take_window());
         }

@@ -37,7 +37,8 @@ impl FlightPipeline {
     /// and the motor outputs; enabled: the sensors always, the loops and motors when armed;
     /// healthy: IMU once calibrated, pose while fresh (younger than the failsafe age), loops
     /// and motors unless in failsafe. `load`: the control step's share of its period
-    /// \[per mille\] as the control loop last reported it ([`FlightPipeline::report_load`]).
+    /// \[per mille\] as the control loop last reported it ([`FlightPipeline::report_load`]; 0 in
+    /// the processor-in-the-loop build, whose step durations depend on the host).
     /// No battery is measured (voltage `u16::MAX`, current and remaining −1: unknown).
     pub(super) fn sys_status(&self) -> SYS_STATUS_DATA {
         use MavSysStatusSensor as S;
