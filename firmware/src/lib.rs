@@ -40,6 +40,7 @@ pub mod built_flight;
 pub mod config;
 pub mod control_rate;
 pub mod drivers;
+pub mod erase_watchdog;
 pub mod estimator;
 pub mod flash_store;
 pub mod flight_reference;

@@ -57,6 +57,10 @@ pub enum ArmRefusal {
     InvertedNotAllowed,
     /// The reference at arming is refused by the certificate.
     ReferenceRefused,
+    /// A parameter save to flash is pending or under way: a sector erase stalls the CPU (and
+    /// the control loop) for up to seconds on a single-bank flash, which only a disarmed vehicle
+    /// can afford.
+    SavingParameters,
 }
 
 impl ArmRefusal {
@@ -71,6 +75,7 @@ impl ArmRefusal {
             Self::NotUpright => "not upright (use the inverted-arm flag)",
             Self::InvertedNotAllowed => "inverted arming disabled",
             Self::ReferenceRefused => "reference refused by the certificate",
+            Self::SavingParameters => "saving parameters to flash, retry",
         }
     }
 
@@ -79,7 +84,11 @@ impl ArmRefusal {
     pub fn is_temporary(&self) -> bool {
         matches!(
             self,
-            Self::Calibrating | Self::NotConverged | Self::PoseStale | Self::PoseNonFinite
+            Self::Calibrating
+                | Self::NotConverged
+                | Self::PoseStale
+                | Self::PoseNonFinite
+                | Self::SavingParameters
         )
     }
 }
@@ -99,12 +108,17 @@ pub struct ArmInputs {
     pub up_cos: f32,
     /// The command asked to arm upside down explicitly.
     pub inverted_requested: bool,
+    /// The board's parameter store has a save (or reset) pending or under way.
+    pub storage_busy: bool,
 }
 
 /// The arm decision for `state` and `inputs`.
 pub fn check_arm(cfg: &SafetyConfig, state: FlightState, i: &ArmInputs) -> Result<(), ArmRefusal> {
     if state != FlightState::Disarmed {
         return Err(ArmRefusal::NotDisarmed);
+    }
+    if i.storage_busy {
+        return Err(ArmRefusal::SavingParameters);
     }
     if i.calibrating {
         return Err(ArmRefusal::Calibrating);
@@ -280,6 +294,7 @@ mod tests {
             pose_bad: false,
             up_cos: 1.0,
             inverted_requested: false,
+            storage_busy: false,
         }
     }
 
@@ -297,6 +312,11 @@ mod tests {
             with(&|i| i.pose_age_us = Some(50_000)),
             Err(ArmRefusal::PoseStale)
         );
+        assert_eq!(
+            with(&|i| i.storage_busy = true),
+            Err(ArmRefusal::SavingParameters)
+        );
+        assert!(ArmRefusal::SavingParameters.is_temporary());
         assert_eq!(with(&|i| i.pose_age_us = Some(49_999)), Ok(()));
         assert_eq!(
             with(&|i| i.pose_age_us = None),

@@ -60,22 +60,75 @@ fn the_telemetry_does_not_depend_on_how_the_host_cuts_its_writes() {
         SendChunking::Random { seed: 7 },
         "pil-chunking-random",
     );
+    // QEMU under load: busy threads on every core shift when each write reaches the emulated
+    // UART relative to the firmware's execution, on top of another chunking.
+    let loaded = {
+        let _load = CpuLoad::start();
+        fly_recording(
+            &elf,
+            SendChunking::Random { seed: 11 },
+            "pil-chunking-loaded",
+        )
+    };
     assert_eq!(whole.1, 301, "ticks answered");
     assert_eq!(random.1, whole.1, "ticks answered");
+    assert_eq!(loaded.1, whole.1, "ticks answered under load");
+    assert_same_telemetry(&whole.0, &random.0, "random chunks");
+    assert_same_telemetry(&whole.0, &loaded.0, "random chunks, host loaded");
+}
+
+/// Busy threads, two per core, until dropped: a host under load.
+struct CpuLoad {
+    stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    threads: Vec<std::thread::JoinHandle<u64>>,
+}
+
+impl CpuLoad {
+    fn start() -> Self {
+        use std::sync::atomic::{AtomicBool, Ordering};
+        let stop = std::sync::Arc::new(AtomicBool::new(false));
+        let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
+        let threads = (0..2 * cores)
+            .map(|_| {
+                let stop = stop.clone();
+                std::thread::spawn(move || {
+                    let mut spins = 0u64;
+                    while !stop.load(Ordering::Relaxed) {
+                        spins = std::hint::black_box(spins.wrapping_add(1));
+                    }
+                    spins
+                })
+            })
+            .collect();
+        Self { stop, threads }
+    }
+}
+
+impl Drop for CpuLoad {
+    fn drop(&mut self) {
+        self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        for t in self.threads.drain(..) {
+            let _ = t.join();
+        }
+    }
+}
+
+/// Byte-for-byte equality of two telemetry recordings, with the first difference on failure.
+fn assert_same_telemetry(whole: &[u8], other: &[u8], what: &str) {
     // Byte for byte, every frame up to the last tick's answer (docs/sil-pil.md: nothing in the
     // telemetry is a wall-clock or cycle figure; the frames after the last answer are not
     // compared because the run ends while they are on their way).
-    let first_difference = whole.0.iter().zip(&random.0).position(|(a, b)| a != b);
+    let first_difference = whole.iter().zip(other).position(|(a, b)| a != b);
     println!(
-        "telemetry: {} B (whole), {} B (random), first difference at byte {first_difference:?}",
-        whole.0.len(),
-        random.0.len()
+        "telemetry: {} B (whole), {} B ({what}), first difference at byte {first_difference:?}",
+        whole.len(),
+        other.len()
     );
     assert!(
-        whole.0 == random.0,
-        "{} vs {} bytes of telemetry, first difference at byte {first_difference:?}",
-        whole.0.len(),
-        random.0.len()
+        whole == other,
+        "{what}: {} vs {} bytes of telemetry, first difference at byte {first_difference:?}",
+        whole.len(),
+        other.len()
     );
 }
 

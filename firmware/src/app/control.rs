@@ -9,12 +9,14 @@
 //! board-independent and live here: [`DeadlineClock`] (embassy-time deadlines, flight) and
 //! [`LockstepClock`] (the simulation's clock carried by `HIL_SENSOR`, processor in the loop).
 
+use core::sync::atomic::Ordering;
+
 use cortex_m::peripheral::DWT;
 use embassy_time::{Duration, Instant, Timer};
 
 use super::queues::{
     count, try_write_all, ParamSave, Summary, EVENTS, IMU_SAMPLES, IO, LINK_RX, LINK_TX,
-    PARAM_SAVE, SUMMARY, TIMING,
+    PARAM_SAVE, STORAGE_BUSY, SUMMARY, TIMING,
 };
 #[cfg(feature = "hil")]
 use crate::pipeline::lockstep::Lockstep;
@@ -100,6 +102,7 @@ pub async fn run(
         }
         let started = Instant::now();
         let c0 = DWT::cycle_count();
+        pipeline.set_storage_busy(STORAGE_BUSY.load(Ordering::Acquire));
 
         while let Ok(sample) = IMU_SAMPLES.try_receive() {
             pipeline.on_imu(&sample);
@@ -113,10 +116,15 @@ pub async fn run(
         let frames = motors.prepare(&output);
         while let Some(event) = pipeline.take_events() {
             // The flash write is a store task's, outside the step; it needs the whole set.
-            match event {
-                Event::ParamChanged { .. } => PARAM_SAVE.signal(ParamSave::Set(*pipeline.config())),
-                Event::ParamsReset => PARAM_SAVE.signal(ParamSave::Clear),
-                _ => {}
+            let request = match event {
+                Event::ParamChanged { .. } => Some(ParamSave::Set(*pipeline.config())),
+                Event::ParamsReset => Some(ParamSave::Clear),
+                _ => None,
+            };
+            if let Some(request) = request {
+                // Busy before the request: the store task clears it only with no request left.
+                STORAGE_BUSY.store(true, Ordering::Release);
+                PARAM_SAVE.signal(request);
             }
             if EVENTS.try_send(event).is_err() {
                 count(&IO.events_dropped, 1);

@@ -2,11 +2,13 @@
 //! control task starts, with the outcome and the restored certificate in the boot log; saved
 //! by a low-priority task after each accepted `PARAM_SET` ([`PARAM_SAVE`]).
 
+use core::sync::atomic::Ordering;
+
 use defmt::{info, warn};
 use embedded_storage_async::nor_flash::NorFlash;
 
 use super::boot_log;
-use super::queues::{ParamSave, PARAM_SAVE};
+use super::queues::{ParamSave, PARAM_SAVE, STORAGE_BUSY};
 use crate::flash_store::{Fault, FlashStore, Restore};
 use crate::pipeline::{FlightPipeline, ParamRefusal, RestoreError};
 
@@ -47,7 +49,8 @@ pub fn restore<S: NorFlash>(store: &mut FlashStore<S>, pipeline: &mut FlightPipe
 
 /// Saves every accepted parameter set, or clears the store on a reset (the newest request,
 /// [`PARAM_SAVE`]). Thread mode, lowest priority: the control task only signals. A failure is
-/// logged; the set in force is unchanged and the next request is tried again.
+/// logged; the set in force is unchanged and the next request is tried again. Clears
+/// [`STORAGE_BUSY`] (arming held) once no request is left.
 pub async fn run<S: NorFlash>(mut store: FlashStore<S>) -> ! {
     loop {
         match PARAM_SAVE.wait().await {
@@ -60,5 +63,12 @@ pub async fn run<S: NorFlash>(mut store: FlashStore<S>) -> ! {
                 Err(_) => warn!("params: clear failed; a reset restores the stored set"),
             },
         }
+        // Masked, so that no request can come between the test and the store: a request
+        // signalled meanwhile keeps the store busy (and arming held) until it is saved too.
+        critical_section::with(|_| {
+            if !PARAM_SAVE.signaled() {
+                STORAGE_BUSY.store(false, Ordering::Release);
+            }
+        });
     }
 }

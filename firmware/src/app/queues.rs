@@ -3,7 +3,7 @@
 //! mode, each access a few instructions long with interrupts masked. No lock is ever held
 //! across the control step.
 
-use core::sync::atomic::{AtomicU32, Ordering};
+use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::channel::Channel;
@@ -26,6 +26,12 @@ pub static EVENTS: Channel<CriticalSectionRawMutex, Event, 16> = Channel::new();
 /// What a board's parameter store task should do (the newest request only: each one is about
 /// the whole set, so an older one pending is superseded).
 pub static PARAM_SAVE: Signal<CriticalSectionRawMutex, ParamSave> = Signal::new();
+
+/// Whether a board's parameter store has a request pending or under way: set by the control
+/// task with each [`PARAM_SAVE`] request, cleared by the store task (in a critical section,
+/// only when no request is pending) once the flash is done. The control task hands it to the
+/// pipeline every tick, which holds arming while it is set (an erase stalls the CPU).
+pub static STORAGE_BUSY: AtomicBool = AtomicBool::new(false);
 
 /// A request to a board's parameter store.
 // No allocation to box into, and the signal holds one value of the enum's size either way.

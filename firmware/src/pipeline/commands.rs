@@ -301,6 +301,7 @@ impl FlightPipeline {
                     pose_bad: self.estimator.last_pose_bad(),
                     up_cos,
                     inverted_requested: inverted,
+                    storage_busy: self.storage.busy(),
                 };
                 check_arm(&self.cfg.safety, state, &inputs).map_err(|r| Refusal {
                     temporary: r.is_temporary(),

@@ -39,8 +39,11 @@ mod param_text;
 mod params;
 pub mod schedule;
 mod status_messages;
+mod storage;
 #[cfg(test)]
 mod storage_command_tests;
+#[cfg(test)]
+mod storage_tests;
 mod telemetry;
 #[cfg(test)]
 mod tests;
@@ -182,6 +185,8 @@ pub struct FlightPipeline {
     status_error: f32,
     status_pose_age: u64,
     was_calibrating: bool,
+    /// The parameter store's hold on arming.
+    storage: storage::StorageHold,
     /// Time of the latest `HIL_SENSOR` \[µs\]: the simulation's clock.
     #[cfg(feature = "hil")]
     hil_time_us: Option<u64>,
@@ -303,6 +308,7 @@ impl FlightPipeline {
             status_error: 0.0,
             status_pose_age: u64::MAX,
             was_calibrating: true,
+            storage: storage::StorageHold::default(),
             #[cfg(feature = "hil")]
             hil_time_us: None,
             #[cfg(feature = "hil")]

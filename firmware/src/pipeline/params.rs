@@ -115,10 +115,13 @@ impl FlightPipeline {
         };
         let name = PARAMS[i].name;
         match self.try_param_set(i, value, real32) {
-            Ok(()) => self.event(Event::ParamChanged {
-                name,
-                value: (PARAMS[i].get)(&self.cfg),
-            }),
+            Ok(()) => {
+                self.storage.changed();
+                self.event(Event::ParamChanged {
+                    name,
+                    value: (PARAMS[i].get)(&self.cfg),
+                })
+            }
             Err(r) => {
                 self.counters.refused_commands = self.counters.refused_commands.saturating_add(1);
                 let (reason, text) = match r {
@@ -217,6 +220,7 @@ impl FlightPipeline {
         let report =
             certify_setup(&built, &self.mixer).map_err(|_| "built set-up not certified")?;
         self.take_candidate(built, report);
+        self.storage.changed();
         self.event(Event::ParamsReset);
         Ok(())
     }

@@ -46,6 +46,8 @@ fn main() {
 // On the host only their unit tests use them.
 #[cfg_attr(not(target_os = "none"), allow(dead_code))]
 mod clocks;
+#[cfg_attr(not(target_os = "none"), allow(dead_code))]
+mod erase_watchdog;
 #[cfg(target_os = "none")]
 mod motors;
 #[cfg(target_os = "none")]
@@ -351,6 +353,8 @@ mod mcu {
         };
         if let Some(store) = store {
             params::restore(store, &mut pipeline);
+            // From now on an accepted change holds arming until its save is done.
+            pipeline.attach_storage();
         }
         let period = Duration::from_micros(config.control_rate.period_us());
         // Control on the interrupt executor, above everything in thread mode.
