@@ -2,22 +2,16 @@
 //! pipeline was built with and tells the store ([`Event::ParamsReset`]); only while disarmed.
 //! Given/when/then, on the host.
 
-use mavlink::dialects::common::{MavResult, COMMAND_ACK_DATA};
-use mavlink::{MavlinkVersion, MessageData};
+use mavlink::dialects::common::MavResult;
 
-use super::tests::{arm_attempt, command, drain_events, frames};
+use super::tests::{arm_attempt, command, drain_events, sent_acks};
 use super::*;
-use crate::link;
 use crate::param_store::{MemoryStore, ParamStore};
 use crate::params::PARAMS;
 
 fn acks(p: &mut FlightPipeline, now_us: u64) -> Vec<(MavCmd, MavResult)> {
-    let mut buf = [0u8; 2048];
-    let n = p.telemetry(now_us, &mut buf);
-    frames(&buf[..n])
+    sent_acks(p, now_us)
         .into_iter()
-        .filter(|f| f.0 == COMMAND_ACK_DATA::ID)
-        .map(|f| link::CommandAck::deser(MavlinkVersion::V2, &f.1).unwrap())
         .map(|a| (a.command, a.result))
         .collect()
 }

@@ -4,10 +4,9 @@
 //! without a store arm as before. Given/when/then, on the host.
 #![cfg(not(feature = "uncertified-paper"))] // the default flight file's x500
 
-use mavlink::dialects::common::{MavMessage, MavParamType, COMMAND_ACK_DATA, PARAM_SET_DATA};
-use mavlink::{MavlinkVersion, MessageData};
+use mavlink::dialects::common::{MavMessage, MavParamType, PARAM_SET_DATA};
 
-use super::tests::{command, drain_events, fly_ticks, frames};
+use super::tests::{command, drain_events, fly_ticks, sent_acks};
 use super::*;
 use crate::link;
 
@@ -42,12 +41,8 @@ fn certified_set(p: &FlightPipeline) -> Vec<u8> {
 
 /// The results of the `COMMAND_ACK`s for arming in the next telemetry.
 fn arm_acks(p: &mut FlightPipeline, now_us: u64) -> Vec<MavResult> {
-    let mut buf = [0u8; 4096];
-    let n = p.telemetry(now_us, &mut buf);
-    frames(&buf[..n])
+    sent_acks(p, now_us)
         .into_iter()
-        .filter(|f| f.0 == COMMAND_ACK_DATA::ID)
-        .map(|f| link::CommandAck::deser(MavlinkVersion::V2, &f.1).unwrap())
         .filter(|a| a.command == ARM)
         .map(|a| a.result)
         .collect()

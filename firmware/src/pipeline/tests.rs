@@ -42,6 +42,17 @@ pub(super) fn frames(bytes: &[u8]) -> Vec<(u32, Vec<u8>)> {
         .collect()
 }
 
+/// The `COMMAND_ACK`s of the next telemetry call at `now_us`.
+pub(super) fn sent_acks(p: &mut FlightPipeline, now_us: u64) -> Vec<link::CommandAck> {
+    let mut buf = [0u8; 4096];
+    let n = p.telemetry(now_us, &mut buf);
+    frames(&buf[..n])
+        .into_iter()
+        .filter(|f| f.0 == mavlink::dialects::common::COMMAND_ACK_DATA::ID)
+        .map(|f| link::CommandAck::deser(MavlinkVersion::V2, &f.1).unwrap())
+        .collect()
+}
+
 pub(super) fn command(c: MavCmd, p1: f32, p2: f32) -> Vec<u8> {
     let m = MavMessage::COMMAND_LONG(mavlink::dialects::common::COMMAND_LONG_DATA {
         param1: p1,
