@@ -79,18 +79,34 @@ impl ArmRefusal {
         }
     }
 
-    /// Whether waiting alone lifts it (the calibration ends, the estimate converges, the next
-    /// pose arrives): answered `MAV_RESULT_TEMPORARILY_REJECTED`, the others `DENIED`.
-    pub fn is_temporary(&self) -> bool {
-        matches!(
-            self,
+    /// What lifts it, hence its MAVLink answer ([`Remedy`]).
+    pub fn remedy(&self) -> Remedy {
+        match self {
             Self::Calibrating
-                | Self::NotConverged
-                | Self::PoseStale
-                | Self::PoseNonFinite
-                | Self::SavingParameters
-        )
+            | Self::NotConverged
+            | Self::PoseStale
+            | Self::PoseNonFinite
+            | Self::SavingParameters => Remedy::Wait,
+            Self::NotUpright | Self::ReferenceRefused => Remedy::Fix,
+            Self::NotDisarmed | Self::InvertedNotAllowed => Remedy::OtherCommand,
+        }
     }
+}
+
+/// What lifts a refused command, which decides its `COMMAND_ACK` result (MAVLink common
+/// `MAV_RESULT`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Remedy {
+    /// Waiting alone (the calibration ends, the estimate converges, the next pose arrives, the
+    /// parameter save ends): `MAV_RESULT_TEMPORARILY_REJECTED`.
+    Wait,
+    /// The command is valid, but the vehicle must change first (its set-up certified, its
+    /// attitude upright): `MAV_RESULT_FAILED`, as the spec's "arm with uncalibrated sensors".
+    Fix,
+    /// The same command will not work in this state or with these parameters (not armed, in
+    /// flight, a mode or message it does not have, inverted arming disabled):
+    /// `MAV_RESULT_DENIED`.
+    OtherCommand,
 }
 
 /// What the arm check looks at.
@@ -316,7 +332,9 @@ mod tests {
             with(&|i| i.storage_busy = true),
             Err(ArmRefusal::SavingParameters)
         );
-        assert!(ArmRefusal::SavingParameters.is_temporary());
+        assert_eq!(ArmRefusal::SavingParameters.remedy(), Remedy::Wait);
+        assert_eq!(ArmRefusal::NotUpright.remedy(), Remedy::Fix);
+        assert_eq!(ArmRefusal::NotDisarmed.remedy(), Remedy::OtherCommand);
         assert_eq!(with(&|i| i.pose_age_us = Some(49_999)), Ok(()));
         assert_eq!(
             with(&|i| i.pose_age_us = None),

@@ -16,14 +16,14 @@ use super::{Event, FlightPipeline, Mode};
 use crate::estimator::PoseCheck;
 use crate::flight_reference::{FlightReference, ReferenceMode};
 use crate::link::{Command, CommandFault, Inbound, Sender, SigningConfig};
-use crate::safety::{check_arm, ArmInputs, FlightState};
+use crate::safety::{check_arm, ArmInputs, FlightState, Remedy};
 
 /// Refusal detail for events and STATUSTEXT: the reason, and for a certificate or
-/// parameter refusal the condition with both sides (`condition` empty otherwise); `temporary`
-/// when waiting alone lifts it (answered `TEMPORARILY_REJECTED`, else `DENIED`).
+/// parameter refusal the condition with both sides (`condition` empty otherwise); `remedy`
+/// decides the `COMMAND_ACK` result.
 pub(super) struct Refusal {
     reason: &'static str,
-    temporary: bool,
+    remedy: Remedy,
     condition: &'static str,
     lhs: f32,
     rhs: f32,
@@ -59,10 +59,10 @@ impl FlightPipeline {
                     }
                     Err(refusal) => {
                         self.refused(command.name(), &refusal);
-                        if refusal.temporary {
-                            MavResult::MAV_RESULT_TEMPORARILY_REJECTED
-                        } else {
-                            MavResult::MAV_RESULT_DENIED
+                        match refusal.remedy {
+                            Remedy::Wait => MavResult::MAV_RESULT_TEMPORARILY_REJECTED,
+                            Remedy::Fix => MavResult::MAV_RESULT_FAILED,
+                            Remedy::OtherCommand => MavResult::MAV_RESULT_DENIED,
                         }
                     }
                 };
@@ -183,7 +183,7 @@ impl FlightPipeline {
     fn simple(reason: &'static str) -> Refusal {
         Refusal {
             reason,
-            temporary: false,
+            remedy: Remedy::OtherCommand,
             condition: "",
             lhs: 0.0,
             rhs: 0.0,
@@ -203,7 +203,7 @@ impl FlightPipeline {
                 let r = crate::report::refusal(&e);
                 return Err(Refusal {
                     reason: "reference refused: parameter",
-                    temporary: false,
+                    remedy: Remedy::Fix,
                     condition: r.name,
                     lhs: r.value as f32,
                     rhs: f32::NAN,
@@ -216,7 +216,7 @@ impl FlightPipeline {
             Err(f) => {
                 return Err(Refusal {
                     reason: "reference not certified",
-                    temporary: false,
+                    remedy: Remedy::Fix,
                     condition: f.condition,
                     lhs: f.lhs,
                     rhs: f.rhs,
@@ -231,7 +231,7 @@ impl FlightPipeline {
             let r = crate::report::refusal(&e);
             return Err(Refusal {
                 reason: "reference refused by the controller",
-                temporary: false,
+                remedy: Remedy::Fix,
                 condition: r.name,
                 lhs: r.value as f32,
                 rhs: r.high as f32,
@@ -304,7 +304,7 @@ impl FlightPipeline {
                     storage_busy: self.storage.busy(),
                 };
                 check_arm(&self.cfg.safety, state, &inputs).map_err(|r| Refusal {
-                    temporary: r.is_temporary(),
+                    remedy: r.remedy(),
                     ..Self::simple(r.reason())
                 })?;
                 // The set-up the firmware was built with (its demo mission, filters at zero)
@@ -319,7 +319,7 @@ impl FlightPipeline {
                     Err(f) => {
                         return Err(Refusal {
                             reason: "set-up not certified",
-                            temporary: false,
+                            remedy: Remedy::Fix,
                             condition: f.condition,
                             lhs: f.lhs,
                             rhs: f.rhs,
@@ -327,7 +327,7 @@ impl FlightPipeline {
                     }
                 }
                 let est = est.ok_or(Refusal {
-                    temporary: true,
+                    remedy: Remedy::Wait,
                     ..Self::simple("no estimate")
                 })?;
                 let controller = Controller::new(
@@ -335,7 +335,10 @@ impl FlightPipeline {
                     self.cfg.gains,
                     &TrajectoryConstants::zero(),
                 )
-                .map_err(|_| Self::simple("controller refused"))?;
+                .map_err(|_| Refusal {
+                    remedy: Remedy::Fix,
+                    ..Self::simple("controller refused")
+                })?;
                 self.controller = Some(controller);
                 let (_, _, yaw) = est.attitude.euler_angles();
                 self.reference = FlightReference::new(
@@ -403,10 +406,10 @@ impl FlightPipeline {
     fn set_mode_command(&mut self, custom_mode: u8, now_us: u64) -> Result<(), Refusal> {
         match custom_mode {
             1 => {
-                let est = self
-                    .estimator
-                    .estimate(now_us)
-                    .ok_or_else(|| Self::simple("no estimate"))?;
+                let est = self.estimator.estimate(now_us).ok_or_else(|| Refusal {
+                    remedy: Remedy::Wait,
+                    ..Self::simple("no estimate")
+                })?;
                 let (_, _, yaw) = est.attitude.euler_angles();
                 self.setpoint(est.position, Some(yaw), now_us)
             }

@@ -94,6 +94,43 @@ fn every_command_is_acknowledged_to_its_sender() {
     );
 }
 
+/// Given a calibrated, converged vehicle whose set-up fails Theorem 2 (a yaw torque limit
+/// between Assumption 1's requirement and Theorem 2's bound), when the ground station arms it,
+/// then the arm is FAILED (a valid command; the set-up must change before it can succeed), not
+/// DENIED or TEMPORARILY_REJECTED, and the vehicle stays disarmed; the same vehicle with the
+/// built limit arms (ACCEPTED).
+#[test]
+#[cfg(not(feature = "uncertified-paper"))] // the default flight file's x500
+fn an_arm_on_an_uncertified_set_up_is_failed() {
+    let built = FlightConfig::built();
+    let boot = FlightPipeline::new(&built)
+        .unwrap()
+        .boot_report()
+        .certificate;
+    let rhs_of = |name: &str| boot.conditions.iter().find(|k| k.name == name).unwrap().rhs;
+    let tau_z = 0.5 * (rhs_of("assumption1.torque_max_yaw") + rhs_of("theorem2.torque_max_yaw"));
+    for (torque_max_yaw, want, state) in [
+        (tau_z, MavResult::MAV_RESULT_FAILED, FlightState::Disarmed),
+        (
+            built.limits.torque_max[2],
+            MavResult::MAV_RESULT_ACCEPTED,
+            FlightState::Armed,
+        ),
+    ] {
+        let mut c = built;
+        c.gyro_calibration_samples = 50;
+        c.limits.torque_max[2] = torque_max_yaw;
+        let mut p = FlightPipeline::new(&c).unwrap();
+        assert_eq!(p.boot_report().gate.is_ok(), state == FlightState::Armed);
+        let now = super::tests::fly_ticks(&mut p, 0, 60, true);
+        let arm = command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 0.0);
+        p.on_link_bytes(&gcs_frame(&arm), now);
+        let got: Vec<_> = acks(&mut p, now).iter().map(|a| a.result).collect();
+        assert_eq!(got, [want], "yaw torque limit {torque_max_yaw}");
+        assert_eq!(p.status().state, state);
+    }
+}
+
 /// Given the default telemetry, when the attitude interval is set to 200 ms, the heartbeat
 /// requested and an unknown message requested, then the attitude comes 5 times a second
 /// (position still 20), the heartbeat at once instead of a second later, and the unknown
