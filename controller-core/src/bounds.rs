@@ -146,9 +146,9 @@ pub struct IntegralCertificate<T: Scalar> {
     pub u_rate_term: T,
     /// `k_η (2 k_η |M_i| + |R_i|)` [m/s⁴], the term added to `U_ü`.
     pub u_acceleration_term: T,
-    /// `[a₀, a₁, a₂, a₃, 1]` of the per-axis linearisation's characteristic polynomial
-    /// ([`crate::integral_stability::characteristic_polynomial`]).
-    pub polynomial: [T; 5],
+    /// `[a₀, …, a₅]` of the per-axis linearisation's characteristic polynomial, ascending
+    /// (the quartic's `a₅ = 0`; [`crate::integral_stability::characteristic_polynomial`]).
+    pub polynomial: [T; 6],
     /// The Routh–Hurwitz conditions for local exponential stability.
     pub conditions: [Condition<T>; STABILITY_CONDITION_COUNT],
 }

@@ -13,6 +13,7 @@ fn integral_gains(level: f64) -> crate::integral::IntegralGains<f64> {
         level: Vector3::new(0.5, 0.6, 1.5) * level,
         rate: Vector3::new(0.3, 0.4, 1.2),
         bandwidth: 5.0,
+        observer: None,
     }
 }
 

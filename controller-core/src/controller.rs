@@ -136,6 +136,9 @@ pub struct Controller<T: Scalar> {
     integral: IntegralState<T>,
     /// Failsafe: the estimate is held (still applied) while set.
     integral_frozen: bool,
+    /// The disturbance observer's velocity `v̂` [m/s], inertial (`None`: it starts at the next
+    /// measured velocity; extension, docs/integral-action.md).
+    observed_velocity: Option<Vector3<T>>,
 }
 
 fn finite3<T: Scalar>(v: &Vector3<T>, field: &'static str) -> Result<(), StepError> {
@@ -170,6 +173,7 @@ impl<T: Scalar> Controller<T> {
             thrust_mode: ThrustMode::Norm,
             integral: IntegralState::zero(),
             integral_frozen: false,
+            observed_velocity: None,
         };
         c.accept_reference(constants)?;
         Ok(c)
@@ -246,6 +250,7 @@ impl<T: Scalar> Controller<T> {
     /// Resets the integral action's state to zero (arming). Extension, docs/integral-action.md.
     pub fn reset_integral(&mut self) {
         self.integral = IntegralState::zero();
+        self.observed_velocity = None;
     }
 
     /// Freezes (`true`) or releases the integral estimate: while frozen it is held, not
@@ -329,8 +334,24 @@ impl<T: Scalar> Controller<T> {
         );
         // The integral action adds η_f and its closed-form derivatives to u, u̇, ü after the
         // paper's sums are formed, so that with it off every value is the paper's, bit for bit.
+        // The observer's velocity before this sample, and the innovation v − v̂.
+        let observer = g
+            .integral
+            .as_ref()
+            .and_then(|ig| ig.observer.map(|o| (ig.gain, o)))
+            .map(|(gain, o)| {
+                let v_hat = self.observed_velocity.unwrap_or(state.velocity);
+                (gain, o, v_hat, state.velocity - v_hat)
+            });
         let integral = g.integral.as_ref().map(|ig| {
-            let rate = ig.rate_of(&self.integral, &position.z1, self.integral_frozen);
+            let rate = match &observer {
+                Some((gain, o, _, innovation)) => ig.clamped_rate(
+                    &self.integral,
+                    &o.raw_rate(*gain, &position.z1, innovation),
+                    self.integral_frozen,
+                ),
+                None => ig.rate_of(&self.integral, &position.z1, self.integral_frozen),
+            };
             let out = ig.output(&self.integral, &rate);
             position.u += out.filtered;
             position.u_dot += out.filtered_dot;
@@ -369,6 +390,18 @@ impl<T: Scalar> Controller<T> {
             _ => g.position.propagator(dt),
         };
         let next_filter = propagator.apply(&self.filter, &position.ubar_p);
+        let next_observed_velocity = observer.map(|(_, o, v_hat, _)| {
+            o.advance(
+                &v_hat,
+                &state.velocity,
+                thrust,
+                self.vehicle.mass,
+                &body_z,
+                self.vehicle.gravity,
+                &self.integral.estimate,
+                dt,
+            )
+        });
         let next_integral = match integral {
             Some((ig, rate)) => ig.advance(&self.integral, &rate, dt),
             None => self.integral,
@@ -380,6 +413,9 @@ impl<T: Scalar> Controller<T> {
             &next_filter.u_f,
             &next_filter.u_s,
             &next_integral.filtered,
+            next_observed_velocity
+                .as_ref()
+                .unwrap_or(&next_integral.estimate),
         ] {
             probe = finite_probe(probe, v);
         }
@@ -409,6 +445,7 @@ impl<T: Scalar> Controller<T> {
         self.lifting = lifting;
         self.filter = next_filter;
         self.integral = next_integral;
+        self.observed_velocity = next_observed_velocity;
         self.propagator = Some(propagator);
         Ok(ControlOutput {
             thrust,

@@ -20,6 +20,7 @@
 
 use nalgebra::Vector3;
 
+use crate::disturbance_observer::ObserverGains;
 use crate::params::{positive, ParameterError};
 use crate::scalar::Scalar;
 
@@ -35,6 +36,10 @@ pub struct IntegralGains<T: Scalar> {
     pub rate: Vector3<T>,
     /// `k_η` [1/s]: bandwidth of the output filter producing `η_f`.
     pub bandwidth: T,
+    /// With `Some`, a velocity disturbance observer anchors the estimate
+    /// ([`crate::disturbance_observer`]): the raw rate becomes `−k_i sat(z₁) − L_d (v − v̂)`.
+    /// `None`: the integral of `z₁` alone.
+    pub observer: Option<ObserverGains<T>>,
 }
 
 impl<T: Scalar> IntegralGains<T> {
@@ -49,18 +54,33 @@ impl<T: Scalar> IntegralGains<T> {
         for (name, v) in ["R_i_x", "R_i_y", "R_i_z"].iter().zip(self.rate.iter()) {
             positive(name, *v)?;
         }
-        Ok(())
+        match &self.observer {
+            Some(o) => o.validate(),
+            None => Ok(()),
+        }
     }
 
     /// The clamped rate `η̇` [m/s³] used over the coming sample: `clamp(−k_i z₁, −R, R)`, and
     /// zero on an axis whose estimate sits at its level and would be pushed outwards (there the
     /// clamp of the estimate holds it, so its true rate is zero). Zero everywhere when `frozen`.
     pub fn rate_of(&self, state: &IntegralState<T>, z1: &Vector3<T>, frozen: bool) -> Vector3<T> {
+        self.clamped_rate(state, &(z1 * (-self.gain)), frozen)
+    }
+
+    /// The rate `η̇` [m/s³] from a raw rate (before clamping; e.g. the observer's
+    /// [`ObserverGains::raw_rate`]): clamped to `±R`, zero on an axis whose estimate sits at its
+    /// level and would be pushed outwards, zero everywhere when `frozen`.
+    pub fn clamped_rate(
+        &self,
+        state: &IntegralState<T>,
+        raw: &Vector3<T>,
+        frozen: bool,
+    ) -> Vector3<T> {
         if frozen {
             return Vector3::zeros();
         }
         Vector3::from_fn(|i, _| {
-            let r = (-self.gain * z1[i]).clamp(-self.rate[i], self.rate[i]);
+            let r = raw[i].clamp(-self.rate[i], self.rate[i]);
             let eta = state.estimate[i];
             let outward =
                 (eta >= self.level[i] && r > T::zero()) || (eta <= -self.level[i] && r < T::zero());
@@ -143,6 +163,7 @@ mod tests {
             level: Vector3::new(0.5, 0.7, 1.5),
             rate: Vector3::new(0.4, 0.6, 1.0),
             bandwidth: 5.0,
+            observer: None,
         }
     }
 

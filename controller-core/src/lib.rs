@@ -23,6 +23,7 @@ pub mod attitude_control;
 pub mod bounds;
 pub mod controller;
 pub mod desired_attitude;
+pub mod disturbance_observer;
 pub mod integral;
 pub mod integral_stability;
 pub mod mrp;
@@ -39,6 +40,7 @@ pub use bounds::{
     certify, Bounds, Certificate, Condition, FilterStart, IntegralCertificate, Violation,
 };
 pub use controller::{ControlOutput, Controller, Diagnostics, StepError, VehicleState};
+pub use disturbance_observer::ObserverGains;
 pub use integral::{IntegralGains, IntegralState};
 pub use params::{Gains, Limits, ParameterError, Vehicle};
 pub use path_lifting::JumpCounters;

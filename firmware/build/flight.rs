@@ -357,11 +357,17 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         match &g.integral {
             None => "None".to_string(),
             Some(i) => format!(
-                "Some(controller_core::IntegralGains {{ gain: {}, level: {}, rate: {}, bandwidth: {} }})",
+                "Some(controller_core::IntegralGains {{ gain: {}, level: {}, rate: {}, bandwidth: {}, observer: {} }})",
                 lit(i.k_i),
                 vec3(i.M_i_m_s2),
                 vec3(i.rate_m_s3),
-                lit(i.k_eta)
+                lit(i.k_eta),
+                i.observer.map_or("None".to_string(), |o| format!(
+                    "Some(controller_core::ObserverGains {{ velocity_gain: {}, disturbance_gain: {}, error_limit: {} }})",
+                    lit(o.velocity_gain_1_s),
+                    lit(o.disturbance_gain_1_s2),
+                    lit(o.error_limit_m)
+                ))
             ),
         }
     ));

@@ -70,6 +70,23 @@ pub struct IntegralTable {
     pub rate_m_s3: [f64; 3],
     /// `k_η` [1/s]: bandwidth of the estimate's output filter.
     pub k_eta: f64,
+    /// `[gains.integral.observer]`: the velocity disturbance observer that anchors the estimate
+    /// (absent: the integral of `z₁` alone).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub observer: Option<ObserverTable>,
+}
+
+/// `[gains.integral.observer]`: the velocity disturbance observer (extension,
+/// docs/integral-action.md, controller-core's `disturbance_observer`).
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ObserverTable {
+    /// `L_v` [1/s]: gain of the velocity innovation in the observer's velocity.
+    pub velocity_gain_1_s: f64,
+    /// `L_d` [1/s²]: gain of the velocity innovation in the estimate's rate.
+    pub disturbance_gain_1_s2: f64,
+    /// `z̄` \[m\]: per-axis clamp of `z₁` before `k_i`.
+    pub error_limit_m: f64,
 }
 
 /// `[trajectory]`, tagged by `kind`.

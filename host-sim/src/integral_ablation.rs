@@ -158,6 +158,7 @@ pub fn default_integral_gains(scenario: &Scenario) -> IntegralGains<f64> {
         level: Vector3::repeat(DEFAULT_LEVEL_FRACTION_OF_M_P * scenario.gains.M_p),
         rate: Vector3::repeat(1.0),
         bandwidth: 5.0,
+        observer: None,
     }
 }
 
@@ -178,6 +179,11 @@ fn gains_in<T: Scalar>(scenario: &Scenario, integral: Option<&IntegralGains<f64>
         level: i.level.map(lit),
         rate: i.rate.map(lit),
         bandwidth: lit(i.bandwidth),
+        observer: i.observer.map(|o| controller_core::ObserverGains {
+            velocity_gain: lit(o.velocity_gain),
+            disturbance_gain: lit(o.disturbance_gain),
+            error_limit: lit(o.error_limit),
+        }),
     });
     g
 }

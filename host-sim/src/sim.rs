@@ -163,14 +163,17 @@ pub struct IntegralReport {
     pub rate_m_s3: [f64; 3],
     /// `k_η` [1/s].
     pub k_eta: f64,
+    /// The disturbance observer's gains (`null`: the integral of `z₁` alone).
+    pub observer: Option<crate::scenario::ObserverConfig>,
     /// `L = M_p + M_i` [m/s²] per inertial axis.
     pub level_sum_m_s2: [f64; 3],
     /// `2 k_η |M_i|` [m/s³], added to `U_u̇`.
     pub u_rate_term_m_s3: f64,
     /// `k_η (2 k_η |M_i| + |R_i|)` [m/s⁴], added to `U_ü`.
     pub u_acceleration_term_m_s4: f64,
-    /// `[a₀, a₁, a₂, a₃, 1]` of the per-axis linearisation's characteristic polynomial.
-    pub characteristic_polynomial: [f64; 5],
+    /// `[a₀, …, a₅]` of the per-axis linearisation's characteristic polynomial, ascending
+    /// (`a₅ = 0`: the quartic of the integral of `z₁` alone).
+    pub characteristic_polynomial: [f64; 6],
 }
 
 /// Extremes seen along the run (over the controller samples).
@@ -300,6 +303,11 @@ fn a_priori(
             M_i_m_s2: g.level.into(),
             rate_m_s3: g.rate.into(),
             k_eta: g.bandwidth,
+            observer: g.observer.map(|o| crate::scenario::ObserverConfig {
+                velocity_gain_1_s: o.velocity_gain,
+                disturbance_gain_1_s2: o.disturbance_gain,
+                error_limit_m: o.error_limit,
+            }),
             level_sum_m_s2: i.level_sum.into(),
             u_rate_term_m_s3: i.u_rate_term,
             u_acceleration_term_m_s4: i.u_acceleration_term,

@@ -686,6 +686,7 @@ fn integral_estimate_grows_is_held_in_failsafe_and_restarts_at_zero_on_arming() 
         level,
         rate: Vector3::repeat(1.0),
         bandwidth: 5.0,
+        observer: None,
     });
     // The lifecycle is under test here, not the certificate of these levels.
     c.allow_uncertified = true;

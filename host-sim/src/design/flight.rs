@@ -32,6 +32,11 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
             M_i_m_s2: i.level.into(),
             rate_m_s3: i.rate.into(),
             k_eta: i.bandwidth,
+            observer: i.observer.map(|o| firmware::flight_tables::ObserverTable {
+                velocity_gain_1_s: o.velocity_gain,
+                disturbance_gain_1_s2: o.disturbance_gain,
+                error_limit_m: o.error_limit,
+            }),
         }),
     }
 }

@@ -72,7 +72,8 @@ pub type VehicleConfig = VehicleTable;
 // definition: the firmware build reads the same tables from its flight file).
 pub use firmware::flight_tables::{
     GainsTable as GainsConfig, HeadingTable as HeadingConfig, IntegralTable as IntegralConfig,
-    LimitsTable as LimitsConfig, TrajectoryTable as TrajectoryConfig,
+    LimitsTable as LimitsConfig, ObserverTable as ObserverConfig,
+    TrajectoryTable as TrajectoryConfig,
 };
 
 /// `[initial]`.
@@ -188,6 +189,9 @@ fn key_of(name: &str) -> &'static str {
         "alpha" => "gains.alpha",
         "k_i" => "gains.integral.k_i",
         "k_eta" => "gains.integral.k_eta",
+        "L_v" => "gains.integral.observer.velocity_gain_1_s",
+        "L_d" => "gains.integral.observer.disturbance_gain_1_s2",
+        "z_bar" => "gains.integral.observer.error_limit_m",
         "M_i_x" | "M_i_y" | "M_i_z" => "gains.integral.M_i_m_s2",
         "R_i_x" | "R_i_y" | "R_i_z" => "gains.integral.rate_m_s3",
         n if n.starts_with("M_p + M_i_z") => "gains.integral.M_i_m_s2",
@@ -331,6 +335,11 @@ impl Scenario {
             level: v3(&i.M_i_m_s2),
             rate: v3(&i.rate_m_s3),
             bandwidth: lit(i.k_eta),
+            observer: i.observer.map(|o| controller_core::ObserverGains {
+                velocity_gain: lit(o.velocity_gain_1_s),
+                disturbance_gain: lit(o.disturbance_gain_1_s2),
+                error_limit: lit(o.error_limit_m),
+            }),
         });
         out
     }
