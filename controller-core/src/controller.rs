@@ -413,10 +413,10 @@ impl<T: Scalar> Controller<T> {
             &next_filter.u_f,
             &next_filter.u_s,
             &next_integral.filtered,
-            next_observed_velocity
-                .as_ref()
-                .unwrap_or(&next_integral.estimate),
         ] {
+            probe = finite_probe(probe, v);
+        }
+        if let Some(v) = &next_observed_velocity {
             probe = finite_probe(probe, v);
         }
         if !probe.is_finite() {
