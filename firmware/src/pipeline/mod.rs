@@ -405,10 +405,16 @@ impl FlightPipeline {
     pub fn on_link_bytes(&mut self, bytes: &[u8], now_us: u64) {
         // Each message is handled as soon as its last byte is in: one byte can release many
         // frames at once (those a corrupted length byte held back), and none may be lost.
+        // (`feed_into`, not `feed`: the message is written where it is handled, not copied.)
         let mut rest = bytes;
-        while let (used, Some(m)) = self.decoder.feed(rest) {
+        loop {
+            let mut message = None;
+            let used = self.decoder.feed_into(rest, &mut message);
             rest = &rest[used..];
-            self.handle(m, now_us);
+            match message {
+                Some(m) => self.handle(m, now_us),
+                None => break,
+            }
         }
         self.counters.link = self.decoder.counters();
     }
