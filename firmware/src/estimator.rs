@@ -174,10 +174,22 @@ impl<T: Copy> TimedRing<T> {
             (0, self.len)
         };
         let lo = lo.max(from);
+        if sorted {
+            // The run is at most two contiguous pieces of the arrays (before and after the
+            // wrap): iterated as slices, with no index mask or test per entry.
+            if lo < hi {
+                let start = (self.head + lo) & MASK;
+                let n = hi - lo;
+                let first = n.min(HISTORY - start);
+                self.value[start..start + first].iter().for_each(&mut f);
+                self.value[..n - first].iter().for_each(&mut f);
+            }
+            return;
+        }
         let mut i = lo;
         while i < hi {
             let j = (self.head + i) & MASK;
-            if sorted || (self.time[j] > after && self.time[j] <= until) {
+            if self.time[j] > after && self.time[j] <= until {
                 f(&self.value[j]);
             }
             i += 1;

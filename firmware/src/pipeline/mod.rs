@@ -51,7 +51,7 @@ pub use landed::{LandedDetector, LandedInputs};
 pub use mission::{Mode, ModeMachine};
 pub use params::{ParamRefusal, RestoreError, STREAM_PERIOD_US as PARAM_STREAM_PERIOD_US};
 
-use controller_core::scalar::{fmin, norm};
+use controller_core::scalar::{fmax, fmin, norm};
 use controller_core::{
     certify, Certificate, Controller, FilterStart, ParameterError, TrajectoryConstants,
     VehicleState,
@@ -61,7 +61,7 @@ use mavlink::dialects::common::{MavCmd, MavResult, MavSeverity};
 use nalgebra::{UnitQuaternion, Vector3};
 
 use crate::config::FlightConfig;
-use crate::estimator::{Estimate, Estimator, EstimatorConfig};
+use crate::estimator::{micros_f32, Estimate, Estimator, EstimatorConfig};
 use crate::flight_reference::{FlightReference, SupTable};
 use crate::imu_attitude::Mahony;
 use crate::link::{Decoder, Sender, SigningConfig};
@@ -451,9 +451,12 @@ impl FlightPipeline {
         let nominal = self.cfg.control_period();
         let [lo, hi] = self.cfg.control_dt_ratio;
         let dt = match self.last_tick_us {
-            Some(t) if now_us > t => ((now_us - t) as f32 * 1e-6)
-                .max(lo * nominal)
-                .min(hi * nominal),
+            // (`micros_f32`, `fmax`, `fmin`: the same values as the `u64` cast and `f32::max`
+            // and `min`, without their library calls on the MCU.)
+            Some(t) if now_us > t => fmin(
+                fmax(micros_f32(now_us - t) * 1e-6, lo * nominal),
+                hi * nominal,
+            ),
             _ => nominal,
         };
         self.last_tick_us = Some(now_us);
