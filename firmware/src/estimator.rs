@@ -65,6 +65,9 @@ struct TimedRing<T: Copy> {
     /// Entries ever pushed (wrapping): names an entry by its sequence number, which stays the
     /// same as older entries leave (see [`TimedRing::mark`]).
     pushes: usize,
+    /// Time of the newest entry (meaningful when `len > 0`): the push's descent test and the
+    /// windows' "ends at the newest" test read it without an indexed load.
+    newest: u64,
 }
 
 /// Index mask of the ring (`HISTORY` is a power of two).
@@ -80,6 +83,7 @@ impl<T: Copy> TimedRing<T> {
             len: 0,
             descents: 0,
             pushes: 0,
+            newest: 0,
         }
     }
 
@@ -92,21 +96,23 @@ impl<T: Copy> TimedRing<T> {
     /// Appends `(time_us, value)`, dropping the oldest entry when full; true if it dropped one.
     fn push(&mut self, time_us: u64, value: T) -> bool {
         let full = self.len == HISTORY;
+        // The newest entry stays when the oldest is dropped (HISTORY ≥ 2).
+        if self.len > 0 && time_us < self.newest {
+            self.descents += 1;
+        }
+        let i = (self.head + self.len) & MASK;
         if full {
             // (With no descent in the ring, the dropped pair is none: skip the comparison.)
             if self.descents > 0 && self.time_at(1) < self.time_at(0) {
                 self.descents -= 1;
             }
             self.head = (self.head + 1) & MASK;
-            self.len -= 1;
+        } else {
+            self.len += 1;
         }
-        if self.len > 0 && time_us < self.time_at(self.len - 1) {
-            self.descents += 1;
-        }
-        let i = (self.head + self.len) & MASK;
         self.time[i] = time_us;
         self.value[i] = value;
-        self.len += 1;
+        self.newest = time_us;
         self.pushes = self.pushes.wrapping_add(1);
         full
     }
@@ -136,7 +142,7 @@ impl<T: Copy> TimedRing<T> {
     /// Number of entries at or before `x` (the ring must be sorted: they are a prefix).
     fn count_until(&self, x: u64) -> usize {
         // The windows asked for mostly end at the newest entry (`now`, or open-ended).
-        if self.len == 0 || self.time_at(self.len - 1) <= x {
+        if self.len == 0 || self.newest <= x {
             return self.len;
         }
         let (mut lo, mut hi) = (0, self.len - 1);
