@@ -309,7 +309,9 @@ pub struct Estimator {
     cal_count: u32,
     bias: Option<Vector3<f32>>,
     // IMU.
-    last_imu_us: Option<u64>,
+    /// Time of the last accepted sample \[µs\]; `u64::MAX` before the first (no time is after
+    /// it, so the first interval is 0, as after a time stamp that did not advance).
+    last_imu_us: u64,
     imu_interval_s: f32,
     omega: Vector3<f32>,
     accel: Vector3<f32>,
@@ -348,7 +350,7 @@ impl Estimator {
             cal_sum: Vector3::zeros(),
             cal_count: 0,
             bias: None,
-            last_imu_us: None,
+            last_imu_us: u64::MAX,
             imu_interval_s: 0.0,
             omega: Vector3::zeros(),
             accel: Vector3::zeros(),
@@ -403,12 +405,13 @@ impl Estimator {
         if !finite_probe(finite_probe(0.0, gyro), accel).is_finite() {
             return false;
         }
-        self.imu_interval_s = match self.last_imu_us {
-            Some(t) if time_us > t => micros_f32(time_us - t) * 1e-6,
-            _ => 0.0,
+        self.imu_interval_s = if time_us > self.last_imu_us {
+            micros_f32(time_us - self.last_imu_us) * 1e-6
+        } else {
+            0.0
         };
         let dt = fmin(self.imu_interval_s, 0.01);
-        self.last_imu_us = Some(time_us);
+        self.last_imu_us = time_us;
         self.accel = *accel;
         match self.bias {
             None => {
@@ -435,7 +438,10 @@ impl Estimator {
             Some(q) => {
                 self.attitude = Some(normalize_quaternion(mul_increment(&q, &half)));
                 // Inertial acceleration R a − g e₃, for the velocity filter and dead reckoning.
-                let a = q * self.accel - Vector3::z() * self.cfg.gravity;
+                // (`− g` on z alone: the same bits as `− e₃ g` for the positive, finite gravity
+                // the vehicle parameters require, whose `0 · g` is +0 and `x − (+0)` is `x`.)
+                let a = q * self.accel;
+                let a = Vector3::new(a.x, a.y, a.z - self.cfg.gravity);
                 self.vertical_velocity += a.z * dt;
                 Some(a)
             }
