@@ -54,9 +54,11 @@ fn wide_micros_f32(us: u64) -> f32 {
 /// Plain arrays with a power-of-two index mask (not `heapless::Deque`, whose bounds and
 /// wrap-around checks cost several times the push itself on the MCU).
 #[derive(Clone, Debug)]
+#[repr(C)]
 struct TimedRing<T: Copy> {
-    time: [u64; HISTORY],
-    value: [T; HISTORY],
+    /// Time of the newest entry (meaningful when `len > 0`): the push's descent test and the
+    /// windows' "ends at the newest" test read it without an indexed load.
+    newest: u64,
     /// Physical index of the oldest entry.
     head: usize,
     len: usize,
@@ -65,9 +67,10 @@ struct TimedRing<T: Copy> {
     /// Entries ever pushed (wrapping): names an entry by its sequence number, which stays the
     /// same as older entries leave (see [`TimedRing::mark`]).
     pushes: usize,
-    /// Time of the newest entry (meaningful when `len > 0`): the push's descent test and the
-    /// windows' "ends at the newest" test read it without an indexed load.
-    newest: u64,
+    // The arrays last (`repr(C)`): the scalars above and the estimator's (see [`Estimator`])
+    // stay within short load offsets of one another.
+    time: [u64; HISTORY],
+    value: [T; HISTORY],
 }
 
 /// Index mask of the ring (`HISTORY` is a power of two).
@@ -302,12 +305,10 @@ pub struct Estimate {
 
 /// The estimator.
 #[derive(Clone, Debug)]
+#[repr(C)]
 pub struct Estimator {
-    cfg: EstimatorConfig,
-    // Calibration.
-    cal_sum: Vector3<f32>,
-    cal_count: u32,
-    bias: Option<Vector3<f32>>,
+    // `repr(C)`, the history last: every scalar the per-sample path and the pose fusion use is
+    // then within the Cortex-M4's short load and store offsets of the estimator's base.
     // IMU.
     /// Time of the last accepted sample \[µs\]; `u64::MAX` before the first (no time is after
     /// it, so the first interval is 0, as after a time stamp that did not advance).
@@ -315,13 +316,15 @@ pub struct Estimator {
     imu_interval_s: f32,
     omega: Vector3<f32>,
     accel: Vector3<f32>,
-    history: TimedRing<ImuRecord>,
+    bias: Option<Vector3<f32>>,
+    // Attitude.
+    attitude: Option<UnitQuaternion<f32>>,
+    vertical_velocity: f32,
     /// The oldest `accel_missing` records of `history` were taken before any attitude was
     /// known and have no inertial acceleration (the attitude, once known, stays known, so they
     /// are always the oldest).
     accel_missing: usize,
-    // Attitude.
-    attitude: Option<UnitQuaternion<f32>>,
+    cfg: EstimatorConfig,
     // Position and velocity.
     axes: [Axis; 3],
     filter_time_us: Option<u64>,
@@ -335,7 +338,10 @@ pub struct Estimator {
     poses_used: u32,
     last_pose_rx_us: Option<u64>,
     last_pose_bad: bool,
-    vertical_velocity: f32,
+    // Calibration.
+    cal_sum: Vector3<f32>,
+    cal_count: u32,
+    history: TimedRing<ImuRecord>,
 }
 
 impl Estimator {
