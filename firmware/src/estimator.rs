@@ -440,9 +440,11 @@ impl Estimator {
         }
         // Gyro increment over the sample, recorded for the latency correction.
         let half = self.omega * (0.5 * dt);
-        let accel = match self.attitude {
-            Some(q) => {
-                self.attitude = Some(normalize_quaternion(mul_increment(&q, &half)));
+        // (Through `as_mut`: the attitude is updated in place, without storing the tag again.)
+        let accel = match self.attitude.as_mut() {
+            Some(att) => {
+                let q = *att;
+                *att = normalize_quaternion(mul_increment(&q, &half));
                 // Inertial acceleration R a − g e₃, for the velocity filter and dead reckoning.
                 // (`− g` on z alone: the same bits as `− e₃ g` for the positive, finite gravity
                 // the vehicle parameters require, whose `0 · g` is +0 and `x − (+0)` is `x`.)
