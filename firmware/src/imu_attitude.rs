@@ -27,6 +27,8 @@ pub struct Mahony {
     kp: f32,
     ki: f32,
     gravity: f32,
+    /// `0.2 g`, the accelerometer gate's half-width [m/s²], computed once.
+    gate: f32,
 }
 
 impl Mahony {
@@ -39,6 +41,7 @@ impl Mahony {
             kp,
             ki,
             gravity,
+            gate: 0.2 * gravity,
         }
     }
 
@@ -75,7 +78,9 @@ impl Mahony {
         }
         let mut w = *gyro;
         let n = norm(accel);
-        if (n - self.gravity).abs() < 0.2 * self.gravity && n > 0.0 {
+        // (No `n > 0` test: the gate implies it. It needs `0.2 g > |n − g| ≥ 0`, so g > 0,
+        // and then n > 0.8 g; a NaN fails it.)
+        if (n - self.gravity).abs() < self.gate {
             let a = accel / n;
             // v̂ = R̂ᵀ e₃, the third row of R̂ (fewer operations than rotating e₃).
             let q = self.attitude.as_ref();
