@@ -148,6 +148,8 @@ pub struct FlightPipeline {
     cfg: FlightConfig,
     estimator: Estimator,
     mahony: Mahony,
+    /// [`mahony_dt_cap`] of `cfg`.
+    mahony_dt_cap: f32,
     counters: Counters,
     was_calibrating: bool,
     // The control tick's and the pose frame's.
@@ -200,6 +202,17 @@ pub struct FlightPipeline {
     /// Tick time \[µs\] whose HIL outputs are not sent yet.
     #[cfg(feature = "hil")]
     hil_pending: Option<u64>,
+}
+
+/// The Mahony filter's limit on its time step \[s\]: [`FlightConfig::mahony_dt_max`], or +∞
+/// when that is NaN (`fmin(x, NaN)` is `x`), so that `min(x, cap)` by one comparison is
+/// `fmin(x, mahony_dt_max)` for every `x` that is not NaN.
+fn mahony_dt_cap(cfg: &FlightConfig) -> f32 {
+    if cfg.mahony_dt_max.is_nan() {
+        f32::INFINITY
+    } else {
+        cfg.mahony_dt_max
+    }
 }
 
 /// The boot checks of set-up `cfg` on the rotors of `mixer`: the certificate of its demo mission
@@ -315,6 +328,7 @@ impl FlightPipeline {
             status_error: 0.0,
             status_pose_age: u64::MAX,
             was_calibrating: true,
+            mahony_dt_cap: mahony_dt_cap(&cfg),
             #[cfg(feature = "hil")]
             hil_time_us: None,
             #[cfg(feature = "hil")]
@@ -400,7 +414,14 @@ impl FlightPipeline {
             self.non_finite("imu");
             return;
         }
-        let dt = fmin(self.estimator.imu_interval_s(), self.cfg.mahony_dt_max);
+        // `fmin(interval, cfg.mahony_dt_max)` (the interval is never NaN: 0 or a positive
+        // time), with the test of the limit for NaN done once, in `mahony_dt_cap`.
+        let interval = self.estimator.imu_interval_s();
+        let dt = if interval < self.mahony_dt_cap {
+            interval
+        } else {
+            self.mahony_dt_cap
+        };
         // The estimator has refused non-finite samples already.
         self.mahony
             .update_finite(&self.estimator.angular_velocity(), &accel, dt);
