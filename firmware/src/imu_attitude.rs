@@ -76,6 +76,20 @@ impl Mahony {
         if !(dt > 0.0 && dt <= f32::MAX) {
             return;
         }
+        self.step(gyro, accel, dt);
+    }
+
+    /// [`Mahony::update_finite`] for a time step that is never NaN or +∞ (the pipeline's: the
+    /// IMU interval, finite, capped): only `dt > 0` is left to test, the same decision.
+    pub(crate) fn update_finite_dt(&mut self, gyro: &Vector3<f32>, accel: &Vector3<f32>, dt: f32) {
+        if dt > 0.0 {
+            self.step(gyro, accel, dt);
+        }
+    }
+
+    /// The update itself, `dt` positive and finite.
+    #[inline(always)]
+    fn step(&mut self, gyro: &Vector3<f32>, accel: &Vector3<f32>, dt: f32) {
         let mut w = *gyro;
         let n = norm(accel);
         // (No `n > 0` test: the gate implies it. It needs `0.2 g > |n − g| ≥ 0`, so g > 0,

@@ -423,8 +423,9 @@ impl FlightPipeline {
             self.mahony_dt_cap
         };
         // The estimator has refused non-finite samples already.
+        // (`dt` is never NaN or +∞: see `update_finite_dt`.)
         self.mahony
-            .update_finite(&self.estimator.angular_velocity(), &accel, dt);
+            .update_finite_dt(&self.estimator.angular_velocity(), &accel, dt);
         if self.was_calibrating && !self.estimator.calibrating() {
             self.was_calibrating = false;
             let b = self.estimator.gyro_bias();
