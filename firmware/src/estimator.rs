@@ -169,15 +169,38 @@ impl<T: Copy> TimedRing<T> {
         from: usize,
         after: (u64, usize),
         until: (u64, usize),
+        f: impl FnMut(&T),
+    ) {
+        self.window(from, after, until, [false; 2], f);
+    }
+
+    /// [`TimedRing::for_each_in`] where `exact[0]` (`exact[1]`) says that the hint of `after`
+    /// (`until`) is that time's [`TimedRing::mark`] on the ring as it is now: it is then used
+    /// without the two comparisons that check it.
+    #[inline(always)]
+    fn window(
+        &self,
+        from: usize,
+        after: (u64, usize),
+        until: (u64, usize),
+        exact: [bool; 2],
         mut f: impl FnMut(&T),
     ) {
         let ((after, after_hint), (until, until_hint)) = (after, until);
+        let first = self.pushes.wrapping_sub(self.len);
+        let count = |x: u64, hint: usize, exact: bool| {
+            if exact {
+                hint.wrapping_sub(first)
+            } else {
+                self.count_until_hinted(x, hint)
+            }
+        };
         // Sorted: exactly the run [lo, hi). Otherwise: every entry, filtered.
         let sorted = self.descents == 0;
         let (lo, hi) = if sorted {
             (
-                self.count_until_hinted(after, after_hint),
-                self.count_until_hinted(until, until_hint),
+                count(after, after_hint, exact[0]),
+                count(until, until_hint, exact[1]),
             )
         } else {
             (0, self.len)
@@ -477,10 +500,12 @@ impl Estimator {
 
     /// Mean inertial acceleration [m/s²] of the samples in `(t0, t1]` (zero if none).
     /// `t0` and `t1` come with [`TimedRing::mark`] hints.
-    fn mean_accel(&self, t0: (u64, usize), t1: (u64, usize)) -> Vector3<f32> {
+    /// `t1_exact`: `t1`'s hint is its exact mark (see [`TimedRing::window`]).
+    fn mean_accel(&self, t0: (u64, usize), t1: (u64, usize), t1_exact: bool) -> Vector3<f32> {
         let mut sum = Vector3::zeros();
         let mut n = 0u32;
-        self.history.for_each_in(self.accel_missing, t0, t1, |r| {
+        let exact = [false, t1_exact];
+        self.history.window(self.accel_missing, t0, t1, exact, |r| {
             sum += r.accel;
             n += 1;
         });
@@ -532,7 +557,7 @@ impl Estimator {
         // after the measurement time.
         let mut q = attitude / n;
         self.history
-            .for_each_in(0, (t_meas, meas_mark), (u64::MAX, end), |r| {
+            .window(0, (t_meas, meas_mark), (u64::MAX, end), [true; 2], |r| {
                 q = mul_increment(&q, &r.half)
             });
         self.attitude = Some(normalize_quaternion(q));
@@ -548,7 +573,7 @@ impl Estimator {
             }
             Some(t) => {
                 let dt = micros_f32(t_meas - t) * 1e-6;
-                let accel = self.mean_accel((t, self.filter_mark), (t_meas, meas_mark));
+                let accel = self.mean_accel((t, self.filter_mark), (t_meas, meas_mark), true);
                 for (i, a) in self.axes.iter_mut().enumerate() {
                     a.predict(dt, self.cfg.accel_psd, accel[i]);
                     a.update(position[i], r);
@@ -601,7 +626,7 @@ impl Estimator {
         // Extrapolate over at most 0.2 s: beyond, the failsafe has taken over anyway.
         let dt = fmin(micros_f32(now_us.saturating_sub(t)) * 1e-6, 0.2);
         let end = self.history.pushes;
-        let a = self.mean_accel((t, self.filter_mark), (now_us, end));
+        let a = self.mean_accel((t, self.filter_mark), (now_us, end), false);
         let position = Vector3::from_fn(|i, _| {
             self.axes[i].x[0] + self.axes[i].x[1] * dt + 0.5 * a[i] * dt * dt
         });
@@ -812,6 +837,13 @@ mod tests {
                     .map(|(_, v)| *v)
                     .collect();
                 assert_eq!(got, want, "at {i}: ({after}, {until}]");
+                // With exact marks, taken unchecked: the same entries.
+                let (ma, mu) = (ring.mark(after, 0), ring.mark(until, 0));
+                let mut exact = Vec::new();
+                ring.window(from, (after, ma), (until, mu), [true; 2], |v| {
+                    exact.push(*v)
+                });
+                assert_eq!(exact, want, "exact marks, at {i}: ({after}, {until}]");
             }
         }
         assert_eq!(ring.descents, 0);
