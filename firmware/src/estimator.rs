@@ -133,10 +133,11 @@ impl<T: Copy> TimedRing<T> {
     /// sorted ring, the definition of the prefix's end).
     fn count_until_hinted(&self, x: u64, hint: usize) -> usize {
         let i = hint.wrapping_sub(self.pushes.wrapping_sub(self.len));
-        if i <= self.len
-            && (i == 0 || self.time_at(i - 1) <= x)
-            && (i == self.len || self.time_at(i) > x)
-        {
+        // (At the end, the entry before is the newest: its time without an indexed load.)
+        if i == self.len && (i == 0 || self.newest <= x) {
+            return i;
+        }
+        if i < self.len && (i == 0 || self.time_at(i - 1) <= x) && self.time_at(i) > x {
             return i;
         }
         self.count_until(x)

@@ -52,7 +52,8 @@ impl Mahony {
 
     /// Re-anchors on an external attitude (the fused mocap one); keeps the bias integral.
     pub fn anchor(&mut self, q: &UnitQuaternion<f32>) {
-        if q.coords.iter().all(|x| x.is_finite()) {
+        // (One probe, finite iff every coordinate is, instead of four tests.)
+        if finite_probe(0.0, &q.coords).is_finite() {
             self.attitude = *q;
         }
     }
