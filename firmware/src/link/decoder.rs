@@ -87,6 +87,11 @@ impl Decoder {
         &self.buf[..self.len]
     }
 
+    /// True when no byte is held back: [`Decoder::feed`] of nothing then completes nothing.
+    pub fn holds_nothing(&self) -> bool {
+        self.len == 0
+    }
+
     /// Counters so far.
     pub fn counters(&self) -> LinkCounters {
         self.counters

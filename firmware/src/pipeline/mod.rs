@@ -449,6 +449,10 @@ impl FlightPipeline {
                 Some(m) => self.handle(m, now_us),
                 None => break,
             }
+            // Fed whole and nothing held back: another call could complete nothing.
+            if rest.is_empty() && self.decoder.holds_nothing() {
+                break;
+            }
         }
         self.counters.link = self.decoder.counters();
     }
