@@ -502,6 +502,7 @@ impl Estimator {
     /// Mean inertial acceleration [m/s²] of the samples in `(t0, t1]` (zero if none).
     /// `t0` and `t1` come with [`TimedRing::mark`] hints.
     /// `t1_exact`: `t1`'s hint is its exact mark (see [`TimedRing::window`]).
+    #[inline(always)]
     fn mean_accel(&self, t0: (u64, usize), t1: (u64, usize), t1_exact: bool) -> Vector3<f32> {
         let mut sum = Vector3::zeros();
         let mut n = 0u32;
