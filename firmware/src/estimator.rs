@@ -622,6 +622,7 @@ impl Estimator {
 
     /// The state at `now_us`, extrapolating from the last measurement time with the velocity
     /// and the mean inertial acceleration since. `None` before the first pose.
+    #[inline(always)]
     pub fn estimate(&self, now_us: u64) -> Option<Estimate> {
         let attitude = self.attitude?;
         let t = self.filter_time_us?;
