@@ -75,6 +75,7 @@ pub(super) fn is_command(msgid: u32) -> bool {
 /// return value: an [`Inbound`] is 48 bytes, and moving it from one enum to another (this
 /// verdict, the decoder's, its `Option`) cost two `memcpy` calls per frame on the MCU, most of
 /// the pose frame's decoding.
+#[inline(always)]
 pub(super) fn interpret(
     us: Address,
     sender: Sender,
