@@ -1,8 +1,8 @@
 //! The MAVLink 2 frame parser: bytes in any chunking to checked frames (CRC, signature,
 //! addressing), never panicking, counting every failure.
 
-use mavlink::dialects::common::MavMessage;
-use mavlink::Message;
+use mavlink::dialects::common::{MavMessage, ATT_POS_MOCAP_DATA, ODOMETRY_DATA};
+use mavlink::{Message, MessageData};
 
 use super::interpret::{self, Address, Interpretation};
 use super::signing::{Check, Signing, SigningConfig, SIGNED_FLAG};
@@ -268,7 +268,13 @@ fn examine(
         return Step::NeedMore(total);
     }
     let msgid = u32::from_le_bytes([buf[7], buf[8], buf[9], 0]);
-    let extra = MavMessage::extra_crc(msgid);
+    // The pose messages, the stream's usual frames, without the call into the dialect's
+    // table (the same constants).
+    let extra = match msgid {
+        ATT_POS_MOCAP_DATA::ID => ATT_POS_MOCAP_DATA::EXTRA_CRC,
+        ODOMETRY_DATA::ID => ODOMETRY_DATA::EXTRA_CRC,
+        _ => MavMessage::extra_crc(msgid),
+    };
     if extra == 0 {
         // Not in the common dialect: its CRC cannot be checked, so it may as well be a
         // false marker inside other data. Skipping only the marker keeps the frames behind
