@@ -121,7 +121,7 @@ impl<T: Copy> TimedRing<T> {
     }
 
     /// [`TimedRing::count_until`] as a sequence number (the number of entries ever pushed
-    /// before the first entry after `x`), for [`TimedRing::for_each_in`]'s hints; `hint` is
+    /// before the first entry after `x`), for [`TimedRing::window`]'s hints; `hint` is
     /// returned at once when it is still the answer (two comparisons instead of a search).
     fn mark(&self, x: u64, hint: usize) -> usize {
         let first = self.pushes.wrapping_sub(self.len);
@@ -164,19 +164,8 @@ impl<T: Copy> TimedRing<T> {
     /// Calls `f` on every value with `after.0 < t ≤ until.0`, oldest first, among the entries
     /// from the `from`-th oldest on (`from = 0`: all). The second element of `after` and
     /// `until` is a hint, the [`TimedRing::mark`] of that time when it was last asked for (any
-    /// value: a wrong hint only costs the search).
-    fn for_each_in(
-        &self,
-        from: usize,
-        after: (u64, usize),
-        until: (u64, usize),
-        f: impl FnMut(&T),
-    ) {
-        self.window(from, after, until, [false; 2], f);
-    }
-
-    /// [`TimedRing::for_each_in`] where `exact[0]` (`exact[1]`) says that the hint of `after`
-    /// (`until`) is that time's [`TimedRing::mark`] on the ring as it is now: it is then used
+    /// value: a wrong hint only costs the search), unless `exact[0]` (`exact[1]`) says that the
+    /// hint of `after` (`until`) is that time's mark on the ring as it is now: it is then used
     /// without the two comparisons that check it.
     #[inline(always)]
     fn window(
@@ -832,7 +821,7 @@ mod tests {
                     _ => ring.pushes.wrapping_sub(rnd(20) as usize),
                 };
                 let (ha, hu) = (hint(after), hint(until));
-                ring.for_each_in(from, (after, ha), (until, hu), |v| got.push(*v));
+                ring.window(from, (after, ha), (until, hu), [false; 2], |v| got.push(*v));
                 let want: Vec<u32> = kept
                     .iter()
                     .skip(from)
