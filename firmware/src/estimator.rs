@@ -161,6 +161,18 @@ impl<T: Copy> TimedRing<T> {
         lo
     }
 
+    /// [`TimedRing::window`] with hints that are checked (the tests' name for it).
+    #[cfg(test)]
+    fn for_each_in(
+        &self,
+        from: usize,
+        after: (u64, usize),
+        until: (u64, usize),
+        f: impl FnMut(&T),
+    ) {
+        self.window(from, after, until, [false; 2], f);
+    }
+
     /// Calls `f` on every value with `after.0 < t ≤ until.0`, oldest first, among the entries
     /// from the `from`-th oldest on (`from = 0`: all). The second element of `after` and
     /// `until` is a hint, the [`TimedRing::mark`] of that time when it was last asked for (any
@@ -821,7 +833,7 @@ mod tests {
                     _ => ring.pushes.wrapping_sub(rnd(20) as usize),
                 };
                 let (ha, hu) = (hint(after), hint(until));
-                ring.window(from, (after, ha), (until, hu), [false; 2], |v| got.push(*v));
+                ring.for_each_in(from, (after, ha), (until, hu), |v| got.push(*v));
                 let want: Vec<u32> = kept
                     .iter()
                     .skip(from)
