@@ -11,13 +11,13 @@
 #    table; exit 1 on a disagreement or when the largest full step exceeds the budget.
 #
 # Budget: a flight tick's full step (10 IMU samples, one ATT_POS_MOCAP frame, control_tick)
-# must stay within BUDGET instructions. Measured when it was set: maximum 8 471, median 8 404
+# must stay within BUDGET instructions. Measured when it was set: maximum 7 045, median 6 969
 # instructions (QEMU 7.2, rustc 1.95; docs/m4f-bench.md); the budget is that maximum plus 15 %
-# (9 742), rounded up to 9 800. `--budget N` overrides it. Needs qemu-system-arm (>= 7.2, with TCG plugin
+# (8 101.75), rounded up to 8 200. `--budget N` overrides it. Needs qemu-system-arm (>= 7.2, with TCG plugin
 # support, as Debian ships it), gcc and the thumbv7em-none-eabihf Rust target.
 set -euo pipefail
 
-BUDGET=9800
+BUDGET=8200
 args=()
 while [[ $# -gt 0 ]]; do
   case "$1" in

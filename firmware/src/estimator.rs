@@ -54,9 +54,11 @@ fn wide_micros_f32(us: u64) -> f32 {
 /// Plain arrays with a power-of-two index mask (not `heapless::Deque`, whose bounds and
 /// wrap-around checks cost several times the push itself on the MCU).
 #[derive(Clone, Debug)]
+#[repr(C)]
 struct TimedRing<T: Copy> {
-    time: [u64; HISTORY],
-    value: [T; HISTORY],
+    /// Time of the newest entry (meaningful when `len > 0`): the push's descent test and the
+    /// windows' "ends at the newest" test read it without an indexed load.
+    newest: u64,
     /// Physical index of the oldest entry.
     head: usize,
     len: usize,
@@ -65,6 +67,10 @@ struct TimedRing<T: Copy> {
     /// Entries ever pushed (wrapping): names an entry by its sequence number, which stays the
     /// same as older entries leave (see [`TimedRing::mark`]).
     pushes: usize,
+    // The arrays last (`repr(C)`): the scalars above and the estimator's (see [`Estimator`])
+    // stay within short load offsets of one another.
+    time: [u64; HISTORY],
+    value: [T; HISTORY],
 }
 
 /// Index mask of the ring (`HISTORY` is a power of two).
@@ -80,6 +86,7 @@ impl<T: Copy> TimedRing<T> {
             len: 0,
             descents: 0,
             pushes: 0,
+            newest: 0,
         }
     }
 
@@ -92,27 +99,29 @@ impl<T: Copy> TimedRing<T> {
     /// Appends `(time_us, value)`, dropping the oldest entry when full; true if it dropped one.
     fn push(&mut self, time_us: u64, value: T) -> bool {
         let full = self.len == HISTORY;
+        // The newest entry stays when the oldest is dropped (HISTORY ≥ 2).
+        if self.len > 0 && time_us < self.newest {
+            self.descents += 1;
+        }
+        let i = (self.head + self.len) & MASK;
         if full {
             // (With no descent in the ring, the dropped pair is none: skip the comparison.)
             if self.descents > 0 && self.time_at(1) < self.time_at(0) {
                 self.descents -= 1;
             }
             self.head = (self.head + 1) & MASK;
-            self.len -= 1;
+        } else {
+            self.len += 1;
         }
-        if self.len > 0 && time_us < self.time_at(self.len - 1) {
-            self.descents += 1;
-        }
-        let i = (self.head + self.len) & MASK;
         self.time[i] = time_us;
         self.value[i] = value;
-        self.len += 1;
+        self.newest = time_us;
         self.pushes = self.pushes.wrapping_add(1);
         full
     }
 
     /// [`TimedRing::count_until`] as a sequence number (the number of entries ever pushed
-    /// before the first entry after `x`), for [`TimedRing::for_each_in`]'s hints; `hint` is
+    /// before the first entry after `x`), for [`TimedRing::window`]'s hints; `hint` is
     /// returned at once when it is still the answer (two comparisons instead of a search).
     fn mark(&self, x: u64, hint: usize) -> usize {
         let first = self.pushes.wrapping_sub(self.len);
@@ -124,10 +133,11 @@ impl<T: Copy> TimedRing<T> {
     /// sorted ring, the definition of the prefix's end).
     fn count_until_hinted(&self, x: u64, hint: usize) -> usize {
         let i = hint.wrapping_sub(self.pushes.wrapping_sub(self.len));
-        if i <= self.len
-            && (i == 0 || self.time_at(i - 1) <= x)
-            && (i == self.len || self.time_at(i) > x)
-        {
+        // (At the end, the entry before is the newest: its time without an indexed load.)
+        if i == self.len && (i == 0 || self.newest <= x) {
+            return i;
+        }
+        if i < self.len && (i == 0 || self.time_at(i - 1) <= x) && self.time_at(i) > x {
             return i;
         }
         self.count_until(x)
@@ -136,7 +146,7 @@ impl<T: Copy> TimedRing<T> {
     /// Number of entries at or before `x` (the ring must be sorted: they are a prefix).
     fn count_until(&self, x: u64) -> usize {
         // The windows asked for mostly end at the newest entry (`now`, or open-ended).
-        if self.len == 0 || self.time_at(self.len - 1) <= x {
+        if self.len == 0 || self.newest <= x {
             return self.len;
         }
         let (mut lo, mut hi) = (0, self.len - 1);
@@ -151,33 +161,69 @@ impl<T: Copy> TimedRing<T> {
         lo
     }
 
-    /// Calls `f` on every value with `after.0 < t ≤ until.0`, oldest first, among the entries
-    /// from the `from`-th oldest on (`from = 0`: all). The second element of `after` and
-    /// `until` is a hint, the [`TimedRing::mark`] of that time when it was last asked for (any
-    /// value: a wrong hint only costs the search).
+    /// [`TimedRing::window`] with hints that are checked (the tests' name for it).
+    #[cfg(test)]
     fn for_each_in(
         &self,
         from: usize,
         after: (u64, usize),
         until: (u64, usize),
+        f: impl FnMut(&T),
+    ) {
+        self.window(from, after, until, [false; 2], f);
+    }
+
+    /// Calls `f` on every value with `after.0 < t ≤ until.0`, oldest first, among the entries
+    /// from the `from`-th oldest on (`from = 0`: all). The second element of `after` and
+    /// `until` is a hint, the [`TimedRing::mark`] of that time when it was last asked for (any
+    /// value: a wrong hint only costs the search), unless `exact[0]` (`exact[1]`) says that the
+    /// hint of `after` (`until`) is that time's mark on the ring as it is now: it is then used
+    /// without the two comparisons that check it.
+    #[inline(always)]
+    fn window(
+        &self,
+        from: usize,
+        after: (u64, usize),
+        until: (u64, usize),
+        exact: [bool; 2],
         mut f: impl FnMut(&T),
     ) {
         let ((after, after_hint), (until, until_hint)) = (after, until);
+        let first = self.pushes.wrapping_sub(self.len);
+        let count = |x: u64, hint: usize, exact: bool| {
+            if exact {
+                hint.wrapping_sub(first)
+            } else {
+                self.count_until_hinted(x, hint)
+            }
+        };
         // Sorted: exactly the run [lo, hi). Otherwise: every entry, filtered.
         let sorted = self.descents == 0;
         let (lo, hi) = if sorted {
             (
-                self.count_until_hinted(after, after_hint),
-                self.count_until_hinted(until, until_hint),
+                count(after, after_hint, exact[0]),
+                count(until, until_hint, exact[1]),
             )
         } else {
             (0, self.len)
         };
         let lo = lo.max(from);
+        if sorted {
+            // The run is at most two contiguous pieces of the arrays (before and after the
+            // wrap): iterated as slices, with no index mask or test per entry.
+            if lo < hi {
+                let start = (self.head + lo) & MASK;
+                let n = hi - lo;
+                let first = n.min(HISTORY - start);
+                self.value[start..start + first].iter().for_each(&mut f);
+                self.value[..n - first].iter().for_each(&mut f);
+            }
+            return;
+        }
         let mut i = lo;
         while i < hi {
             let j = (self.head + i) & MASK;
-            if sorted || (self.time[j] > after && self.time[j] <= until) {
+            if self.time[j] > after && self.time[j] <= until {
                 f(&self.value[j]);
             }
             i += 1;
@@ -284,34 +330,43 @@ pub struct Estimate {
 
 /// The estimator.
 #[derive(Clone, Debug)]
+#[repr(C)]
 pub struct Estimator {
-    cfg: EstimatorConfig,
-    // Calibration.
-    cal_sum: Vector3<f32>,
-    cal_count: u32,
-    bias: Option<Vector3<f32>>,
+    // `repr(C)`, the history last: every scalar the per-sample path and the pose fusion use is
+    // then within the Cortex-M4's short load and store offsets of the estimator's base.
     // IMU.
-    last_imu_us: Option<u64>,
+    /// Time of the last accepted sample \[µs\]; `u64::MAX` before the first (no time is after
+    /// it, so the first interval is 0, as after a time stamp that did not advance).
+    last_imu_us: u64,
     imu_interval_s: f32,
     omega: Vector3<f32>,
     accel: Vector3<f32>,
-    history: TimedRing<ImuRecord>,
+    bias: Option<Vector3<f32>>,
+    // Attitude.
+    attitude: Option<UnitQuaternion<f32>>,
+    vertical_velocity: f32,
     /// The oldest `accel_missing` records of `history` were taken before any attitude was
     /// known and have no inertial acceleration (the attitude, once known, stays known, so they
     /// are always the oldest).
     accel_missing: usize,
-    // Attitude.
-    attitude: Option<UnitQuaternion<f32>>,
+    cfg: EstimatorConfig,
     // Position and velocity.
     axes: [Axis; 3],
     filter_time_us: Option<u64>,
     /// [`TimedRing::mark`] of `filter_time_us` in `history` when it was set: the windows that
     /// start there then need no search.
     filter_mark: usize,
+    /// `history.pushes` when the last pose was used: with it, [`Estimator::on_pose`] guesses the
+    /// new measurement time's mark (as many samples on as were pushed since, exact for a steady
+    /// IMU rate and latency) instead of searching.
+    pose_pushes: usize,
     poses_used: u32,
     last_pose_rx_us: Option<u64>,
     last_pose_bad: bool,
-    vertical_velocity: f32,
+    // Calibration.
+    cal_sum: Vector3<f32>,
+    cal_count: u32,
+    history: TimedRing<ImuRecord>,
 }
 
 impl Estimator {
@@ -326,7 +381,7 @@ impl Estimator {
             cal_sum: Vector3::zeros(),
             cal_count: 0,
             bias: None,
-            last_imu_us: None,
+            last_imu_us: u64::MAX,
             imu_interval_s: 0.0,
             omega: Vector3::zeros(),
             accel: Vector3::zeros(),
@@ -340,6 +395,7 @@ impl Estimator {
             axes: [axis; 3],
             filter_time_us: None,
             filter_mark: 0,
+            pose_pushes: 0,
             poses_used: 0,
             last_pose_rx_us: None,
             last_pose_bad: false,
@@ -380,12 +436,13 @@ impl Estimator {
         if !finite_probe(finite_probe(0.0, gyro), accel).is_finite() {
             return false;
         }
-        self.imu_interval_s = match self.last_imu_us {
-            Some(t) if time_us > t => micros_f32(time_us - t) * 1e-6,
-            _ => 0.0,
+        self.imu_interval_s = if time_us > self.last_imu_us {
+            micros_f32(time_us - self.last_imu_us) * 1e-6
+        } else {
+            0.0
         };
         let dt = fmin(self.imu_interval_s, 0.01);
-        self.last_imu_us = Some(time_us);
+        self.last_imu_us = time_us;
         self.accel = *accel;
         match self.bias {
             None => {
@@ -408,11 +465,16 @@ impl Estimator {
         }
         // Gyro increment over the sample, recorded for the latency correction.
         let half = self.omega * (0.5 * dt);
-        let accel = match self.attitude {
-            Some(q) => {
-                self.attitude = Some(normalize_quaternion(mul_increment(&q, &half)));
+        // (Through `as_mut`: the attitude is updated in place, without storing the tag again.)
+        let accel = match self.attitude.as_mut() {
+            Some(att) => {
+                let q = *att;
+                *att = normalize_quaternion(mul_increment(&q, &half));
                 // Inertial acceleration R a − g e₃, for the velocity filter and dead reckoning.
-                let a = q * self.accel - Vector3::z() * self.cfg.gravity;
+                // (`− g` on z alone: the same bits as `− e₃ g` for the positive, finite gravity
+                // the vehicle parameters require, whose `0 · g` is +0 and `x − (+0)` is `x`.)
+                let a = q * self.accel;
+                let a = Vector3::new(a.x, a.y, a.z - self.cfg.gravity);
                 self.vertical_velocity += a.z * dt;
                 Some(a)
             }
@@ -425,21 +487,28 @@ impl Estimator {
                 accel: accel.unwrap_or_else(Vector3::zeros),
             },
         );
-        if dropped && self.accel_missing > 0 {
-            self.accel_missing -= 1;
-        }
-        if accel.is_none() {
-            self.accel_missing += 1;
+        // (Nothing to count in the usual case, a known attitude and no record without
+        // acceleration left: one test instead of the two updates' tests.)
+        if self.accel_missing > 0 || accel.is_none() {
+            if dropped && self.accel_missing > 0 {
+                self.accel_missing -= 1;
+            }
+            if accel.is_none() {
+                self.accel_missing += 1;
+            }
         }
         true
     }
 
     /// Mean inertial acceleration [m/s²] of the samples in `(t0, t1]` (zero if none).
     /// `t0` and `t1` come with [`TimedRing::mark`] hints.
-    fn mean_accel(&self, t0: (u64, usize), t1: (u64, usize)) -> Vector3<f32> {
+    /// `t1_exact`: `t1`'s hint is its exact mark (see [`TimedRing::window`]).
+    #[inline(always)]
+    fn mean_accel(&self, t0: (u64, usize), t1: (u64, usize), t1_exact: bool) -> Vector3<f32> {
         let mut sum = Vector3::zeros();
         let mut n = 0u32;
-        self.history.for_each_in(self.accel_missing, t0, t1, |r| {
+        let exact = [false, t1_exact];
+        self.history.window(self.accel_missing, t0, t1, exact, |r| {
             sum += r.accel;
             n += 1;
         });
@@ -457,9 +526,8 @@ impl Estimator {
         attitude: &Quaternion<f32>,
         rx_us: u64,
     ) -> PoseCheck {
-        let finite =
-            position.iter().all(|x| x.is_finite()) && attitude.coords.iter().all(|x| x.is_finite());
-        if !finite {
+        // One probe (`Σ 0·x`, finite iff every value is) instead of seven tests.
+        if !finite_probe(finite_probe(0.0, position), &attitude.coords).is_finite() {
             self.last_pose_bad = true;
             return PoseCheck::NonFinite;
         }
@@ -480,14 +548,19 @@ impl Estimator {
         // Where the measurement time falls in the history, searched once: the end of the
         // velocity filter's window, the start of the attitude's carry-forward, and the start
         // of the next windows.
+        // The hint: the last measurement time's mark moved on by the samples pushed since
+        // (checked by two comparisons; a search when wrong).
         let end = self.history.pushes;
-        let meas_mark = self.history.mark(t_meas, end);
+        let hint = self
+            .filter_mark
+            .wrapping_add(end.wrapping_sub(self.pose_pushes));
+        let meas_mark = self.history.mark(t_meas, hint);
 
         // Attitude: the measured one, carried forward through the gyro increments recorded
         // after the measurement time.
         let mut q = attitude / n;
         self.history
-            .for_each_in(0, (t_meas, meas_mark), (u64::MAX, end), |r| {
+            .window(0, (t_meas, meas_mark), (u64::MAX, end), [true; 2], |r| {
                 q = mul_increment(&q, &r.half)
             });
         self.attitude = Some(normalize_quaternion(q));
@@ -503,7 +576,7 @@ impl Estimator {
             }
             Some(t) => {
                 let dt = micros_f32(t_meas - t) * 1e-6;
-                let accel = self.mean_accel((t, self.filter_mark), (t_meas, meas_mark));
+                let accel = self.mean_accel((t, self.filter_mark), (t_meas, meas_mark), true);
                 for (i, a) in self.axes.iter_mut().enumerate() {
                     a.predict(dt, self.cfg.accel_psd, accel[i]);
                     a.update(position[i], r);
@@ -512,6 +585,7 @@ impl Estimator {
         }
         self.filter_time_us = Some(t_meas);
         self.filter_mark = meas_mark;
+        self.pose_pushes = end;
         self.poses_used = self.poses_used.saturating_add(1);
         self.vertical_velocity = self.axes[2].x[1];
         PoseCheck::Used
@@ -549,13 +623,14 @@ impl Estimator {
 
     /// The state at `now_us`, extrapolating from the last measurement time with the velocity
     /// and the mean inertial acceleration since. `None` before the first pose.
+    #[inline(always)]
     pub fn estimate(&self, now_us: u64) -> Option<Estimate> {
         let attitude = self.attitude?;
         let t = self.filter_time_us?;
         // Extrapolate over at most 0.2 s: beyond, the failsafe has taken over anyway.
         let dt = fmin(micros_f32(now_us.saturating_sub(t)) * 1e-6, 0.2);
         let end = self.history.pushes;
-        let a = self.mean_accel((t, self.filter_mark), (now_us, end));
+        let a = self.mean_accel((t, self.filter_mark), (now_us, end), false);
         let position = Vector3::from_fn(|i, _| {
             self.axes[i].x[0] + self.axes[i].x[1] * dt + 0.5 * a[i] * dt * dt
         });
@@ -766,6 +841,13 @@ mod tests {
                     .map(|(_, v)| *v)
                     .collect();
                 assert_eq!(got, want, "at {i}: ({after}, {until}]");
+                // With exact marks, taken unchecked: the same entries.
+                let (ma, mu) = (ring.mark(after, 0), ring.mark(until, 0));
+                let mut exact = Vec::new();
+                ring.window(from, (after, ma), (until, mu), [true; 2], |v| {
+                    exact.push(*v)
+                });
+                assert_eq!(exact, want, "exact marks, at {i}: ({after}, {until}]");
             }
         }
         assert_eq!(ring.descents, 0);

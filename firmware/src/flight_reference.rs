@@ -150,6 +150,32 @@ pub struct SetpointFilter {
     yaw_target: f32,
     yaw_e: [f32; 4],
     table: SupTable,
+    step: StepCoefficients,
+}
+
+/// The closed form's coefficients for the last `τ = λ dt`, kept because the control period,
+/// and so `τ`, is the same tick after tick: libm's `expf` is the costly part of a step. A cache,
+/// not part of the filter's value: it compares equal whatever it holds.
+#[derive(Clone, Copy, Debug)]
+struct StepCoefficients {
+    /// `c` holds the coefficients of `tau` (false: nothing yet).
+    valid: bool,
+    tau: f32,
+    c: [f32; 4],
+}
+
+impl StepCoefficients {
+    const EMPTY: Self = Self {
+        valid: false,
+        tau: 0.0,
+        c: [0.0; 4],
+    };
+}
+
+impl PartialEq for StepCoefficients {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 fn wrap_pi(a: f32) -> f32 {
@@ -171,6 +197,7 @@ impl SetpointFilter {
             yaw_target: yaw,
             yaw_e: [0.0; 4],
             table,
+            step: StepCoefficients::EMPTY,
         }
     }
 
@@ -208,8 +235,19 @@ impl SetpointFilter {
             return;
         }
         let tau = self.rate * dt;
-        let d = libm::expf(-tau);
-        let c = [d, tau * d, tau * tau * 0.5 * d, tau * tau * tau / 6.0 * d];
+        // (The same bits as computing them again: the same `τ`, bit for bit.)
+        let c = if self.step.valid && self.step.tau.to_bits() == tau.to_bits() {
+            self.step.c
+        } else {
+            let d = libm::expf(-tau);
+            let c = [d, tau * d, tau * tau * 0.5 * d, tau * tau * tau / 6.0 * d];
+            self.step = StepCoefficients {
+                valid: true,
+                tau,
+                c,
+            };
+            c
+        };
         let old = self.e;
         let oy = self.yaw_e;
         for i in 0..4 {

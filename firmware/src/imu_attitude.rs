@@ -27,6 +27,8 @@ pub struct Mahony {
     kp: f32,
     ki: f32,
     gravity: f32,
+    /// `0.2 g`, the accelerometer gate's half-width [m/s²], computed once.
+    gate: f32,
 }
 
 impl Mahony {
@@ -39,6 +41,7 @@ impl Mahony {
             kp,
             ki,
             gravity,
+            gate: 0.2 * gravity,
         }
     }
 
@@ -49,7 +52,8 @@ impl Mahony {
 
     /// Re-anchors on an external attitude (the fused mocap one); keeps the bias integral.
     pub fn anchor(&mut self, q: &UnitQuaternion<f32>) {
-        if q.coords.iter().all(|x| x.is_finite()) {
+        // (One probe, finite iff every coordinate is, instead of four tests.)
+        if finite_probe(0.0, &q.coords).is_finite() {
             self.attitude = *q;
         }
     }
@@ -73,9 +77,25 @@ impl Mahony {
         if !(dt > 0.0 && dt <= f32::MAX) {
             return;
         }
+        self.step(gyro, accel, dt);
+    }
+
+    /// [`Mahony::update_finite`] for a time step that is never NaN or +∞ (the pipeline's: the
+    /// IMU interval, finite, capped): only `dt > 0` is left to test, the same decision.
+    pub(crate) fn update_finite_dt(&mut self, gyro: &Vector3<f32>, accel: &Vector3<f32>, dt: f32) {
+        if dt > 0.0 {
+            self.step(gyro, accel, dt);
+        }
+    }
+
+    /// The update itself, `dt` positive and finite.
+    #[inline(always)]
+    fn step(&mut self, gyro: &Vector3<f32>, accel: &Vector3<f32>, dt: f32) {
         let mut w = *gyro;
         let n = norm(accel);
-        if (n - self.gravity).abs() < 0.2 * self.gravity && n > 0.0 {
+        // (No `n > 0` test: the gate implies it. It needs `0.2 g > |n − g| ≥ 0`, so g > 0,
+        // and then n > 0.8 g; a NaN fails it.)
+        if (n - self.gravity).abs() < self.gate {
             let a = accel / n;
             // v̂ = R̂ᵀ e₃, the third row of R̂ (fewer operations than rotating e₃).
             let q = self.attitude.as_ref();

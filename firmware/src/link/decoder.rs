@@ -1,8 +1,8 @@
 //! The MAVLink 2 frame parser: bytes in any chunking to checked frames (CRC, signature,
 //! addressing), never panicking, counting every failure.
 
-use mavlink::dialects::common::MavMessage;
-use mavlink::Message;
+use mavlink::dialects::common::{MavMessage, ATT_POS_MOCAP_DATA, ODOMETRY_DATA};
+use mavlink::{Message, MessageData};
 
 use super::interpret::{self, Address, Interpretation};
 use super::signing::{Check, Signing, SigningConfig, SIGNED_FLAG};
@@ -14,8 +14,9 @@ use super::{
 enum Step {
     /// Nothing to do until the buffer holds this many bytes.
     NeedMore(usize),
-    /// Drop `n` bytes from the front; `Some` when they were a frame accepted as this message.
-    Consume(usize, Option<Inbound>),
+    /// Drop `n` bytes from the front; `true` when they were a frame accepted as a message (put
+    /// in the caller's `out`).
+    Consume(usize, bool),
 }
 
 /// The MAVLink 2 stream decoder. Holds at most one partial frame ([`MAX_FRAME`] bytes).
@@ -86,6 +87,11 @@ impl Decoder {
         &self.buf[..self.len]
     }
 
+    /// True when no byte is held back: [`Decoder::feed`] of nothing then completes nothing.
+    pub fn holds_nothing(&self) -> bool {
+        self.len == 0
+    }
+
     /// Counters so far.
     pub fn counters(&self) -> LinkCounters {
         self.counters
@@ -104,17 +110,54 @@ impl Decoder {
     /// Feeds bytes from the front of `bytes` until one completes a message: returns how many
     /// it took and that message, or `(bytes.len(), None)` when all of them completed none.
     /// Call again with the rest after a message. Exactly as [`Decoder::push_byte`] then
-    /// [`Decoder::poll`] per byte, but the bytes a frame still needs go in as one copy and its
-    /// header is parsed once, not once per byte.
+    /// [`Decoder::poll`] per byte, but a frame that arrives whole while nothing is held back is
+    /// parsed where it is (no copy into the buffer), the bytes a partial frame still needs go
+    /// in as one copy, and its header is parsed once, not once per byte.
     pub fn feed(&mut self, bytes: &[u8]) -> (usize, Option<Inbound>) {
+        let mut message = None;
+        let used = self.feed_into(bytes, &mut message);
+        (used, message)
+    }
+
+    /// [`Decoder::feed`] with the message put in `out` (which must be `None`) instead of
+    /// returned: the pipeline's way, which spares the MCU a copy of the message.
+    pub(crate) fn feed_into(&mut self, bytes: &[u8], out: &mut Option<Inbound>) -> usize {
         let mut used = 0;
         loop {
-            if let Some(m) = self.poll() {
-                return (used, Some(m));
+            if self.poll_into(out) {
+                return used;
             }
             let rest = &bytes[used..];
             if rest.is_empty() {
-                return (used, None);
+                return used;
+            }
+            if self.len == 0 {
+                // Nothing held back: look at the input where it is, without copying it into
+                // the buffer. `examine`'s verdict on a longer run of bytes is the one it gives
+                // the byte-by-byte buffer at the first length where it is not `NeedMore` (it
+                // reads a frame's own bytes only), so the messages and counters are the same.
+                match examine(
+                    &mut self.counters,
+                    &mut self.signing,
+                    self.address,
+                    rest,
+                    out,
+                ) {
+                    Step::Consume(n, accepted) => {
+                        used += n.min(rest.len());
+                        if accepted {
+                            return used;
+                        }
+                        continue;
+                    }
+                    Step::NeedMore(n) => {
+                        // A partial frame (shorter than `n` ≤ MAX_FRAME): held back whole.
+                        self.buf[..rest.len()].copy_from_slice(rest);
+                        self.len = rest.len();
+                        self.need = n;
+                        return bytes.len();
+                    }
+                }
             }
             // `poll` cannot progress before `need` bytes; a full buffer (which `poll` always
             // empties in part, since no frame is longer) goes through `push_byte`.
@@ -153,113 +196,142 @@ impl Decoder {
     /// The next message the bytes fed so far complete, in stream order, or `None` when more
     /// bytes are needed. Every frame looked at is counted (ok, dropped, malformed).
     pub fn poll(&mut self) -> Option<Inbound> {
+        let mut message = None;
+        self.poll_into(&mut message);
+        message
+    }
+
+    /// [`Decoder::poll`] into `out` (which must be `None`): true when a message was put there.
+    fn poll_into(&mut self, out: &mut Option<Inbound>) -> bool {
         while self.len > 0 && self.len >= self.need {
-            match self.step() {
+            let Self {
+                buf,
+                len,
+                address,
+                signing,
+                counters,
+                ..
+            } = self;
+            match examine(counters, signing, *address, &buf[..*len], out) {
                 Step::NeedMore(n) => {
                     self.need = n;
-                    return None;
+                    return false;
                 }
-                Step::Consume(n, message) => {
+                Step::Consume(n, accepted) => {
                     self.need = 0;
                     let n = n.min(self.len);
                     self.buf.copy_within(n..self.len, 0);
                     self.len -= n;
-                    if message.is_some() {
-                        return message;
+                    if accepted {
+                        return true;
                     }
                 }
             }
         }
-        None
+        false
     }
+}
 
-    fn step(&mut self) -> Step {
-        let buf = &self.buf[..self.len];
-        if buf.is_empty() {
-            return Step::NeedMore(1);
-        }
-        if buf[0] != STX {
-            let skip = buf.iter().position(|&b| b == STX).unwrap_or(buf.len());
-            self.counters.bytes_discarded =
-                self.counters.bytes_discarded.saturating_add(skip as u32);
-            return Step::Consume(skip, None);
-        }
-        if buf.len() < 3 {
-            return Step::NeedMore(3);
-        }
-        let incompat = buf[2];
-        if incompat & !0x01 != 0 {
-            // Unknown incompatibility flag (e.g. 32-bit system ids): we must not parse it.
-            self.counters.frames_malformed = self.counters.frames_malformed.saturating_add(1);
-            return Step::Consume(1, None);
-        }
-        let payload_len = buf[1] as usize;
-        let signed = incompat & SIGNED_FLAG != 0;
-        let total = 1 + HEADER + payload_len + 2 + if signed { SIGNATURE } else { 0 };
-        if buf.len() < total {
-            return Step::NeedMore(total);
-        }
-        let msgid = u32::from_le_bytes([buf[7], buf[8], buf[9], 0]);
-        let extra = MavMessage::extra_crc(msgid);
-        if extra == 0 {
-            // Not in the common dialect: its CRC cannot be checked, so it may as well be a
-            // false marker inside other data. Skipping only the marker keeps the frames behind
-            // it (a real unknown frame is then rescanned, which costs at most a few spurious
-            // malformed counts if its payload holds 0xFD).
-            self.counters.frames_dropped = self.counters.frames_dropped.saturating_add(1);
-            return Step::Consume(1, None);
-        }
-        let crc_at = 1 + HEADER + payload_len;
-        let crc = u16::from_le_bytes([buf[crc_at], buf[crc_at + 1]]);
-        if super::crc::frame_crc(&buf[1..crc_at], extra) != crc {
-            self.counters.frames_malformed = self.counters.frames_malformed.saturating_add(1);
-            // A false marker or a corrupted frame: look again from the next byte.
-            return Step::Consume(1, None);
-        }
-        let sender = Sender {
-            system: buf[5],
-            component: buf[6],
-        };
-        let check = self.signing.check(
-            &buf[..total],
-            signed,
-            sender.system,
-            sender.component,
-            interpret::is_command(msgid),
-        );
-        let counter = match check {
-            Check::Accept => None,
-            Check::SignedWithoutKey => Some(&mut self.counters.signed_without_key),
-            Check::BadSignature => Some(&mut self.counters.bad_signature),
-            Check::Stale => Some(&mut self.counters.stale_signature),
-            Check::UnsignedRefused => Some(&mut self.counters.unsigned_refused),
-        };
-        if let Some(c) = counter {
-            *c = c.saturating_add(1);
-            return Step::Consume(total, None);
-        }
-        let payload = &buf[1 + HEADER..crc_at];
-        let interpretation = match interpret::interpret(self.address, sender, msgid, payload) {
-            // Signing is set up once, over a link on which it is not yet active.
-            Interpretation::Accepted(Inbound::SetupSigning { .. }) if self.signing.active() => {
-                Interpretation::Ignored
-            }
-            i => i,
-        };
-        let message = match interpretation {
-            Interpretation::Accepted(m) => {
-                self.counters.frames_ok = self.counters.frames_ok.saturating_add(1);
-                Some(m)
-            }
-            Interpretation::Ignored => {
-                self.counters.frames_dropped = self.counters.frames_dropped.saturating_add(1);
-                None
-            }
-            Interpretation::Malformed => {
-                self.counters.frames_malformed = self.counters.frames_malformed.saturating_add(1);
-                None
-            }
-        };
-        Step::Consume(total, message)
+/// The verdict on `buf`, the bytes from the head of the stream on (the decoder's buffer, or
+/// the input itself when nothing is held back): what to drop, and whether they were a message
+/// (then put in `out`, which must be `None`), or how many bytes the head frame needs. Counts
+/// what it drops.
+#[inline(always)]
+fn examine(
+    counters: &mut LinkCounters,
+    signing: &mut Signing,
+    address: Address,
+    buf: &[u8],
+    out: &mut Option<Inbound>,
+) -> Step {
+    if buf.is_empty() {
+        return Step::NeedMore(1);
     }
+    if buf[0] != STX {
+        let skip = buf.iter().position(|&b| b == STX).unwrap_or(buf.len());
+        counters.bytes_discarded = counters.bytes_discarded.saturating_add(skip as u32);
+        return Step::Consume(skip, false);
+    }
+    if buf.len() < 3 {
+        return Step::NeedMore(3);
+    }
+    let incompat = buf[2];
+    if incompat & !0x01 != 0 {
+        // Unknown incompatibility flag (e.g. 32-bit system ids): we must not parse it.
+        counters.frames_malformed = counters.frames_malformed.saturating_add(1);
+        return Step::Consume(1, false);
+    }
+    let payload_len = buf[1] as usize;
+    let signed = incompat & SIGNED_FLAG != 0;
+    let total = 1 + HEADER + payload_len + 2 + if signed { SIGNATURE } else { 0 };
+    if buf.len() < total {
+        return Step::NeedMore(total);
+    }
+    let msgid = u32::from_le_bytes([buf[7], buf[8], buf[9], 0]);
+    // The pose messages, the stream's usual frames, without the call into the dialect's
+    // table (the same constants).
+    let extra = match msgid {
+        ATT_POS_MOCAP_DATA::ID => ATT_POS_MOCAP_DATA::EXTRA_CRC,
+        ODOMETRY_DATA::ID => ODOMETRY_DATA::EXTRA_CRC,
+        _ => MavMessage::extra_crc(msgid),
+    };
+    if extra == 0 {
+        // Not in the common dialect: its CRC cannot be checked, so it may as well be a
+        // false marker inside other data. Skipping only the marker keeps the frames behind
+        // it (a real unknown frame is then rescanned, which costs at most a few spurious
+        // malformed counts if its payload holds 0xFD).
+        counters.frames_dropped = counters.frames_dropped.saturating_add(1);
+        return Step::Consume(1, false);
+    }
+    let crc_at = 1 + HEADER + payload_len;
+    let crc = u16::from_le_bytes([buf[crc_at], buf[crc_at + 1]]);
+    if super::crc::frame_crc(&buf[1..crc_at], extra) != crc {
+        counters.frames_malformed = counters.frames_malformed.saturating_add(1);
+        // A false marker or a corrupted frame: look again from the next byte.
+        return Step::Consume(1, false);
+    }
+    let sender = Sender {
+        system: buf[5],
+        component: buf[6],
+    };
+    let check = signing.check(
+        &buf[..total],
+        signed,
+        sender.system,
+        sender.component,
+        interpret::is_command(msgid),
+    );
+    let counter = match check {
+        Check::Accept => None,
+        Check::SignedWithoutKey => Some(&mut counters.signed_without_key),
+        Check::BadSignature => Some(&mut counters.bad_signature),
+        Check::Stale => Some(&mut counters.stale_signature),
+        Check::UnsignedRefused => Some(&mut counters.unsigned_refused),
+    };
+    if let Some(c) = counter {
+        *c = c.saturating_add(1);
+        return Step::Consume(total, false);
+    }
+    let payload = &buf[1 + HEADER..crc_at];
+    let mut interpretation = interpret::interpret(address, sender, msgid, payload, out);
+    // Signing is set up once, over a link on which it is not yet active.
+    if matches!(out, Some(Inbound::SetupSigning { .. })) && signing.active() {
+        *out = None;
+        interpretation = Interpretation::Ignored;
+    }
+    let accepted = match interpretation {
+        Interpretation::Accepted => {
+            counters.frames_ok = counters.frames_ok.saturating_add(1);
+            true
+        }
+        Interpretation::Ignored => {
+            counters.frames_dropped = counters.frames_dropped.saturating_add(1);
+            false
+        }
+        Interpretation::Malformed => {
+            counters.frames_malformed = counters.frames_malformed.saturating_add(1);
+            false
+        }
+    };
+    Step::Consume(total, accepted)
 }

@@ -24,9 +24,10 @@ pub const FORCE_DISARM_PARAM2: f32 = 21196.0;
 pub const FORCE_ARM_PARAM2: f32 = 2989.0;
 
 /// What a checked frame turned out to be.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Interpretation {
-    /// Used.
-    Accepted(Inbound),
+    /// Used: the message is in the caller's `out`.
+    Accepted,
     /// Valid but not for us or not used (counted as dropped).
     Ignored,
     /// Undecodable or impossible content (counted as malformed).
@@ -47,6 +48,13 @@ impl Address {
     }
 }
 
+/// `m` into `out`: [`Interpretation::Accepted`].
+#[inline(always)]
+fn accept(out: &mut Option<Inbound>, m: Inbound) -> Interpretation {
+    *out = Some(m);
+    Interpretation::Accepted
+}
+
 /// Message ids whose frames carry commands or change what the vehicle does (`PARAM_SET`
 /// changes gains and limits): with signing active they must be signed, whatever the settings.
 /// Parameter reads are not: they change nothing.
@@ -62,7 +70,19 @@ pub(super) fn is_command(msgid: u32) -> bool {
 }
 
 /// Decodes and interprets the payload of message `msgid` from `sender`, for `us`.
-pub(super) fn interpret(us: Address, sender: Sender, msgid: u32, payload: &[u8]) -> Interpretation {
+///
+/// The message goes straight into `out` (which the caller passes as `None`), not through the
+/// return value: an [`Inbound`] is 48 bytes, and moving it from one enum to another (this
+/// verdict, the decoder's, its `Option`) cost two `memcpy` calls per frame on the MCU, most of
+/// the pose frame's decoding.
+#[inline(always)]
+pub(super) fn interpret(
+    us: Address,
+    sender: Sender,
+    msgid: u32,
+    payload: &[u8],
+    out: &mut Option<Inbound>,
+) -> Interpretation {
     let v = MavlinkVersion::V2;
     macro_rules! decode {
         ($t:ty) => {
@@ -73,24 +93,30 @@ pub(super) fn interpret(us: Address, sender: Sender, msgid: u32, payload: &[u8])
         };
     }
     match msgid {
-        ODOMETRY_DATA::ID => odometry(&decode!(ODOMETRY_DATA)),
+        ODOMETRY_DATA::ID => odometry(&decode!(ODOMETRY_DATA), out),
         ATT_POS_MOCAP_DATA::ID => {
             let m = decode!(ATT_POS_MOCAP_DATA);
-            Interpretation::Accepted(Inbound::Pose {
-                position: frames::flip_vector([m.x, m.y, m.z]),
-                attitude: frames::flip_quaternion(m.q),
-                source: PoseSource::Mocap,
-            })
+            accept(
+                out,
+                Inbound::Pose {
+                    position: frames::flip_vector([m.x, m.y, m.z]),
+                    attitude: frames::flip_quaternion(m.q),
+                    source: PoseSource::Mocap,
+                },
+            )
         }
         VISION_POSITION_ESTIMATE_DATA::ID => {
             let m = decode!(VISION_POSITION_ESTIMATE_DATA);
-            Interpretation::Accepted(Inbound::Pose {
-                position: frames::flip_vector([m.x, m.y, m.z]),
-                attitude: frames::flip_quaternion(frames::euler_to_quaternion(
-                    m.roll, m.pitch, m.yaw,
-                )),
-                source: PoseSource::Vision,
-            })
+            accept(
+                out,
+                Inbound::Pose {
+                    position: frames::flip_vector([m.x, m.y, m.z]),
+                    attitude: frames::flip_quaternion(frames::euler_to_quaternion(
+                        m.roll, m.pitch, m.yaw,
+                    )),
+                    source: PoseSource::Vision,
+                },
+            )
         }
         COMMAND_LONG_DATA::ID => {
             let m = decode!(COMMAND_LONG_DATA);
@@ -101,6 +127,7 @@ pub(super) fn interpret(us: Address, sender: Sender, msgid: u32, payload: &[u8])
                 m.command,
                 [m.param1, m.param2, m.param3, m.param4, m.param7],
                 sender,
+                out,
             )
         }
         COMMAND_INT_DATA::ID => {
@@ -114,6 +141,7 @@ pub(super) fn interpret(us: Address, sender: Sender, msgid: u32, payload: &[u8])
                 m.command,
                 [m.param1, m.param2, m.param3, m.param4, m.z],
                 sender,
+                out,
             )
         }
         SET_POSITION_TARGET_LOCAL_NED_DATA::ID => {
@@ -121,87 +149,105 @@ pub(super) fn interpret(us: Address, sender: Sender, msgid: u32, payload: &[u8])
             if !us.accepts(m.target_system, m.target_component) {
                 return Interpretation::Ignored;
             }
-            setpoint(&m)
+            setpoint(&m, out)
         }
         SETUP_SIGNING_DATA::ID => {
             let m = decode!(SETUP_SIGNING_DATA);
             if !us.accepts(m.target_system, m.target_component) {
                 return Interpretation::Ignored;
             }
-            Interpretation::Accepted(Inbound::SetupSigning {
-                key: m.secret_key,
-                initial_timestamp: m.initial_timestamp,
-                sender,
-            })
+            accept(
+                out,
+                Inbound::SetupSigning {
+                    key: m.secret_key,
+                    initial_timestamp: m.initial_timestamp,
+                    sender,
+                },
+            )
         }
         TIMESYNC_DATA::ID => {
             let m = decode!(TIMESYNC_DATA);
-            Interpretation::Accepted(Inbound::Timesync {
-                tc1: m.tc1,
-                ts1: m.ts1,
-            })
+            accept(
+                out,
+                Inbound::Timesync {
+                    tc1: m.tc1,
+                    ts1: m.ts1,
+                },
+            )
         }
         PARAM_REQUEST_LIST_DATA::ID => {
             let m = decode!(PARAM_REQUEST_LIST_DATA);
             if !us.accepts(m.target_system, m.target_component) {
                 return Interpretation::Ignored;
             }
-            Interpretation::Accepted(Inbound::ParamRequestList)
+            accept(out, Inbound::ParamRequestList)
         }
         PARAM_REQUEST_READ_DATA::ID => {
             let m = decode!(PARAM_REQUEST_READ_DATA);
             if !us.accepts(m.target_system, m.target_component) {
                 return Interpretation::Ignored;
             }
-            Interpretation::Accepted(Inbound::ParamRequestRead {
-                id: m.param_id.into(),
-                index: m.param_index,
-            })
+            accept(
+                out,
+                Inbound::ParamRequestRead {
+                    id: m.param_id.into(),
+                    index: m.param_index,
+                },
+            )
         }
         PARAM_SET_DATA::ID => {
             let m = decode!(PARAM_SET_DATA);
             if !us.accepts(m.target_system, m.target_component) {
                 return Interpretation::Ignored;
             }
-            Interpretation::Accepted(Inbound::ParamSet {
-                id: m.param_id.into(),
-                value: m.param_value,
-                real32: m.param_type == MavParamType::MAV_PARAM_TYPE_REAL32,
-            })
+            accept(
+                out,
+                Inbound::ParamSet {
+                    id: m.param_id.into(),
+                    value: m.param_value,
+                    real32: m.param_type == MavParamType::MAV_PARAM_TYPE_REAL32,
+                },
+            )
         }
         #[cfg(feature = "hil")]
-        HIL_SENSOR_DATA::ID => hil_sensor(&decode!(HIL_SENSOR_DATA)),
+        HIL_SENSOR_DATA::ID => hil_sensor(&decode!(HIL_SENSOR_DATA), out),
         _ => Interpretation::Ignored,
     }
 }
 
 #[cfg(feature = "hil")]
-fn hil_sensor(m: &HIL_SENSOR_DATA) -> Interpretation {
+fn hil_sensor(m: &HIL_SENSOR_DATA, out: &mut Option<Inbound>) -> Interpretation {
     if m.fields_updated.bits() & super::HIL_SENSOR_IMU_FIELDS != super::HIL_SENSOR_IMU_FIELDS {
         return Interpretation::Ignored;
     }
     // FRD → FLU is the same axis flip as NED → NWU.
     let gyro = frames::flip_vector([m.xgyro, m.ygyro, m.zgyro]);
     let accel = frames::flip_vector([m.xacc, m.yacc, m.zacc]);
-    Interpretation::Accepted(Inbound::HilSensor {
-        gyro_rad_s: [gyro.x, gyro.y, gyro.z],
-        accel_m_s2: [accel.x, accel.y, accel.z],
-        time_us: m.time_usec,
-    })
+    accept(
+        out,
+        Inbound::HilSensor {
+            gyro_rad_s: [gyro.x, gyro.y, gyro.z],
+            accel_m_s2: [accel.x, accel.y, accel.z],
+            time_us: m.time_usec,
+        },
+    )
 }
 
-fn odometry(m: &ODOMETRY_DATA) -> Interpretation {
+fn odometry(m: &ODOMETRY_DATA, out: &mut Option<Inbound>) -> Interpretation {
     if !matches!(
         m.frame_id,
         MavFrame::MAV_FRAME_LOCAL_NED | MavFrame::MAV_FRAME_LOCAL_FRD
     ) {
         return Interpretation::Ignored;
     }
-    Interpretation::Accepted(Inbound::Pose {
-        position: frames::flip_vector([m.x, m.y, m.z]),
-        attitude: frames::flip_quaternion(m.q),
-        source: PoseSource::Odometry,
-    })
+    accept(
+        out,
+        Inbound::Pose {
+            position: frames::flip_vector([m.x, m.y, m.z]),
+            attitude: frames::flip_quaternion(m.q),
+            source: PoseSource::Odometry,
+        },
+    )
 }
 
 /// A command from `COMMAND_LONG` or `COMMAND_INT`: `p` is param1–4 and param7 (`COMMAND_INT`'s
@@ -210,14 +256,22 @@ fn odometry(m: &ODOMETRY_DATA) -> Interpretation {
 // MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES is deprecated for REQUEST_MESSAGE, but MAVProxy and
 // older ground stations still send it.
 #[allow(deprecated)]
-fn command(mav_cmd: MavCmd, p: [f32; 5], sender: Sender) -> Interpretation {
+fn command(
+    mav_cmd: MavCmd,
+    p: [f32; 5],
+    sender: Sender,
+    out: &mut Option<Inbound>,
+) -> Interpretation {
     let [p1, p2, _p3, _p4, p7] = p;
-    let fault = |fault| {
-        Interpretation::Accepted(Inbound::CommandFault {
-            mav_cmd,
-            fault,
-            sender,
-        })
+    let mut fault = |fault| {
+        accept(
+            out,
+            Inbound::CommandFault {
+                mav_cmd,
+                fault,
+                sender,
+            },
+        )
     };
     let c = match mav_cmd {
         MavCmd::MAV_CMD_COMPONENT_ARM_DISARM => {
@@ -272,11 +326,14 @@ fn command(mav_cmd: MavCmd, p: [f32; 5], sender: Sender) -> Interpretation {
         MavCmd::MAV_CMD_PREFLIGHT_STORAGE if p1 == 2.0 => Command::ResetParams,
         _ => return fault(CommandFault::Unsupported),
     };
-    Interpretation::Accepted(Inbound::Command {
-        command: c,
-        mav_cmd,
-        sender,
-    })
+    accept(
+        out,
+        Inbound::Command {
+            command: c,
+            mav_cmd,
+            sender,
+        },
+    )
 }
 
 /// A message id carried in a float parameter: a whole number in the 24-bit id range.
@@ -284,7 +341,7 @@ fn message_id(p: f32) -> Option<u32> {
     ((0.0..16_777_216.0).contains(&p) && libm::truncf(p) == p).then_some(p as u32)
 }
 
-fn setpoint(m: &SET_POSITION_TARGET_LOCAL_NED_DATA) -> Interpretation {
+fn setpoint(m: &SET_POSITION_TARGET_LOCAL_NED_DATA, out: &mut Option<Inbound>) -> Interpretation {
     use mavlink::dialects::common::PositionTargetTypemask as Mask;
     if m.coordinate_frame != MavFrame::MAV_FRAME_LOCAL_NED {
         return Interpretation::Ignored;
@@ -305,5 +362,5 @@ fn setpoint(m: &SET_POSITION_TARGET_LOCAL_NED_DATA) -> Interpretation {
         .contains(Mask::POSITION_TARGET_TYPEMASK_YAW_IGNORE)
         && m.yaw.is_finite())
     .then(|| frames::flip_yaw(m.yaw));
-    Interpretation::Accepted(Inbound::Setpoint { position, yaw })
+    accept(out, Inbound::Setpoint { position, yaw })
 }

@@ -126,7 +126,29 @@ impl Signing {
     /// `component`) whose CRC is good. `command`: a message that must be signed whenever
     /// signing is active; any other may go unsigned only if
     /// [`SigningConfig::accept_unsigned_sensors`].
+    #[inline(always)]
     pub(super) fn check(
+        &mut self,
+        frame: &[u8],
+        signed: bool,
+        system: u8,
+        component: u8,
+        command: bool,
+    ) -> Check {
+        // Without a key (the usual link), decided inline; the keyed rules out of line.
+        if self.config.is_none() {
+            return if signed {
+                Check::SignedWithoutKey
+            } else {
+                Check::Accept
+            };
+        }
+        self.check_keyed(frame, signed, system, component, command)
+    }
+
+    /// [`Signing::check`] with a key installed.
+    #[inline(never)]
+    fn check_keyed(
         &mut self,
         frame: &[u8],
         signed: bool,

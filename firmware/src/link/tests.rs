@@ -589,3 +589,16 @@ fn setup_signing_only_on_a_link_without_a_key() {
         0
     ));
 }
+
+/// The decoder's inline CRC-extra constants for the pose messages are the dialect's.
+#[test]
+fn pose_crc_extras_are_the_dialects() {
+    use mavlink::dialects::common::{ATT_POS_MOCAP_DATA, ODOMETRY_DATA};
+    use mavlink::{Message, MessageData};
+    for (id, extra) in [
+        (ATT_POS_MOCAP_DATA::ID, ATT_POS_MOCAP_DATA::EXTRA_CRC),
+        (ODOMETRY_DATA::ID, ODOMETRY_DATA::EXTRA_CRC),
+    ] {
+        assert_eq!(MavMessage::extra_crc(id), extra);
+    }
+}

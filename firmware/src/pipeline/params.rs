@@ -15,7 +15,7 @@ use mavlink::dialects::common::{MavParamType, MavSeverity, PARAM_VALUE_DATA, STA
 use nalgebra::Vector3;
 
 use super::param_text::{self, Text};
-use super::{certify_setup, BootReport, Event, FlightPipeline, GateFailure};
+use super::{certify_setup, mahony_dt_cap, BootReport, Event, FlightPipeline, GateFailure};
 use crate::config::FlightConfig;
 use crate::flight_reference::FlightReference;
 use crate::param_store::ParamStore;
@@ -251,6 +251,7 @@ impl FlightPipeline {
     /// filter. The mixer stays: the rotors are not parameters.
     fn take_candidate(&mut self, candidate: FlightConfig, report: BootReport) {
         self.cfg = candidate;
+        self.mahony_dt_cap = mahony_dt_cap(&candidate);
         self.report = report;
         // Disarmed: a fresh supervisor is in the same state, with the new timings.
         self.supervisor = Supervisor::new(candidate.safety);
