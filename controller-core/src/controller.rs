@@ -16,7 +16,7 @@ use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 use crate::attitude_control::AttitudeGains;
 use crate::desired_attitude::{desired_attitude, DesiredAttitudeError};
-use crate::integral::IntegralState;
+use crate::integral::{IntegralGains, IntegralState};
 use crate::mrp::rotation_from_quaternion;
 use crate::params::{Gains, ParameterError, Vehicle};
 use crate::path_lifting::{JumpCounters, PathLifting};
@@ -334,23 +334,15 @@ impl<T: Scalar> Controller<T> {
         );
         // The integral action adds η_f and its closed-form derivatives to u, u̇, ü after the
         // paper's sums are formed, so that with it off every value is the paper's, bit for bit.
-        // The observer's velocity before this sample, and the innovation v − v̂.
-        let observer = g
-            .integral
-            .as_ref()
-            .and_then(|ig| ig.observer.map(|o| (ig.gain, o)))
-            .map(|(gain, o)| {
-                let v_hat = self.observed_velocity.unwrap_or(state.velocity);
-                (gain, o, v_hat, state.velocity - v_hat)
-            });
         let integral = g.integral.as_ref().map(|ig| {
-            let rate = match &observer {
-                Some((gain, o, _, innovation)) => ig.clamped_rate(
-                    &self.integral,
-                    &o.raw_rate(*gain, &position.z1, innovation),
-                    self.integral_frozen,
-                ),
+            let rate = match &ig.observer {
                 None => ig.rate_of(&self.integral, &position.z1, self.integral_frozen),
+                // The innovation v − v̂ against the observer's velocity before this sample.
+                Some(o) => {
+                    let v_hat = self.observed_velocity.unwrap_or(state.velocity);
+                    let raw = o.raw_rate(ig.gain, &position.z1, &(state.velocity - v_hat));
+                    ig.clamped_rate(&self.integral, &raw, self.integral_frozen)
+                }
             };
             let out = ig.output(&self.integral, &rate);
             position.u += out.filtered;
@@ -390,9 +382,20 @@ impl<T: Scalar> Controller<T> {
             _ => g.position.propagator(dt),
         };
         let next_filter = propagator.apply(&self.filter, &position.ubar_p);
-        let next_observed_velocity = observer.map(|(_, o, v_hat, _)| {
-            o.advance(
-                &v_hat,
+        let next_integral = match integral {
+            Some((ig, rate)) => ig.advance(&self.integral, &rate, dt),
+            None => self.integral,
+        };
+        // Only `(gains, rate)` lives across the attitude's calls, as without the observer, so
+        // that the flight build's step (integral off) pays nothing for it.
+        let next_observed_velocity = match integral {
+            Some((
+                IntegralGains {
+                    observer: Some(o), ..
+                },
+                _,
+            )) => Some(o.advance(
+                &self.observed_velocity.unwrap_or(state.velocity),
                 &state.velocity,
                 thrust,
                 self.vehicle.mass,
@@ -400,11 +403,8 @@ impl<T: Scalar> Controller<T> {
                 self.vehicle.gravity,
                 &self.integral.estimate,
                 dt,
-            )
-        });
-        let next_integral = match integral {
-            Some((ig, rate)) => ig.advance(&self.integral, &rate, dt),
-            None => self.integral,
+            )),
+            _ => None,
         };
 
         let mut probe = thrust * T::zero();
@@ -445,7 +445,9 @@ impl<T: Scalar> Controller<T> {
         self.lifting = lifting;
         self.filter = next_filter;
         self.integral = next_integral;
-        self.observed_velocity = next_observed_velocity;
+        if next_observed_velocity.is_some() {
+            self.observed_velocity = next_observed_velocity;
+        }
         self.propagator = Some(propagator);
         Ok(ControlOutput {
             thrust,

@@ -176,9 +176,9 @@ pub struct FlightPipeline {
     status_error: f32,
     status_pose_age: u64,
     reference: FlightReference,
-    controller: Option<Controller<f32>>,
     mixer: Mixer,
     decoder: Decoder,
+    controller: Option<Controller<f32>>,
     // The rest.
     /// The set-up the pipeline was built with: what `MAV_CMD_PREFLIGHT_STORAGE` resets to.
     built: FlightConfig,
