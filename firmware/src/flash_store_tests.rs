@@ -6,7 +6,6 @@
 #![cfg(not(feature = "uncertified-paper"))] // the default flight file's x500
 
 use embassy_futures::block_on;
-use mavlink::dialects::common::{MavMessage, MavParamType, PARAM_SET_DATA};
 use sequential_storage::mock_flash::{MockFlashBase, WriteCountCheck};
 
 use super::*;
@@ -27,13 +26,7 @@ fn store(flash: Flash) -> FlashStore<Flash> {
 fn tuned(kf: f32) -> FlightPipeline {
     let mut p = FlightPipeline::new(&FlightConfig::built()).unwrap();
     let mut m = [0u8; link::MAX_FRAME];
-    let set = MavMessage::PARAM_SET(PARAM_SET_DATA {
-        param_value: kf,
-        target_system: 1,
-        target_component: 1,
-        param_id: "POS_KF".into(),
-        param_type: MavParamType::MAV_PARAM_TYPE_REAL32,
-    });
+    let set = crate::ground_station::param_set("POS_KF", kf);
     let n = link::encode(&set, 255, 190, 0, &mut m);
     p.on_link_bytes(&m[..n], 0);
     assert_eq!(p.config().gains.position.kf, kf, "PARAM_SET refused");

@@ -4,14 +4,15 @@
 //! - `COMMAND_LONG`: [`arm`] (and the explicit upside-down arm), [`kill`], [`takeoff`],
 //!   [`land`], [`mission_start`] (the helix demo);
 //! - `SET_POSITION_TARGET_LOCAL_NED`: [`setpoint_nwu`], a hover target given in the
-//!   controller's NWU frame and converted to MAVLink's NED by [`crate::frames`].
+//!   controller's NWU frame and converted to MAVLink's NED by [`crate::frames`];
+//! - `PARAM_SET`: [`param_set`].
 //!
 //! The software-in-the-loop scenarios (host-sim), the processor-in-the-loop runs, the bench
 //! fixtures and the tests send these; the vehicle never builds them.
 
 use mavlink::dialects::common::{
-    MavCmd, MavFrame, MavMessage, PositionTargetTypemask, COMMAND_LONG_DATA,
-    SET_POSITION_TARGET_LOCAL_NED_DATA,
+    MavCmd, MavFrame, MavMessage, MavParamType, PositionTargetTypemask, COMMAND_LONG_DATA,
+    PARAM_SET_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
 };
 use nalgebra::Vector3;
 
@@ -95,6 +96,18 @@ pub fn setpoint_nwu(position: Vector3<f32>, yaw: f32) -> MavMessage {
         target_component: TARGET_COMPONENT,
         coordinate_frame: MavFrame::MAV_FRAME_LOCAL_NED,
         ..Default::default()
+    })
+}
+
+/// `PARAM_SET` of parameter `name` (at most 16 characters, [`crate::params`]) to `value`, typed
+/// `MAV_PARAM_TYPE_REAL32` as every parameter of the table.
+pub fn param_set(name: &str, value: f32) -> MavMessage {
+    MavMessage::PARAM_SET(PARAM_SET_DATA {
+        param_value: value,
+        target_system: TARGET_SYSTEM,
+        target_component: TARGET_COMPONENT,
+        param_id: name.into(),
+        param_type: MavParamType::MAV_PARAM_TYPE_REAL32,
     })
 }
 

@@ -3,7 +3,6 @@
 
 use controller_core::reference::Trajectory;
 use controller_core::{certify, FilterStart};
-use mavlink::dialects::common::{MavMessage, MavParamType, PARAM_SET_DATA};
 
 use super::tests::{arm_attempt, command};
 use super::*;
@@ -38,13 +37,7 @@ fn saved_parameters_restore_the_certified_set_up() {
     let mut a = FlightPipeline::new(&c).unwrap();
     let kf = 0.8 * c.gains.position.kf;
     let mut m = [0u8; link::MAX_FRAME];
-    let set = MavMessage::PARAM_SET(PARAM_SET_DATA {
-        param_value: kf,
-        target_system: 1,
-        target_component: 1,
-        param_id: "POS_KF".into(),
-        param_type: MavParamType::MAV_PARAM_TYPE_REAL32,
-    });
+    let set = crate::ground_station::param_set("POS_KF", kf);
     let n = link::encode(&set, 255, 190, 0, &mut m);
     a.on_link_bytes(&m[..n], 0);
     assert_eq!(a.config().gains.position.kf, kf);

@@ -5,8 +5,8 @@
 use controller_core::reference::Trajectory;
 use controller_core::{certify, Certificate, FilterStart};
 use mavlink::dialects::common::{
-    MavMessage, MavParamType, PARAM_REQUEST_LIST_DATA, PARAM_REQUEST_READ_DATA, PARAM_SET_DATA,
-    PARAM_VALUE_DATA, STATUSTEXT_DATA,
+    MavMessage, MavParamType, PARAM_REQUEST_LIST_DATA, PARAM_REQUEST_READ_DATA, PARAM_VALUE_DATA,
+    STATUSTEXT_DATA,
 };
 use mavlink::{MavlinkVersion, MessageData};
 
@@ -32,13 +32,7 @@ fn gcs(m: &MavMessage) -> Vec<u8> {
 }
 
 fn set_msg(name: &str, value: f32) -> MavMessage {
-    MavMessage::PARAM_SET(PARAM_SET_DATA {
-        param_value: value,
-        target_system: 1,
-        target_component: 1,
-        param_id: name.into(),
-        param_type: MavParamType::MAV_PARAM_TYPE_REAL32,
-    })
+    crate::ground_station::param_set(name, value)
 }
 
 fn set(name: &str, value: f32) -> Vec<u8> {

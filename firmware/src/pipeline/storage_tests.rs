@@ -4,8 +4,6 @@
 //! without a store arm as before. Given/when/then, on the host.
 #![cfg(not(feature = "uncertified-paper"))] // the default flight file's x500
 
-use mavlink::dialects::common::{MavMessage, MavParamType, PARAM_SET_DATA};
-
 use super::tests::{command, drain_events, fly_ticks, sent_acks};
 use super::*;
 use crate::link;
@@ -27,13 +25,7 @@ fn ready(attached: bool) -> (FlightPipeline, u64) {
 
 /// A certified `PARAM_SET` (k_f lowered by 20 %) from the ground station.
 fn certified_set(p: &FlightPipeline) -> Vec<u8> {
-    let set = MavMessage::PARAM_SET(PARAM_SET_DATA {
-        param_value: 0.8 * p.config().gains.position.kf,
-        target_system: 1,
-        target_component: 1,
-        param_id: "POS_KF".into(),
-        param_type: MavParamType::MAV_PARAM_TYPE_REAL32,
-    });
+    let set = crate::ground_station::param_set("POS_KF", 0.8 * p.config().gains.position.kf);
     let mut b = [0u8; link::MAX_FRAME];
     let n = link::encode(&set, 255, 190, 0, &mut b);
     b[..n].to_vec()
