@@ -23,7 +23,6 @@ const STORAGE: MavCmd = MavCmd::MAV_CMD_PREFLIGHT_STORAGE;
 /// set is already saved) and the reset ACCEPTED: the flight file's configuration and boot
 /// report are back, and the store is told.
 #[test]
-#[cfg(not(feature = "uncertified-paper"))] // the default flight file's x500
 fn a_storage_reset_flies_the_flight_file_again() {
     let c = FlightConfig::built();
     let fresh = FlightPipeline::new(&c).unwrap();
@@ -51,7 +50,6 @@ fn a_storage_reset_flies_the_flight_file_again() {
 
 /// Given an armed vehicle, when a reset is asked, then it is DENIED and the store is not told.
 #[test]
-#[cfg(not(feature = "uncertified-paper"))] // the default flight file's x500
 fn a_storage_reset_while_armed_is_denied() {
     let (mut p, now) = arm_attempt(FlightConfig::built());
     assert_eq!(p.status().state, crate::safety::FlightState::Armed);
