@@ -4,7 +4,7 @@
 //! `PARAM_VALUE`.
 //!
 //! A `PARAM_SET` is taken only while disarmed, and only if the set-up with the new value passes
-//! the very checks of boot ([`super::certify_setup`]: certificate of the demo mission, hover
+//! the very checks of boot ([`super::boot::certify_setup`]: certificate of the demo mission, hover
 //! controller, box fit with the margin) and the gate says it may fly: the running set-up is
 //! certified at every moment, whatever is changed. A refusal leaves everything as it was, is
 //! answered with the unchanged value and a STATUSTEXT naming why (the violated condition with
@@ -14,8 +14,9 @@ use heapless::Deque;
 use mavlink::dialects::common::{MavParamType, MavSeverity, PARAM_VALUE_DATA, STATUSTEXT_DATA};
 use nalgebra::Vector3;
 
+use super::boot::certify_setup;
 use super::param_text::{self, Text};
-use super::{certify_setup, mahony_dt_cap, BootReport, Event, FlightPipeline, GateFailure};
+use super::{mahony_dt_cap, BootReport, Event, FlightPipeline, GateFailure};
 use crate::config::FlightConfig;
 use crate::flight_reference::FlightReference;
 use crate::param_store::ParamStore;
