@@ -67,7 +67,7 @@ impl Bench {
         while self.now < end {
             self.now += 1_000;
             self.imu([0.0; 3], [0.0, 0.0, 9.81]);
-            if self.now % 10_000 == 0 {
+            if self.now.is_multiple_of(10_000) {
                 self.tick();
             }
         }

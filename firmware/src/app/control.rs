@@ -152,7 +152,7 @@ pub async fn run(
         motors.write(frames).await;
 
         tick = tick.wrapping_add(1);
-        if tick % summary_every == 0 {
+        if tick.is_multiple_of(summary_every) {
             SUMMARY.signal(Summary {
                 now_us,
                 status: pipeline.status(),

@@ -121,7 +121,7 @@ pub fn number(out: &mut Text, x: f32) {
 
 /// Writes `int.frac` with `frac` on `decimals` digits, trailing zeros (and a bare point) dropped.
 fn fraction(out: &mut Text, int: u32, mut frac: u32, mut decimals: u32) {
-    while decimals > 0 && frac % 10 == 0 {
+    while decimals > 0 && frac.is_multiple_of(10) {
         frac /= 10;
         decimals -= 1;
     }

@@ -97,7 +97,7 @@ impl Chunker {
             SendChunking::Bytes => (1, Duration::ZERO),
             SendChunking::Random { .. } => {
                 let r = self.splitmix();
-                let pause = if (r >> 32) % RANDOM_PAUSE_ONE_IN == 0 {
+                let pause = if (r >> 32).is_multiple_of(RANDOM_PAUSE_ONE_IN) {
                     RANDOM_PAUSE
                 } else {
                     Duration::ZERO

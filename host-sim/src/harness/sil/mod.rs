@@ -422,11 +422,11 @@ pub fn fly(
         let specific_force = state
             .attitude
             .inverse_transform_vector(&(acceleration + Vector3::z() * body.gravity));
-        if t_us % imu_every == 0 {
+        if t_us.is_multiple_of(imu_every) {
             let s = setup.imu.sample(&mut rng, &state, &specific_force, t_us);
             software.on_imu(&s)?;
         }
-        if t_us % tick_every == 0 {
+        if t_us.is_multiple_of(tick_every) {
             let report = software.control_tick(t_us)?;
             out = report.output;
             for (description, to) in report.events {
