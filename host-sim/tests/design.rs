@@ -26,6 +26,7 @@ fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOptions 
         seed: 3,
         margin: 0.05,
         evaluations,
+        duration_s: host_sim::design::run::DEFAULT_DURATION_S,
         out,
     }
 }
@@ -130,6 +131,29 @@ fn written_scenario_flies() {
         );
     }
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// `--duration-s` sets the scoring runs' and the written scenario's length (the default is the
+/// paper's 30 s); one shorter than twice the 5 s limit-cycle window is refused, writing nothing.
+#[test]
+fn duration_sets_the_written_scenario_and_short_ones_are_refused() {
+    let out = out_dir("duration");
+    let mut o = options(preset_path("crazyflie-2.1"), out.clone(), 1);
+    o.duration_s = 12.5;
+    let outcome = run_design(&o).unwrap();
+    assert_eq!(outcome.report.duration_s, 12.5);
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    assert_eq!(s.simulation.duration_s, 12.5);
+    let _ = std::fs::remove_dir_all(&out);
+
+    for bad in [9.99, f64::NAN, f64::INFINITY] {
+        let out = out_dir("duration-bad");
+        let mut o = options(preset_path("crazyflie-2.1"), out.clone(), 1);
+        o.duration_s = bad;
+        let msg = format!("{:#}", run_design(&o).unwrap_err());
+        assert!(msg.contains("--duration-s"), "{msg}");
+        assert!(!out.exists(), "{bad}: wrote {}", out.display());
+    }
 }
 
 /// A vehicle whose rotors cannot lift it is refused at once, naming the file, key and reason.

@@ -23,12 +23,12 @@ use crate::report::fmt_opt;
 /// Errors: invalid options or scenario; a file cannot be written.
 pub fn run_command(args: &CampaignOptions) -> Result<()> {
     let scenario = args.base.scenario()?;
-    if args.converged_after_s > scenario.simulation.duration_s {
-        bail!(
-            "--converged-after-s ({}) is after the end of the run ({} s)",
-            args.converged_after_s,
-            scenario.simulation.duration_s
-        );
+    let duration = scenario.simulation.duration_s;
+    let after_s = args
+        .converged_after_s
+        .unwrap_or_else(|| Convergence::for_duration(duration).after_s);
+    if !(after_s.is_finite() && after_s >= 0.0 && after_s <= duration) {
+        bail!("--converged-after-s ({after_s}) is not within the run (0 to {duration} s)");
     }
     let config = CampaignConfig {
         scenario,
@@ -44,7 +44,7 @@ pub fn run_command(args: &CampaignOptions) -> Result<()> {
         convergence: Convergence {
             position_m: args.converged_position_m,
             attitude_deg: args.converged_attitude_deg,
-            after_s: args.converged_after_s,
+            after_s,
         },
         progress: true,
         threads: args.threads,

@@ -49,6 +49,16 @@ impl Default for Convergence {
 }
 
 impl Convergence {
+    /// The default thresholds, settled by 5 s before the end of a run of `duration_s` \[s\]
+    /// (the default's 25 s for the paper's 30 s; a run shorter than 5 s: from its start), so that
+    /// a slower design flown for longer is judged on its own horizon with the same 5 s tail.
+    pub fn for_duration(duration_s: f64) -> Self {
+        Self {
+            after_s: (duration_s - STEADY_WINDOW_S).max(0.0),
+            ..Self::default()
+        }
+    }
+
     /// The definitions in words, with the numbers.
     pub fn describe(&self) -> String {
         format!(
@@ -312,6 +322,19 @@ impl MetricsAccumulator {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The default horizon is 5 s before the end: the fixed 25 s of the 30 s runs, bit for bit,
+    /// and the same tail on a longer run; a run shorter than the tail is judged from its start.
+    #[test]
+    fn convergence_for_a_duration_keeps_a_five_second_tail() {
+        assert_eq!(Convergence::for_duration(30.0), Convergence::default());
+        let c = Convergence::for_duration(120.0);
+        assert_eq!(
+            (c.after_s, c.position_m, c.attitude_deg),
+            (115.0, 0.05, 2.0)
+        );
+        assert_eq!(Convergence::for_duration(2.0).after_s, 0.0);
+    }
 
     #[test]
     fn window_counts_events_in_any_second() {

@@ -75,9 +75,10 @@ pub struct CampaignArgs {
     /// Convergence: attitude error threshold (deg).
     #[arg(long, default_value_t = Convergence::default().attitude_deg)]
     pub converged_attitude_deg: f64,
-    /// Convergence: settled by this time (s).
-    #[arg(long, default_value_t = Convergence::default().after_s)]
-    pub converged_after_s: f64,
+    /// Convergence: settled by this time (s) [default: 5 s before the end of the run, 25 s for
+    /// the paper's 30 s]
+    #[arg(long)]
+    pub converged_after_s: Option<f64>,
     /// Write only campaign.json and runs.csv.
     #[arg(long)]
     pub no_plots: bool,

@@ -4,7 +4,10 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
-use host_sim::design::{run::DEFAULT_EVALUATIONS, run_design, DesignOptions};
+use host_sim::design::{
+    run::{DEFAULT_DURATION_S, DEFAULT_EVALUATIONS},
+    run_design, DesignOptions,
+};
 
 /// Options of `host-sim design`.
 #[derive(Debug, Args, Clone)]
@@ -25,6 +28,10 @@ pub struct DesignArgs {
     /// Optimiser budget (designs scored by simulation).
     #[arg(long, default_value_t = DEFAULT_EVALUATIONS)]
     pub evaluations: usize,
+    /// Length of the scoring runs and of the written scenario (s): a run must settle 5 s before
+    /// its end. Slow certified designs (small authority) need longer than the paper's 30 s.
+    #[arg(long, default_value_t = DEFAULT_DURATION_S)]
+    pub duration_s: f64,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/design")]
     pub out: PathBuf,
@@ -38,6 +45,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         seed: args.seed,
         margin: args.margin,
         evaluations: args.evaluations,
+        duration_s: args.duration_s,
         out: args.out.clone(),
     })?;
     let r = &outcome.report;

@@ -19,9 +19,6 @@ use super::vehicle::DesignVehicle;
 use crate::output::chart::{LegendAt, Panel, Scale, Series};
 use crate::scenario::{GainsConfig, LimitsConfig, TrajectoryConfig};
 
-/// Duration of the written scenario \[s\] (the campaigns' 30 s, converged by 25 s).
-pub const SCENARIO_DURATION_S: f64 = 30.0;
-
 /// One condition of the certificate.
 #[derive(Clone, Debug, Serialize)]
 pub struct ConditionEntry {
@@ -143,6 +140,8 @@ pub struct Report {
     pub vehicle_file: String,
     /// Optimiser seed.
     pub seed: u64,
+    /// Length of the scoring runs and of the written scenario \[s\] (`--duration-s`).
+    pub duration_s: f64,
     /// Evaluations spent.
     pub evaluations: usize,
     /// Wall time of the design \[s\].
@@ -223,6 +222,7 @@ impl Report {
             vehicle_source: vehicle.source.clone(),
             vehicle_file: vehicle.origin.clone(),
             seed: o.seed,
+            duration_s: o.duration_s,
             evaluations,
             wall_time_s,
             certificate: CertificateEntry {
@@ -335,7 +335,7 @@ pub fn write_outputs(
     files.push(write_text(&dir.join("design.json"), &json)?);
 
     let settings = FlightSettings {
-        duration_s: SCENARIO_DURATION_S,
+        duration_s: report.duration_s,
         controller_period_s,
     };
     let table = scenario_table(
@@ -440,8 +440,9 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
     );
     let _ = writeln!(
         s,
-        "Seed {}, {} evaluations, {:.1} s wall time.\n",
-        r.seed, r.evaluations, r.wall_time_s
+        "Seed {}, {} evaluations, {:.1} s wall time. Runs of {} s (`--duration-s`): a run \
+         converges when it has settled 5 s before its end.\n",
+        r.seed, r.evaluations, r.wall_time_s, r.duration_s
     );
     if r.reference.scaled {
         let _ = writeln!(
@@ -521,10 +522,11 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
         let _ = writeln!(
             s,
             "**NO DESIGN WITHIN THE BUDGET MET THE CONVERGENCE CONSTRAINTS** (every 180 degree start and \
-             the upside-down start settled by 25 s, also with the motor time constant doubled). The \
+             the upside-down start settled by {:.0} s, also with the motor time constant doubled). The \
              certificate holds, but the certified authority is small: thrust interval [{:.3}, {:.3}] x \
              the weight, feedback angular acceleration iota/J = [{:.2}, {:.2}, {:.2}] rad/s^2. The \
              design below is the best found on the graded penalty.\n",
+            r.duration_s - super::evaluate::TAIL_S,
             a.thrust_interval_over_weight[0],
             a.thrust_interval_over_weight[1],
             a.feedback_angular_acceleration_rad_s2[0],
