@@ -19,6 +19,9 @@
 //! state, its construction and the
 //! per-sample and per-tick flow.
 
+#[cfg(test)]
+#[cfg_attr(feature = "uncertified-paper", allow(unused_imports))]
+mod arming_tests;
 mod boot;
 mod commands;
 mod events;
