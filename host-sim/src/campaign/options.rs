@@ -106,7 +106,7 @@ pub struct CampaignOptions {
     /// Convergence: attitude error threshold \[deg\] (`Convergence::default()`).
     pub converged_attitude_deg: f64,
     /// Convergence: settled by this time \[s\], at most the run's duration (`None`: 5 s before
-    /// the end, [`Convergence::for_duration`]; 25 s for the paper's 30 s runs).
+    /// the end, [`crate::campaign::Convergence::for_duration`]; 25 s for the paper's 30 s runs).
     pub converged_after_s: Option<f64>,
     /// Write the plots too (`false`: only campaign.json and runs.csv) (`true`).
     pub plots: bool,

@@ -106,7 +106,7 @@ const TABLE_ORDER: [&str; 10] = [
     "design",
 ];
 
-/// `table` as TOML text with its tables in [`TABLE_ORDER`] (others after, by name).
+/// `table` as TOML text with its tables in `TABLE_ORDER` (others after, by name).
 /// Errors: a value TOML cannot write (not expected).
 pub fn ordered_toml(table: &toml::Table) -> Result<String> {
     let rank = |k: &str| {

@@ -7,7 +7,7 @@
 //! [`certificate`] checks every design with the functions the firmware trusts
 //! (`controller_core::bounds::certify`, `Mixer::box_fit`); [`evaluate`] flies it (the seven
 //! 180° starts, upside down at hover, the doubled motor time constant); [`optimise`] runs
-//! argmin's particle swarm; [`reference`] scales the reference down when it cannot be
+//! argmin's particle swarm; [`mod@reference`] scales the reference down when it cannot be
 //! certified; [`report`] writes `design.json`, `design.md`, the plots, `scenario.toml` and
 //! `firmware.toml`. [`vehicle`] reads the vehicle file, [`flight`] builds the scenarios.
 
