@@ -133,16 +133,7 @@ fn paper_config_arms_only_when_uncertified_is_allowed() {
         allow_uncertified: true,
         ..FlightConfig::paper()
     };
-    let (mut p, _) = arm_attempt(allowed);
-    assert_eq!(p.status().state, crate::safety::FlightState::Armed);
-    let events = drain_events(&mut p);
-    assert!(events.iter().any(|e| matches!(
-        e,
-        Event::Uncertified {
-            condition: "theorem2.torque_max_yaw",
-            ..
-        }
-    )));
+    arms_warning_of_the_yaw_condition(allowed);
 }
 
 /// A reference change is gated too: armed on the certified x500 set-up, the demo mission is
@@ -205,7 +196,12 @@ fn uncertified_paper_build_is_the_paper_set_up_and_arms_loudly() {
             paper.mission
         )
     );
-    let (mut p, _) = arm_attempt(built);
+    arms_warning_of_the_yaw_condition(built);
+}
+
+/// `c` arms, and says loudly that Theorem 2's yaw condition does not hold (the paper's set-up).
+fn arms_warning_of_the_yaw_condition(c: FlightConfig) {
+    let (mut p, _) = arm_attempt(c);
     assert_eq!(p.status().state, crate::safety::FlightState::Armed);
     let events = drain_events(&mut p);
     assert!(events.iter().any(|e| matches!(

@@ -144,6 +144,8 @@ struct Harness {
     /// A `SETUP_SIGNING`'s verdict was lost with its event: the shadow decoder cannot follow
     /// the pipeline's key from there, and the link counters are no longer compared.
     shadow_blind: bool,
+    /// The flight's signing rule for unsigned sensors, for the keys the shadow takes.
+    accept_unsigned_sensors: bool,
     telemetry: Vec<u8>,
 }
 
@@ -169,7 +171,6 @@ impl Harness {
             }
         }
         let verdicts_whole = self.p.status().counters.events_dropped == dropped_before;
-        let accept_unsigned_sensors = config().accept_unsigned_sensors;
         let mut commands = 0;
         // `Decoder::push`'s loop, with the message handled before the next byte goes in.
         let mut rest = bytes;
@@ -186,7 +187,7 @@ impl Harness {
                         let config = SigningConfig {
                             key,
                             link_id: 0,
-                            accept_unsigned_sensors,
+                            accept_unsigned_sensors: self.accept_unsigned_sensors,
                         };
                         assert!(
                             self.shadow.install_signing_key(config, initial_timestamp),
@@ -290,6 +291,7 @@ pub fn run(data: &[u8]) {
         texts_due: 0,
         events_lost: false,
         shadow_blind: false,
+        accept_unsigned_sensors: cfg.accept_unsigned_sensors,
         telemetry: vec![0; 2048],
     };
     let mut before = h.p.status().counters;
