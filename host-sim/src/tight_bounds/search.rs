@@ -244,12 +244,13 @@ pub fn maximise(set: &ConfiningSet, q: Quantity, relative_gap: f64, max_boxes: u
     let ys = vertices(set, q);
     let roots: Vec<_> = if q == Quantity::AngularVelocity {
         // ω_d is linear in z = (u̇, ψ̇) for fixed (u, ψ): its norm is convex in z, so its
-        // maximum over the z box is at one of the box's 16 vertices.
+        // maximum over the z box is at one of the box's 16 vertices. ψ (index 6) stays a box.
         (0..16)
             .map(|k| {
                 let mut region = set.split;
-                for (bit, x) in region[3..].iter_mut().enumerate() {
-                    *x = Interval::point(if k >> bit & 1 == 1 { x.lo } else { x.hi });
+                for (bit, j) in [3, 4, 5, 7].into_iter().enumerate() {
+                    let x = region[j];
+                    region[j] = Interval::point(if k >> bit & 1 == 1 { x.lo } else { x.hi });
                 }
                 (region, 0)
             })
