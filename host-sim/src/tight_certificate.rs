@@ -88,6 +88,16 @@ pub struct TightRatios {
 /// the same set-up's bounds, so results are kept for the process's life, keyed by the exact
 /// inputs.
 pub fn scenario_tight_bounds(scenario: &Scenario) -> Result<TightBounds> {
+    scenario_tight_bounds_with(scenario, &TightOptions::default())
+}
+
+/// [`scenario_tight_bounds`] with the branch and bound's budget and gap of `options` (a larger
+/// budget gives a bound as sound and at least as tight; `host-sim bounds --boxes`). Errors: as
+/// [`scenario_tight_bounds`].
+pub fn scenario_tight_bounds_with(
+    scenario: &Scenario,
+    options: &TightOptions,
+) -> Result<TightBounds> {
     let (vehicle, gains) = (scenario.vehicle(), scenario.gains());
     if gains.integral.is_some() {
         anyhow::bail!(
@@ -96,19 +106,13 @@ pub fn scenario_tight_bounds(scenario: &Scenario) -> Result<TightBounds> {
         );
     }
     let constants = scenario.trajectory::<f64>().constants();
-    let key = format!("{vehicle:?}{gains:?}{constants:?}");
+    let key = format!("{vehicle:?}{gains:?}{constants:?}{options:?}");
     let cache = MEMO.get_or_init(|| Mutex::new(Vec::new()));
     if let Some((_, b)) = lock(cache).iter().find(|(k, _)| *k == key) {
         return Ok(*b);
     }
-    let b = tight_bounds(
-        &vehicle,
-        &gains,
-        &constants,
-        FilterStart::Zero,
-        &TightOptions::default(),
-    )
-    .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;
+    let b = tight_bounds(&vehicle, &gains, &constants, FilterStart::Zero, options)
+        .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;
     lock(cache).push((key, b));
     Ok(b)
 }

@@ -148,12 +148,13 @@ fn interval_enclosure_contains_controller_core_values() {
 
 /// `φ_i` of the torque decomposition, enclosed on a point, contains the value built from
 /// controller-core's saturation and rotation; and the torque law's `|τ_i|` at random states
-/// with `|ω_d| ≤ W`, `|(ω̇_d1, ω̇_d2)| ≤ H₁₂`, `|ω̇_d3| ≤ H₃` stays below the bound.
+/// with `|ω_d| ≤ W`, `|(ω̇_d1, ω̇_d2)| ≤ H₁₂`, `|ω̇_d3| ≤ H₃`, `|ω̇_d| ≤ A` stays below the bound
+/// (`A` below `√(H₁₂² + H₃²)`, so the cap is exercised).
 #[test]
 fn torque_decomposition_bounds_the_law() {
     let gains = Gains::<f64>::paper();
     let inertia = [2.24e-3, 2.9e-3, 5.3e-3];
-    let (w_max, h12, h3) = (2.5, 40.0, 17.0);
+    let (w_max, h12, h3, total) = (2.5, 40.0, 17.0, 41.0);
     let radius = 1.0 + gains.hysteresis;
     let mut bounds = [0.0; 3];
     for (axis, bound) in bounds.iter_mut().enumerate() {
@@ -164,6 +165,7 @@ fn torque_decomposition_bounds_the_law() {
             inertia: inertia[axis],
             horizontal_acceleration: h12,
             yaw_acceleration: h3,
+            total_acceleration: total,
         };
         let phi = term.maximise(0.01, 1_000_000);
         *bound = host_sim::tight_bounds::torque::torque_bound(
@@ -186,7 +188,8 @@ fn torque_decomposition_bounds_the_law() {
             let sat =
                 controller_core::saturation::radial_saturation(&(t * a.k_mrp), a.mrp_saturation);
             let expected = (1.0 + t.norm_squared()) / 4.0 * sat[axis].abs()
-                + inertia[axis] * ((q.x * q.x + q.y * q.y).sqrt() * h12 + q.z.abs() * h3);
+                + inertia[axis]
+                    * ((q.x * q.x + q.y * q.y).sqrt() * h12 + q.z.abs() * h3).min(total);
             let enc = term
                 .enclosure(&[t.x, t.y, t.z].map(Interval::point))
                 .unwrap();
@@ -215,6 +218,7 @@ fn torque_decomposition_bounds_the_law() {
         let wd = d3 * w_max;
         let wdd =
             Vector3::new(d4.x, d4.y, 0.0).normalize() * h12 + Vector3::z() * (h3 * d4.z.signum());
+        let wdd = wdd * (total / wdd.norm()).min(1.0);
         let tau = a
             .evaluate(
                 &mrp,

@@ -4,7 +4,9 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
-use host_sim::bounds_table::{bounds_table, markdown, write_table, BoundsOptions};
+use host_sim::bounds_table::{
+    bounds_table, markdown, write_table, BoundsOptions, BOUNDS_MAX_BOXES,
+};
 
 /// Options of `host-sim bounds`.
 #[derive(Debug, Args, Clone)]
@@ -19,6 +21,10 @@ pub struct BoundsArgs {
     /// Skip the witness search (about two seconds).
     #[arg(long)]
     pub no_witness: bool,
+    /// Box budget of each branch-and-bound search of the tight bounds (a larger budget is as
+    /// sound and at least as tight; main runs use 150 000).
+    #[arg(long, default_value_t = BOUNDS_MAX_BOXES)]
+    pub boxes: usize,
     /// Also write bounds.json and bounds.md here.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
@@ -29,6 +35,7 @@ pub fn run(args: &BoundsArgs) -> Result<()> {
     let table = bounds_table(&BoundsOptions {
         scenario: args.scenario.clone(),
         witness_seed: (!args.no_witness).then_some(args.seed),
+        max_boxes: args.boxes,
     })?;
     print!("{}", markdown(&table));
     if let Some(dir) = &args.out {

@@ -163,7 +163,7 @@ pub fn tight_bounds(
         || {
             (
                 run(Quantity::AngularVelocity, full),
-                run(Quantity::AngularAcceleration, full / 4),
+                run(Quantity::AngularAcceleration, full),
             )
         },
         || {
@@ -176,31 +176,33 @@ pub fn tight_bounds(
     // |ω̇_d|² = |(ω̇_d1, ω̇_d2)|² + ω̇_d3² ≤ H₁₂² + H₃²: a second bound, kept if smaller.
     let p = interval::Interval::point;
     let composed = (p(h12.upper).sqr() + p(h3.upper).sqr()).sqrt().hi;
+    let acceleration = a.upper.min(composed);
     let inertia: [f64; 3] = vehicle.inertia.into();
     let mut boxes = w.boxes + a.boxes + h12.boxes + h3.boxes;
     let mut torque_max = [0.0; 3];
     let mut torque_lower = [0.0; 3];
     for axis in 0..3 {
-        let term = |h: f64, y: f64| AttitudeTerm {
+        let term = |h: f64, y: f64, total: f64| AttitudeTerm {
             axis,
             gains: gains.attitude,
             radius: 1.0 + gains.hysteresis,
             inertia: inertia[axis],
             horizontal_acceleration: h,
             yaw_acceleration: y,
+            total_acceleration: total,
         };
         // This search is cheap (3-D, no gradients): never looser than 1 %.
         let phi_gap = options.relative_gap.min(0.01);
-        let phi = term(h12.upper, h3.upper).maximise(phi_gap, options.max_boxes);
+        let phi = term(h12.upper, h3.upper, acceleration).maximise(phi_gap, options.max_boxes);
         boxes += phi.boxes;
         let omega = gains.attitude.omega_saturation;
         torque_max[axis] = torque_bound(axis, omega, phi.upper, inertia, w.upper);
-        let phi_low = term(h12.lower, h3.lower).maximise(phi_gap, options.max_boxes);
+        let phi_low = term(h12.lower, h3.lower, f64::INFINITY).maximise(phi_gap, options.max_boxes);
         torque_lower[axis] = torque_bound(axis, omega, phi_low.lower, inertia, w.lower);
     }
     Ok(TightBounds {
         angular_velocity: w.upper,
-        angular_acceleration: a.upper.min(composed),
+        angular_acceleration: acceleration,
         horizontal_acceleration: h12.upper,
         yaw_acceleration: h3.upper,
         torque_max,

@@ -10,7 +10,7 @@
 //! - `(J ẇ)_i = J_ii (R̃ e_i)·ω̇_d`; with `q = R̃ e_i` (a unit vector, column `i` of `R(ϑ̃)`),
 //!   Cauchy–Schwarz on the horizontal part gives
 //!   `|q·ω̇_d| ≤ |(q₁, q₂)| H₁₂ + |q₃| H₃ = √(1 − q₃²) H₁₂ + |q₃| H₃`, with `H₁₂`, `H₃` bounds of
-//!   `|(ω̇_d1, ω̇_d2)|` and `|ω̇_d3|`;
+//!   `|(ω̇_d1, ω̇_d2)|` and `|ω̇_d3|`, and `|q·ω̇_d| ≤ |ω̇_d| ≤ A` (the smaller is used);
 //! - `|(1 + |ϑ̃|²)/4 · s_ϑ,i| = (1 + |ϑ̃|²)/4 · M_ϑ k_ϑ |ϑ̃_i| / √(M_ϑ² + k_ϑ²|ϑ̃|²)`.
 //!
 //! So `|τ_i| ≤ M_ω + sup_{|ϑ̃| ≤ 1+δ} φ_i(ϑ̃) + ½|J_jj − J_kk| W²` with
@@ -41,6 +41,9 @@ pub struct AttitudeTerm {
     pub horizontal_acceleration: f64,
     /// Bound `H₃` of `|ω̇_d3|` [rad/s²].
     pub yaw_acceleration: f64,
+    /// Bound `A` of `|ω̇_d|` [rad/s²] (`f64::INFINITY` for none): `|q·ω̇_d| ≤ A` too, which caps
+    /// `√(1 − q₃²) H₁₂ + |q₃| H₃` where `H₁₂` and `H₃` are not reached together.
+    pub total_acceleration: f64,
 }
 
 impl AttitudeTerm {
@@ -66,12 +69,11 @@ impl AttitudeTerm {
         // q₃ is a component of a unit vector.
         let q3 = Interval::new(q3.lo.max(-1.0), q3.hi.min(1.0));
         let horizontal = (one - q3.sqr()).sqrt();
-        Some(
-            shape * saturated
-                + p(self.inertia)
-                    * (horizontal * p(self.horizontal_acceleration)
-                        + q3.abs() * p(self.yaw_acceleration)),
-        )
+        let projected =
+            horizontal * p(self.horizontal_acceleration) + q3.abs() * p(self.yaw_acceleration);
+        let a = self.total_acceleration;
+        let projected = Interval::new(projected.lo.min(a), projected.hi.min(a));
+        Some(shape * saturated + p(self.inertia) * projected)
     }
 
     fn node(&self, region: [Interval; 3]) -> Node<3> {
