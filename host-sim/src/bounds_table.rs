@@ -76,8 +76,7 @@ pub struct BoundsOptions {
 }
 
 /// Default box budget of `host-sim bounds`: enough for the paper's set-up to reach the 1 % gap
-/// (about 4.8·10⁶ boxes over the searches, 16 s on two cores); the presets stop at the gap
-/// far sooner. Main runs and campaigns use [`TightOptions::default`] (about 2 s).
+/// (31 s on two cores); the presets stop at the gap sooner. Main runs and campaigns use [`TightOptions::default`] (about 2 s).
 pub const BOUNDS_MAX_BOXES: usize = 8_000_000;
 
 /// Computes the table for the options' scenario.
