@@ -2,7 +2,7 @@
 # The project's test command (README, "The two commands"; .ci/run calls exactly this).
 # Installs what it needs (the thumbv7em target, clippy, rustfmt, QEMU, a Python virtual environment
 # with pymavlink), then: formatting, every
-# host test (unit, property, cross-crate, end to end), clippy with warnings denied, the no_std
+# host test (unit, property, cross-crate, end to end), clippy and rustdoc with warnings denied, the no_std
 # controller-core and the firmware built for the Cortex-M4F (thumbv7em-none-eabihf) for both
 # boards, the processor-in-the-loop flight on QEMU and the M4F instruction budget.
 # Idempotent: re-running it changes nothing that is already installed.
@@ -46,6 +46,9 @@ fi
 
 step "clippy, warnings denied (host, all targets)"
 cargo clippy --workspace --all-targets -- -D warnings
+
+step "API documentation, warnings denied (cargo doc --workspace --no-deps): links resolve"
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps -q
 
 step "coverage-guided fuzzing (libFuzzer on stable; tests/fuzz/run.sh, docs/fuzzing.md)"
 bash tests/fuzz/run.sh

@@ -5,7 +5,7 @@
 //! An [`Airframe`] is what a vehicle file (`host-sim/vehicles/*.toml`, see `docs/vehicles.md`)
 //! describes; [`Airframe::paper`] is the paper's Section VI vehicle, the one
 //! [`FlightConfig::paper`](crate::config::FlightConfig::paper) flies. With the `vehicle-file`
-//! feature, [`Airframe::from_vehicle_file`] builds one from a parsed file.
+//! feature, `Airframe::from_vehicle_file` builds one from a parsed file.
 //!
 //! Units are SI; frames: body FLU (x forward, y left, z up).
 

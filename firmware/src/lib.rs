@@ -7,7 +7,7 @@
 //! [`flash_store`] and restored at boot only if still certified; host-sim flies the same pipeline in
 //! software in the loop.
 //!
-//! On the MCU only, [`app`] is the board-independent task layer (control loop, queues, logger,
+//! On the MCU only, `app` is the board-independent task layer (control loop, queues, logger,
 //! boot banner) that every board runs. Each board is one folder of binary sources, with its
 //! clocks, pins and drivers' hardware side: the STM32F405 (`src/bin/stm32f405/`) and QEMU's
 //! mps2-an386 (`src/bin/mps2_an386/`).
@@ -22,7 +22,7 @@
 //! deterministic control-step sequence of the Cortex-M4F bench (`src/bin/step_bench/`), the
 //! criterion bench and host-sim's ARM-vs-host comparison.
 //!
-//! Apart from [`app`], nothing here touches a register or logs: it computes plain values that
+//! Apart from `app`, nothing here touches a register or logs: it computes plain values that
 //! the binaries apply to the hardware and format with defmt. It is `no_std` and builds for
 //! both the MCU and the host, where its unit tests run (`cargo test -p firmware`).
 #![cfg_attr(not(test), no_std)]

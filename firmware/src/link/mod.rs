@@ -1,6 +1,6 @@
 //! MAVLink 2 over a byte stream: a decoder that takes bytes in chunks of any size and never
 //! panics ([`Decoder`]), the conversion of the accepted messages to the controller's frames
-//! (through [`crate::frames`], the only place that converts; [`interpret`]), message signing
+//! (through [`crate::frames`], the only place that converts; `interpret`), message signing
 //! ([`signing`]) and the encoder for telemetry ([`encode`], [`encode_data`]).
 //!
 //! In: `ODOMETRY` (frame `MAV_FRAME_LOCAL_NED` or `MAV_FRAME_LOCAL_FRD`), `ATT_POS_MOCAP` and
