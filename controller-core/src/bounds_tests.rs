@@ -121,28 +121,23 @@ fn violations_are_reported_with_numbers() {
 
 #[test]
 fn equal_filter_gains_use_the_limit() {
-    let mut g = Gains::<f64>::paper();
-    g.position.ks = g.position.kf;
-    let c = certify(
-        &Vehicle::paper(),
-        &Limits::paper(),
-        &g,
-        &TrajectoryConstants::zero(),
-        FilterStart::Zero,
-    )
-    .unwrap();
-    assert_relative_eq!(c.bounds.filter_overshoot, (-1f64).exp(), epsilon = 1e-12);
+    let overshoot = |ratio: f64| {
+        let mut g = Gains::<f64>::paper();
+        g.position.ks = g.position.kf * ratio;
+        certify(
+            &Vehicle::paper(),
+            &Limits::paper(),
+            &g,
+            &TrajectoryConstants::zero(),
+            FilterStart::Zero,
+        )
+        .unwrap()
+        .bounds
+        .filter_overshoot
+    };
+    assert_relative_eq!(overshoot(1.0), (-1f64).exp(), epsilon = 1e-12);
     // Continuity: a tiny difference gives nearly the same value.
-    g.position.ks = g.position.kf * (1.0 + 1e-6);
-    let c2 = certify(
-        &Vehicle::paper(),
-        &Limits::paper(),
-        &g,
-        &TrajectoryConstants::zero(),
-        FilterStart::Zero,
-    )
-    .unwrap();
-    assert_relative_eq!(c2.bounds.filter_overshoot, (-1f64).exp(), epsilon = 1e-6);
+    assert_relative_eq!(overshoot(1.0 + 1e-6), (-1f64).exp(), epsilon = 1e-6);
 }
 
 #[test]

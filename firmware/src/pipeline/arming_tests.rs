@@ -6,6 +6,18 @@ use super::tests::{arm_attempt, armed_pipeline, command, drain_events};
 use super::*;
 use crate::link;
 
+/// `(condition, lhs, rhs)` of the first `ReferenceRefused` event, if any.
+fn reference_refusal(events: &[Event]) -> Option<(&'static str, f32, f32)> {
+    events.iter().find_map(|e| match *e {
+        Event::ReferenceRefused {
+            condition,
+            lhs,
+            rhs,
+        } => Some((condition, lhs, rhs)),
+        _ => None,
+    })
+}
+
 /// The refusal of the arm command: `(condition, lhs, rhs)` of its `ReferenceRefused` event.
 fn arm_refusal(events: &[Event]) -> (&'static str, f32, f32) {
     assert!(
@@ -14,17 +26,7 @@ fn arm_refusal(events: &[Event]) -> (&'static str, f32, f32) {
             .any(|e| matches!(e, Event::CommandRefused { command: "arm", .. })),
         "{events:?}"
     );
-    events
-        .iter()
-        .find_map(|e| match *e {
-            Event::ReferenceRefused {
-                condition,
-                lhs,
-                rhs,
-            } => Some((condition, lhs, rhs)),
-            _ => None,
-        })
-        .expect("the refusal names its condition")
+    reference_refusal(events).expect("the refusal names its condition")
 }
 
 /// The default build's flight file is certified at boot (every condition, box margin at least
@@ -153,15 +155,7 @@ fn reference_change_needs_the_certificate() {
     let n = link::encode(&far, 255, 190, 0, &mut b);
     p.on_link_bytes(&b[..n], now + 10_000);
     let events = drain_events(&mut p);
-    let refused = events.iter().find_map(|e| match *e {
-        Event::ReferenceRefused {
-            condition,
-            lhs,
-            rhs,
-        } => Some((condition, lhs, rhs)),
-        _ => None,
-    });
-    let (condition, lhs, rhs) = refused.expect("the far setpoint is refused");
+    let (condition, lhs, rhs) = reference_refusal(&events).expect("the far setpoint is refused");
     assert!(
         !condition.is_empty() && lhs.partial_cmp(&rhs) != Some(core::cmp::Ordering::Greater),
         "{condition}: {lhs} vs {rhs}"
