@@ -74,36 +74,27 @@ pub fn human_summary(title: &str, summary: &Summary) -> String {
             c.name, c.statement, c.lhs, c.rhs
         );
     }
-    match &a.tight {
-        Some(t) => {
-            let _ = writeln!(
+    let t = &a.tight;
+    let _ = writeln!(
+        s,
+        "Tight bounds (supremum of the law over its confining set, gap {:.1} %): torque ±({:.3}, {:.3}, {:.3}) N m, |ω_d| ≤ {:.3} rad/s, |ω̇_d| ≤ {:.2} rad/s²",
+        100.0 * t.relative_gap,
+        t.torque_max_Nm[0],
+        t.torque_max_Nm[1],
+        t.torque_max_Nm[2],
+        t.angular_velocity_max_rad_s,
+        t.angular_acceleration_max_rad_s2
+    );
+    for c in t.conditions.iter().filter(|c| !c.holds_paper) {
+        let _ = writeln!(
             s,
-            "Tight bounds (supremum of the law over its confining set, gap {:.1} %): torque ±({:.3}, {:.3}, {:.3}) N m, |ω_d| ≤ {:.3} rad/s, |ω̇_d| ≤ {:.2} rad/s²",
-            100.0 * t.relative_gap,
-            t.torque_max_Nm[0],
-            t.torque_max_Nm[1],
-            t.torque_max_Nm[2],
-            t.angular_velocity_max_rad_s,
-            t.angular_acceleration_max_rad_s2
+            "  {} {}: tau_max {:.4} vs paper's bound {:.4}, tight bound {:.4}",
+            c.name,
+            c.verdict(),
+            c.lhs,
+            c.rhs_paper,
+            c.rhs_tight
         );
-            for c in t.conditions.iter().filter(|c| !c.holds_paper) {
-                let _ = writeln!(
-                    s,
-                    "  {} {}: tau_max {:.4} vs paper's bound {:.4}, tight bound {:.4}",
-                    c.name,
-                    c.verdict(),
-                    c.lhs,
-                    c.rhs_paper,
-                    c.rhs_tight
-                );
-            }
-        }
-        None => {
-            let _ = writeln!(
-                s,
-                "Tight bounds: none with the integral action on (docs/integral-action.md)"
-            );
-        }
     }
     let _ = writeln!(
         s,
@@ -128,8 +119,12 @@ pub fn human_summary(title: &str, summary: &Summary) -> String {
         "Path lifting: {} memory-quaternion resets, {} MRP/shadow-MRP flips",
         summary.path_lifting.q_hat_resets, summary.path_lifting.m_flips
     );
-    if let Some(n) = o.samples_above_tight_bounds.filter(|&n| n > 0) {
-        let _ = writeln!(s, "{n} samples exceeded the tight bounds");
+    if o.samples_above_tight_bounds > 0 {
+        let _ = writeln!(
+            s,
+            "{} samples exceeded the tight bounds",
+            o.samples_above_tight_bounds
+        );
     }
     if o.samples_outside_a_priori_bounds > 0 {
         let _ = writeln!(

@@ -15,7 +15,7 @@ use crate::controllers::paper::{back3, PaperLaw};
 use crate::plant::RigidBodyState;
 use crate::rotor_plant::{MixerCounts, RotorSample};
 use crate::scenario::{PlantKind, Precision, Scenario};
-use crate::tight_certificate::{covered_tight_bounds, tight_limits, tight_report, TightReport};
+use crate::tight_certificate::{scenario_tight_bounds, tight_limits, tight_report, TightReport};
 
 /// One controller sample: the state, the reference, the command and the law's internals.
 /// Column names carry units; angles are in rad unless named `_deg`.
@@ -135,11 +135,9 @@ pub struct APriori {
     pub feasible: bool,
     /// Every condition with both sides.
     pub conditions: Vec<ConditionReport>,
-    /// The tight bounds on the same quantities, beside these
-    /// ([`crate::tight_certificate`]); absent with the integral action on, which they do not
-    /// cover.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub tight: Option<TightReport>,
+    /// The tight bounds on the same quantities, beside these ([`crate::tight_certificate`];
+    /// with the integral action on, over the confining set its estimate widens).
+    pub tight: TightReport,
     /// With the no-dive thrust (`[controller] thrust = "body-axis-projection"`) only: the
     /// a-priori interval `[T_floor, T_max]` \[N\] of the applied thrust, which replaces
     /// `[thrust_min_N, thrust_max_N]` in the bound check (absent with the paper's `T = m|u|`).
@@ -192,10 +190,8 @@ pub struct Observed {
     pub angular_acceleration_d_max_rad_s2: f64,
     /// Samples whose thrust or torque left the a-priori bounds.
     pub samples_outside_a_priori_bounds: u64,
-    /// Samples whose torque, `|ω_d|` or `|ω̇_d|` exceeded the tight bounds (absent where there
-    /// are none: the integral action on).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub samples_above_tight_bounds: Option<u64>,
+    /// Samples whose torque, `|ω_d|` or `|ω̇_d|` exceeded the tight bounds.
+    pub samples_above_tight_bounds: u64,
     /// Samples taken.
     pub samples: u64,
     /// Initial altitude minus the lowest altitude of the run \[m\] (over the samples; 0 if
@@ -294,7 +290,7 @@ fn a_priori(
     c: &Certificate<f64>,
     gains: &Gains<f64>,
     no_dive_thrust_interval: Option<[f64; 2]>,
-    tight: Option<TightReport>,
+    tight: TightReport,
 ) -> APriori {
     let b = &c.bounds;
     let integral = match (&gains.integral, &c.integral) {
@@ -447,8 +443,8 @@ fn run_generic<T: Scalar>(
 ) -> Result<Summary> {
     let cert = certificate(scenario)?;
     let bounds = &cert.bounds;
-    let tight = covered_tight_bounds(scenario)?;
-    let tight_limits = tight.as_ref().map(tight_limits);
+    let tight = scenario_tight_bounds(scenario)?;
+    let tight_limits = tight_limits(&tight);
     let [thrust_low, thrust_high] = scenario
         .thrust_interval(bounds)
         .map_err(|e| anyhow!("{e}"))?;
@@ -462,7 +458,7 @@ fn run_generic<T: Scalar>(
         angular_velocity_d_max_rad_s: 0.0,
         angular_acceleration_d_max_rad_s2: 0.0,
         samples_outside_a_priori_bounds: 0,
-        samples_above_tight_bounds: tight_limits.as_ref().map(|_| 0),
+        samples_above_tight_bounds: 0,
         samples: 0,
         altitude_loss_m: 0.0,
     };
@@ -492,9 +488,8 @@ fn run_generic<T: Scalar>(
             || thrust > thrust_high * (1.0 + slack)
             || (0..3).any(|i| torque[i].abs() > bounds.torque_max[i] * (1.0 + slack));
         observed.samples_outside_a_priori_bounds += u64::from(outside);
-        if let (Some(n), Some(l)) = (&mut observed.samples_above_tight_bounds, &tight_limits) {
-            *n += u64::from(l.exceeded(&torque, w_d, w_d_dot, slack));
-        }
+        observed.samples_above_tight_bounds +=
+            u64::from(tight_limits.exceeded(&torque, w_d, w_d_dot, slack));
         observed.altitude_loss_m = observed
             .altitude_loss_m
             .max(initial_altitude - state.position.z);
@@ -570,7 +565,7 @@ fn run_generic<T: Scalar>(
             &cert,
             &scenario.gains(),
             (!scenario.controller.is_paper()).then_some([thrust_low, thrust_high]),
-            tight.map(|t| tight_report(&cert, &t)),
+            tight_report(&cert, &tight),
         ),
         observed,
         final_: Final {

@@ -78,11 +78,9 @@ pub struct TightRatios {
 }
 
 /// The tight bounds of `scenario` (the law's gains, vehicle and trajectory; the filters start at
-/// zero as in Section VI). Errors: the parameter errors of [`controller_core::certify`], and a
-/// scenario with the integral action on (`[gains.integral]`): the branch and bound confines the
-/// law's arguments to the paper's sets, which the integral estimate widens
-/// (docs/integral-action.md), so it has no tight bounds to give there
-/// ([`covered_tight_bounds`] answers `None` instead).
+/// zero as in Section VI; with the integral action on, its estimate's level and rate widen the
+/// confining set, [`crate::tight_bounds::confining_set`]). Errors: the parameter errors of
+/// [`controller_core::certify`].
 ///
 /// The branch and bound takes about a second, and a campaign, its report and its runs ask for
 /// the same set-up's bounds, so results are kept for the process's life, keyed by the exact
@@ -99,12 +97,6 @@ pub fn scenario_tight_bounds_with(
     options: &TightOptions,
 ) -> Result<TightBounds> {
     let (vehicle, gains) = (scenario.vehicle(), scenario.gains());
-    if gains.integral.is_some() {
-        anyhow::bail!(
-            "the tight bounds do not cover the integral action ([gains.integral]); its a-priori \
-             bounds are the extended ones of docs/integral-action.md"
-        );
-    }
     let constants = scenario.trajectory::<f64>().constants();
     let key = format!("{vehicle:?}{gains:?}{constants:?}{options:?}");
     let cache = MEMO.get_or_init(|| Mutex::new(Vec::new()));
@@ -115,15 +107,6 @@ pub fn scenario_tight_bounds_with(
         .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;
     lock(cache).push((key, b));
     Ok(b)
-}
-
-/// [`scenario_tight_bounds`], or `None` where they do not apply (the integral action on).
-/// Errors: as [`scenario_tight_bounds`] otherwise.
-pub fn covered_tight_bounds(scenario: &Scenario) -> Result<Option<TightBounds>> {
-    if scenario.gains::<f64>().integral.is_some() {
-        return Ok(None);
-    }
-    scenario_tight_bounds(scenario).map(Some)
 }
 
 /// What a run's samples are checked against.
@@ -165,9 +148,9 @@ pub fn tight_report(paper: &Certificate<f64>, tight: &TightBounds) -> TightRepor
             })
         })
         .collect();
+    // With the integral action on, its stability conditions count too.
     let others_hold = paper
-        .conditions
-        .iter()
+        .all_conditions()
         .filter(|c| !THEOREM2_TORQUE.contains(&c.name))
         .all(|c| c.holds);
     TightReport {

@@ -147,6 +147,43 @@ fn sampled_states_respect_the_bounds_crazyflie() {
     check_sampled_states(&crazyflie(), "crazyflie-2.1");
 }
 
+fn mass_error() -> Setup {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenarios/mass-error.toml");
+    Setup::from_scenario(&Scenario::load(&path).expect("the mass-error scenario loads"))
+}
+
+/// With the integral action on (`scenarios/mass-error.toml`), the samples carry an integral
+/// state (`η`, `η_f`, `η̇` often at their limits) and stay within the tight bounds of the
+/// widened confining set; the witnesses reach above the tight bounds computed as if the
+/// integral action were off, so the widening is needed.
+#[test]
+fn sampled_states_respect_the_bounds_integral_action() {
+    let setup = mass_error();
+    let integral = setup.gains.integral.expect("the integral action is on");
+    check_sampled_states(&setup, "mass-error");
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let at_level = (0..1000)
+        .filter(|_| {
+            let s = sample(&mut rng, &setup);
+            (s.integral.filtered.z.abs() - integral.level.z).abs() < 1e-12
+        })
+        .count();
+    assert!(
+        at_level > 100,
+        "{at_level} of 1000 samples with η_f,z at its level"
+    );
+    let mut off = setup;
+    off.gains.integral = None;
+    let without = bound_under_test(&off);
+    let found = witnesses(&setup, 11, &WitnessBudget::default()).expect("witness search runs");
+    let reached = found.get(Quantity::AngularAcceleration).value;
+    assert!(
+        reached > without.angular_acceleration,
+        "|ω̇_d| witness {reached} vs the bound without the integral action {}",
+        without.angular_acceleration
+    );
+}
+
 /// Filters started anywhere in the saturation box: samples stay admissible and within the
 /// paper's bounds for that start (Lemma 1 with `U_l = 1`).
 #[test]

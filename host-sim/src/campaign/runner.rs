@@ -64,10 +64,9 @@ pub struct RunResult {
 /// Errors: the certificate cannot be computed (invalid parameters), or the no-dive floor is
 /// above Theorem 1's `T_min`.
 pub fn bound_set(scenario: &Scenario) -> Result<BoundSet> {
-    // None with the integral action on: the tight bounds do not cover it.
-    let tight = crate::tight_certificate::covered_tight_bounds(scenario)?;
+    let tight = crate::tight_certificate::scenario_tight_bounds(scenario)?;
     Ok(BoundSet {
-        tight: tight.as_ref().map(crate::tight_certificate::tight_limits),
+        tight: Some(crate::tight_certificate::tight_limits(&tight)),
         ..paper_bound_set(scenario)?
     })
 }

@@ -80,10 +80,8 @@ pub fn run(args: &RunArgs) -> Result<()> {
              host-sim: WARNING: the conditions are sufficient, not necessary; the run proceeds. \
              Violated conditions are listed in the summary."
         );
-        let tight = host_sim::tight_certificate::covered_tight_bounds(&scenario)?;
-        let report = tight
-            .map(|t| host_sim::tight_certificate::tight_report(&certificate, &t))
-            .map_or_else(Vec::new, |r| r.conditions);
+        let tight = host_sim::tight_certificate::scenario_tight_bounds(&scenario)?;
+        let report = host_sim::tight_certificate::tight_report(&certificate, &tight).conditions;
         for c in report.iter().filter(|c| !c.holds_paper) {
             eprintln!(
                 "host-sim: {}: {} (tight bound {:.4} vs tau_max {:.4}; docs/tight-bounds.md).",

@@ -112,7 +112,7 @@ pub(crate) mod test_support {
                 feedback_torque_max_Nm: 0.25,
                 feasible: true,
                 conditions: vec![],
-                tight: Some(crate::tight_certificate::TightReport {
+                tight: crate::tight_certificate::TightReport {
                     torque_max_Nm: [0.2, 0.25, 0.3],
                     angular_velocity_max_rad_s: 0.8,
                     angular_acceleration_max_rad_s2: 1.0,
@@ -124,7 +124,7 @@ pub(crate) mod test_support {
                     relative_gap: 0.01,
                     feasible: true,
                     conditions: vec![],
-                }),
+                },
                 no_dive_thrust_interval_N: None,
                 integral: None,
             },
@@ -135,7 +135,7 @@ pub(crate) mod test_support {
                 angular_velocity_d_max_rad_s: 0.5,
                 angular_acceleration_d_max_rad_s2: 0.5,
                 samples_outside_a_priori_bounds: 0,
-                samples_above_tight_bounds: Some(0),
+                samples_above_tight_bounds: 0,
                 samples: 3,
                 altitude_loss_m: 0.25,
             },

@@ -334,14 +334,12 @@ fn bounds_panel(summary: &Summary, records: &[Record]) -> Panel {
             paper,
             &span,
         ));
-        if let Some(t) = &summary.a_priori.tight {
-            let tight = t.torque_max_Nm[i];
-            series.push(Series::line(
-                &format!("tight bound {axis}"),
-                color,
-                vec![(span.start, tight), (span.end, tight)],
-            ));
-        }
+        let tight = summary.a_priori.tight.torque_max_Nm[i];
+        series.push(Series::line(
+            &format!("tight bound {axis}"),
+            color,
+            vec![(span.start, tight), (span.end, tight)],
+        ));
     }
     panel(
         BOUNDS_FILE,

@@ -12,6 +12,15 @@
 //! Treating the components and `u`, `u̇`, `ü` as independent drops correlations (they share the
 //! filter states), so the product of the boxes is a superset of the confining set: sound.
 //!
+//! **Integral action** (extension, docs/integral-action.md; `controller_core::integral`): with
+//! it on, `u = u_f + η_f + g e₃ + p̈_d` with, per component, `|η_f,i| ≤ M_i,i`,
+//! `|η̇_f,i| ≤ 2 k_η M_i,i` and `|η̈_f,i| ≤ k_η (2 k_η M_i,i + R_i,i)` (the clamps hold them
+//! there by construction, whatever the estimate's input). Each box above widens by these terms
+//! (a sum of independent boxes: sound), and `u₃ ≥ g − M_p − M_i,z − K_a3` must stay positive.
+//! The two horizontal components take the larger of their terms, so that the boxes keep the
+//! symmetries below (a superset: sound), and every `ü_i` the largest of the three, as without
+//! the integral action.
+//!
 //! **Symmetries** (used to shrink the `ψ` and `ψ̇` ranges, proven in [`super`]'s documentation):
 //! the box product is invariant under the dihedral group of the square acting on the horizontal
 //! components (rotations by 90° about `e₃` and the reflections), which maps `ψ` to `ψ + k π/2`
@@ -22,6 +31,39 @@ use controller_core::{FilterStart, Gains, ParameterError, TrajectoryConstants, V
 
 use super::filter_l1::rate_and_acceleration_bounds;
 use super::interval::{next_up, Interval};
+
+/// Per inertial component, what the integral action adds to the boxes of `u`, `u̇`, `ü`
+/// (module documentation), rounded up; zeros with it off.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct IntegralTerms {
+    /// `M_i,i` [m/s²].
+    level: [f64; 3],
+    /// `2 k_η M_i,i` [m/s³].
+    rate: [f64; 3],
+    /// `k_η (2 k_η M_i,i + R_i,i)` [m/s⁴].
+    acceleration: [f64; 3],
+}
+
+impl IntegralTerms {
+    fn new(gains: &Gains<f64>) -> Self {
+        let Some(i) = &gains.integral else {
+            return Self {
+                level: [0.0; 3],
+                rate: [0.0; 3],
+                acceleration: [0.0; 3],
+            };
+        };
+        let p = Interval::point;
+        let rate = |c: usize| (p(2.0) * p(i.bandwidth) * p(i.level[c])).hi;
+        Self {
+            level: core::array::from_fn(|c| i.level[c]),
+            rate: core::array::from_fn(rate),
+            acceleration: core::array::from_fn(|c| {
+                (p(i.bandwidth) * (p(rate(c)) + p(i.rate[c]))).hi
+            }),
+        }
+    }
+}
 
 /// Number of variables the search splits: `u` (3), `u̇` (3), `ψ`, `ψ̇`.
 pub const SPLIT_DIM: usize = 8;
@@ -43,7 +85,8 @@ impl ConfiningSet {
     ///
     /// Errors: [`ParameterError`] for a non-positive or non-finite vehicle parameter or gain, a
     /// negative trajectory constant, or `M_p ≥ g − K_a3` (then `u₃` may vanish and `ω_d` is
-    /// unbounded; same refusal as `certify`).
+    /// unbounded; same refusal as `certify`); with the integral action on,
+    /// `M_p + M_i,z ≥ g − K_a3` (reported with `saturation = M_p + M_i,z`).
     pub fn new(
         vehicle: &Vehicle<f64>,
         gains: &Gains<f64>,
@@ -56,31 +99,42 @@ impl ConfiningSet {
         let p = &gains.position;
         let (g, mp) = (vehicle.gravity, p.saturation);
         let k = constants;
-        let floor =
-            Interval::point(g) - Interval::point(mp) - Interval::point(k.vertical_acceleration);
+        let integral = IntegralTerms::new(gains);
+        let drop = Interval::point(mp) + Interval::point(integral.level[2]);
+        let floor = Interval::point(g) - drop - Interval::point(k.vertical_acceleration);
         if floor.lo <= 0.0 {
             return Err(ParameterError::SaturationTooLarge {
-                saturation: mp,
+                saturation: drop.hi,
                 limit: g - k.vertical_acceleration,
             });
         }
         let (b1, b2) = rate_and_acceleration_bounds(p.kf, p.ks, mp, filter_start);
         let sum = |a: f64, b: f64| (Interval::point(a) + Interval::point(b)).hi;
-        let horizontal = Interval::symmetric(sum(mp, k.horizontal_acceleration));
-        let vertical = Interval::new(floor.lo, sum(sum(g, mp), k.vertical_acceleration));
-        let rate = Interval::symmetric(sum(b1, k.jerk));
+        let horizontal = Interval::symmetric(sum(
+            sum(mp, integral.level[0].max(integral.level[1])),
+            k.horizontal_acceleration,
+        ));
+        let vertical = Interval::new(
+            floor.lo,
+            sum(sum(sum(g, mp), integral.level[2]), k.vertical_acceleration),
+        );
+        let horizontal_rate = integral.rate[0].max(integral.rate[1]);
+        let rate = |extra: f64| Interval::symmetric(sum(sum(b1, extra), k.jerk));
+        let acceleration = (0..3)
+            .map(|i| sum(sum(b2, integral.acceleration[i]), k.snap))
+            .fold(0.0, f64::max);
         Ok(Self {
             split: [
                 horizontal,
                 horizontal,
                 vertical,
-                rate,
-                rate,
-                rate,
+                rate(horizontal_rate),
+                rate(horizontal_rate),
+                rate(integral.rate[2]),
                 Interval::new(0.0, next_up(core::f64::consts::FRAC_PI_4)),
                 Interval::new(0.0, k.heading_rate),
             ],
-            u_ddot: sum(b2, k.snap),
+            u_ddot: acceleration,
             heading_acceleration: k.heading_acceleration,
         })
     }

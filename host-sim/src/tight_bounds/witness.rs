@@ -5,7 +5,7 @@
 //! [`AdmissibleState::from_parameters`] (which keeps every candidate admissible by clamping each
 //! part to its set):
 //! 1. a global phase evaluates many random admissible states
-//!    ([`super::sampling::sample_parameters`]);
+//!    ([`super::sampling::sample_parameters_for`]);
 //! 2. local searches start from the best of them and from the best of disjoint groups of them
 //!    (diverse basins): an adaptive compass search (per-coordinate steps, doubled on success,
 //!    halved on failure), a (1+1) evolution strategy for ridges not aligned with the
@@ -25,7 +25,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use rayon::prelude::*;
 
-use super::sampling::{sample_parameters, AdmissibleState, LawValues, PARAMETER_COUNT};
+use super::sampling::{sample_parameters_for, AdmissibleState, LawValues, PARAMETER_COUNT};
 use super::setup::Setup;
 
 /// A quantity the a-priori bounds bound.
@@ -332,7 +332,7 @@ pub fn witnesses(setup: &Setup, seed: u64, budget: &WitnessBudget) -> Result<Wit
             let n = CHUNK.min(budget.samples - c * CHUNK);
             (0..n)
                 .map(|_| {
-                    let x = sample_parameters(&mut rng);
+                    let x = sample_parameters_for(&mut rng, setup);
                     let state = AdmissibleState::from_parameters(setup, &x);
                     (x, state.evaluate(setup).ok())
                 })

@@ -115,5 +115,16 @@ pub fn sample_parameters<R: Rng + ?Sized>(rng: &mut R) -> Vec<f64> {
 /// of `[−M_p, M_p]³`, reference derivatives and `ϑ̃` often on their spheres, `ψ̇`, `ψ̈` often
 /// at their limits, `ω̃` often large.
 pub fn sample<R: Rng + ?Sized>(rng: &mut R, setup: &Setup) -> AdmissibleState {
-    AdmissibleState::from_parameters(setup, &sample_parameters(rng))
+    AdmissibleState::from_parameters(setup, &sample_parameters_for(rng, setup))
+}
+
+/// [`sample_parameters`], followed by the integral action's [`INTEGRAL_PARAMETERS`] (`η`, `η_f`
+/// and `η̇`, each often at its limit) when `setup` has it on; without it the draws, hence the
+/// random stream, are exactly [`sample_parameters`]'.
+pub fn sample_parameters_for<R: Rng + ?Sized>(rng: &mut R, setup: &Setup) -> Vec<f64> {
+    let mut x = sample_parameters(rng);
+    if setup.gains.integral.is_some() {
+        x.extend((0..INTEGRAL_PARAMETERS).map(|_| unit_value(rng, 0.5)));
+    }
+    x
 }

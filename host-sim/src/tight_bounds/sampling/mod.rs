@@ -13,7 +13,11 @@
 //! - reference: `|(p̈_d1, p̈_d2)| ≤ K_a12`, `|p̈_d3| ≤ K_a3`, `|p_d⁽³⁾| ≤ K_j`, `|p_d⁽⁴⁾| ≤ K_s`,
 //!   `ν_d = (cos ψ, sin ψ)`, `ν̇_d = ψ̇ ν⊥`, `ν̈_d = ψ̈ ν⊥ − ψ̇² ν` with `|ν̇_d| ≤ K_ν̇`,
 //!   `|ν̈_d| ≤ K_ν̈`;
-//! - attitude: `|ϑ̃| ≤ 1 + δ`, `R̃ = rotation_from_mrp(ϑ̃)`, `ω̃` any.
+//! - attitude: `|ϑ̃| ≤ 1 + δ`, `R̃ = rotation_from_mrp(ϑ̃)`, `ω̃` any;
+//! - with the integral action on (extension, docs/integral-action.md): per component the
+//!   estimate `|η_i| ≤ M_i,i`, its filtered value `|η_f,i| ≤ M_i,i` and the clamped rate
+//!   `|η̇_i| ≤ R_i,i`, each anywhere in its interval (the clamps allow every combination), which
+//!   `IntegralGains::output` turns into the terms added to `u`, `u̇`, `ü`.
 //!
 //! [`AdmissibleState::evaluate`] runs the actual controller-core law on a state
 //! (`PositionGains::evaluate`, `desired_attitude`, `AttitudeGains::evaluate`), never a
@@ -23,6 +27,7 @@
 //! with much weight on the boundaries of the sets (where the suprema are).
 
 use controller_core::desired_attitude::{desired_attitude, DesiredAttitudeError};
+use controller_core::integral::IntegralState;
 use controller_core::mrp::rotation_from_mrp;
 use controller_core::position::{FilterState, PositionGains};
 use controller_core::FilterStart;
@@ -31,7 +36,7 @@ use nalgebra::{Vector2, Vector3};
 use super::setup::Setup;
 
 mod draw;
-pub use draw::{sample, sample_parameters};
+pub use draw::{sample, sample_parameters, sample_parameters_for};
 
 /// Number of constant-input segments of one component's filter input history.
 pub const SEGMENTS: usize = 4;
@@ -39,9 +44,13 @@ pub const SEGMENTS: usize = 4;
 /// Parameters of one component's filter history: start (2), levels, durations.
 const FILTER_PARAMETERS: usize = 2 + 2 * SEGMENTS;
 
-/// Length of the parameter vector of [`AdmissibleState::from_parameters`]: three filter
-/// histories, `ubar` (3), `p̈_d` (3), `p_d⁽³⁾` (3), `p_d⁽⁴⁾` (3), `ψ, ψ̇, ψ̈` (3), `ϑ̃` (3), `ω̃` (3).
+/// Length of the parameter vector of [`AdmissibleState::from_parameters`] without the integral
+/// action: three filter histories, `ubar` (3), `p̈_d` (3), `p_d⁽³⁾` (3), `p_d⁽⁴⁾` (3),
+/// `ψ, ψ̇, ψ̈` (3), `ϑ̃` (3), `ω̃` (3). With it, [`INTEGRAL_PARAMETERS`] more follow.
 pub const PARAMETER_COUNT: usize = 3 * FILTER_PARAMETERS + 21;
+
+/// Parameters of the integral action's state: `η` (3), `η_f` (3), `η̇` (3).
+pub const INTEGRAL_PARAMETERS: usize = 9;
 
 /// The saturation `ubar = −M tanh(s/M)` is exactly `±M` in f64 once `|s| ≥ 20 M`
 /// (`1 − tanh 20 ≈ 8·10⁻¹⁸` is below half an ulp of 1).
@@ -105,6 +114,10 @@ pub struct AdmissibleState {
     pub mrp_error: Vector3<f64>,
     /// Angular velocity error `ω̃ = ω − R̃ᵀω_d` [rad/s], body frame.
     pub omega_error: Vector3<f64>,
+    /// The integral action's `(η, η_f)` [m/s²] (zero with it off), inertial.
+    pub integral: IntegralState<f64>,
+    /// The integral action's clamped rate `η̇` [m/s³] (zero with it off), inertial.
+    pub integral_rate: Vector3<f64>,
 }
 
 /// The law's values at one admissible state.
@@ -249,6 +262,15 @@ impl AdmissibleState {
         let a = &setup.gains.attitude;
         let omega_scale = OMEGA_ERROR_SCALE * a.omega_saturation / a.k_omega;
         let omega_error = Vector3::from_fn(|_, _| r.unit() * omega_scale);
+        let (integral, integral_rate) = match &setup.gains.integral {
+            None => (IntegralState::zero(), Vector3::zeros()),
+            Some(i) => {
+                let estimate = Vector3::from_fn(|c, _| r.unit() * i.level[c]);
+                let filtered = Vector3::from_fn(|c, _| r.unit() * i.level[c]);
+                let rate = Vector3::from_fn(|c, _| r.unit() * i.rate[c]);
+                (IntegralState { estimate, filtered }, rate)
+            }
+        };
         Self {
             filters,
             ubar,
@@ -260,6 +282,8 @@ impl AdmissibleState {
             yaw_acceleration,
             mrp_error,
             omega_error,
+            integral,
+            integral_rate,
         }
     }
 
@@ -298,6 +322,12 @@ impl AdmissibleState {
                 .iter()
                 .map(|v| ratio(*v, omega_scale).clamp(-1.0, 1.0)),
         );
+        if let Some(i) = &setup.gains.integral {
+            let s = &self.integral;
+            x.extend((0..3).map(|c| ratio(s.estimate[c], i.level[c])));
+            x.extend((0..3).map(|c| ratio(s.filtered[c], i.level[c])));
+            x.extend((0..3).map(|c| ratio(self.integral_rate[c], i.rate[c])));
+        }
         x
     }
 
@@ -357,6 +387,22 @@ impl AdmissibleState {
         if !self.omega_error.iter().all(|v| v.is_finite()) {
             return Err("ω̃ is not finite".into());
         }
+        let s = &self.integral;
+        match &setup.gains.integral {
+            None => {
+                let all = [s.estimate, s.filtered, self.integral_rate];
+                if all.iter().any(|v| *v != Vector3::zeros()) {
+                    return Err("integral state is not zero with the integral action off".into());
+                }
+            }
+            Some(i) => {
+                for c in 0..3 {
+                    within("|η_i|", s.estimate[c].abs(), i.level[c])?;
+                    within("|η_f,i|", s.filtered[c].abs(), i.level[c])?;
+                    within("|η̇_i|", self.integral_rate[c].abs(), i.rate[c])?;
+                }
+            }
+        }
         Ok(())
     }
 
@@ -397,7 +443,7 @@ impl AdmissibleState {
             -p.saturation * t
         });
         let position_error = (argument - z2 * p.kv) / p.kp - filter.u_f * (1.0 / (p.kf * p.ks));
-        let out = p.evaluate(
+        let mut out = p.evaluate(
             &position_error,
             &zero,
             &filter,
@@ -406,6 +452,14 @@ impl AdmissibleState {
             &self.snap,
             setup.vehicle.gravity,
         );
+        // As Controller::step does: η_f and its closed-form derivatives added after the paper's
+        // sums.
+        if let Some(i) = &setup.gains.integral {
+            let eta = i.output(&self.integral, &self.integral_rate);
+            out.u += eta.filtered;
+            out.u_dot += eta.filtered_dot;
+            out.u_ddot += eta.filtered_ddot;
+        }
         let (nu, nu_dot, nu_ddot) = self.heading();
         let d = desired_attitude(&out.u, &out.u_dot, &out.u_ddot, &nu, &nu_dot, &nu_ddot)?;
         let rotation = rotation_from_mrp(&self.mrp_error);
