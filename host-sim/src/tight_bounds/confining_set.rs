@@ -100,7 +100,20 @@ impl ConfiningSet {
         let (g, mp) = (vehicle.gravity, p.saturation);
         let k = constants;
         let integral = IntegralTerms::new(gains);
-        let drop = Interval::point(mp) + Interval::point(integral.level[2]);
+        // `x + 0` is exact: adding only non-zero terms keeps the boxes (hence every bound)
+        // bit for bit what they are without the integral action.
+        let sum = |a: f64, b: f64| {
+            if b == 0.0 {
+                a
+            } else {
+                (Interval::point(a) + Interval::point(b)).hi
+            }
+        };
+        let drop = if integral.level[2] == 0.0 {
+            Interval::point(mp)
+        } else {
+            Interval::point(mp) + Interval::point(integral.level[2])
+        };
         let floor = Interval::point(g) - drop - Interval::point(k.vertical_acceleration);
         if floor.lo <= 0.0 {
             return Err(ParameterError::SaturationTooLarge {
@@ -109,7 +122,6 @@ impl ConfiningSet {
             });
         }
         let (b1, b2) = rate_and_acceleration_bounds(p.kf, p.ks, mp, filter_start);
-        let sum = |a: f64, b: f64| (Interval::point(a) + Interval::point(b)).hi;
         let horizontal = Interval::symmetric(sum(
             sum(mp, integral.level[0].max(integral.level[1])),
             k.horizontal_acceleration,
