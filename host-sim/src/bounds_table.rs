@@ -60,6 +60,9 @@ pub struct BoundsTable {
     pub conditions: Vec<TightCondition>,
     /// The branch and bound's relative gap.
     pub relative_gap: f64,
+    /// Box budgets of the searches: each box-relaxation search, each correlated one (0: not
+    /// run).
+    pub boxes: (usize, usize),
     /// Law evaluations the witness search spent (0 when skipped).
     pub witness_evaluations: usize,
 }
@@ -73,6 +76,8 @@ pub struct BoundsOptions {
     pub witness_seed: Option<u64>,
     /// Box budget of each branch-and-bound search ([`TightOptions::max_boxes`]).
     pub max_boxes: usize,
+    /// Box budget of the correlated searches ([`TightOptions::coupled_boxes`]; 0 skips them).
+    pub coupled_boxes: usize,
 }
 
 /// Default box budget of `host-sim bounds`: enough for the paper's set-up to reach the 1 % gap
@@ -92,6 +97,7 @@ pub fn bounds_table(options: &BoundsOptions) -> Result<BoundsTable> {
         &scenario,
         &TightOptions {
             max_boxes: options.max_boxes,
+            coupled_boxes: options.coupled_boxes,
             ..TightOptions::default()
         },
     )?;
@@ -136,6 +142,7 @@ pub fn bounds_table(options: &BoundsOptions) -> Result<BoundsTable> {
         rows,
         conditions: report.conditions,
         relative_gap: relative_gap(&tight),
+        boxes: (options.max_boxes, options.coupled_boxes),
         witness_evaluations: found.as_ref().map_or(0, |w| w.evaluations),
     })
 }
@@ -166,8 +173,11 @@ pub fn markdown(table: &BoundsTable) -> String {
     }
     let _ = writeln!(
         s,
-        "\nBranch-and-bound gap {:.1} %; witness search: {} law evaluations.\n",
+        "\nBranch-and-bound gap {:.1} %; budgets {} boxes per search, {} per correlated search \
+         (0: not run); witness search: {} law evaluations.\n",
         100.0 * table.relative_gap,
+        table.boxes.0,
+        table.boxes.1,
         table.witness_evaluations
     );
     let _ = writeln!(
@@ -225,6 +235,7 @@ mod tests {
             scenario: None,
             witness_seed: None,
             max_boxes: TightOptions::default().max_boxes,
+            coupled_boxes: 0,
         })
         .expect("the paper's set-up has bounds");
         assert_eq!(table.rows.len(), 5);
@@ -253,6 +264,7 @@ mod tests {
             scenario: None,
             witness_seed: None,
             max_boxes: 4 * TightOptions::default().max_boxes,
+            coupled_boxes: 0,
         })
         .expect("the paper's set-up has bounds");
         for (a, b) in table.rows.iter().zip(&deeper.rows) {

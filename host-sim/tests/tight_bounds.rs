@@ -246,6 +246,7 @@ fn quick() -> TightOptions {
     TightOptions {
         relative_gap: 0.3,
         max_boxes: 15_000,
+        coupled_boxes: 0,
     }
 }
 

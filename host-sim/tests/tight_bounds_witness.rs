@@ -274,3 +274,73 @@ fn witness_search_is_deterministic() {
     let b = witnesses(&setup, 9, &small).unwrap();
     assert_eq!(a, b);
 }
+
+/// The searches that keep the filter correlations (`tight_bounds::coupled_search`) bound, on
+/// their own, every sampled admissible state and every witness of `|(ω̇_d1, ω̇_d2)|` and
+/// `|ω̇_d|`: for the paper's set-up from both filter start sets and with the integral action
+/// on. Their bound is over a smaller superset of the confining set than the product of boxes,
+/// so this checks the polygon of the filter states and `ü` tied to them.
+#[test]
+fn coupled_searches_bound_the_samples() {
+    use host_sim::tight_bounds::confining_set::ConfiningSet;
+    use host_sim::tight_bounds::coupled_search::maximise_coupled;
+    use host_sim::tight_bounds::filter_polygon::FilterPolygon;
+    use host_sim::tight_bounds::search::Quantity as Searched;
+    let mut box_start = Setup::paper();
+    box_start.filter_start = FilterStart::InSaturationBox;
+    for (setup, name) in [
+        (Setup::paper(), "paper"),
+        (box_start, "paper, box start"),
+        (mass_error(), "mass-error"),
+    ] {
+        let set = ConfiningSet::new(
+            &setup.vehicle,
+            &setup.gains,
+            &setup.constants,
+            setup.filter_start,
+        )
+        .expect("the set-up has a confining set");
+        let polygon = FilterPolygon::new(
+            &setup.vehicle,
+            &setup.gains,
+            &setup.constants,
+            setup.filter_start,
+        );
+        let search = |q| {
+            maximise_coupled(&set, &polygon, q, 0.01, 200_000)
+                .expect("an ω̇_d quantity")
+                .upper
+        };
+        let (horizontal, total) = rayon::join(
+            || search(Searched::HorizontalAcceleration),
+            || search(Searched::AngularAcceleration),
+        );
+        let found = witnesses(&setup, 11, &WitnessBudget::default()).expect("witness search runs");
+        let mut rng = ChaCha8Rng::seed_from_u64(0xc0);
+        let mut states: Vec<AdmissibleState> =
+            (0..20_000).map(|_| sample(&mut rng, &setup)).collect();
+        states.extend(found.all.iter().map(|w| w.state));
+        let mut largest = [0.0f64; 2];
+        for (k, state) in states.iter().enumerate() {
+            let values = state
+                .evaluate(&setup)
+                .unwrap_or_else(|e| panic!("{name} state {k}: {e:?}"));
+            for (l, (q, b)) in largest.iter_mut().zip([
+                (Quantity::HorizontalAngularAcceleration, horizontal),
+                (Quantity::AngularAcceleration, total),
+            ]) {
+                let v = q.of(&values);
+                assert!(
+                    v <= b,
+                    "{name} state {k}: {} = {v} above {b}\n{state:?}",
+                    q.name()
+                );
+                *l = l.max(v);
+            }
+        }
+        println!(
+            "{name}: coupled bounds {horizontal:.3} / {total:.3}, largest values {:.3} / {:.3}",
+            largest[0], largest[1]
+        );
+    }
+}

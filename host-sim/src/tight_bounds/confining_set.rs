@@ -35,17 +35,18 @@ use super::interval::{next_up, Interval};
 /// Per inertial component, what the integral action adds to the boxes of `u`, `u̇`, `ü`
 /// (module documentation), rounded up; zeros with it off.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct IntegralTerms {
+pub(super) struct IntegralTerms {
     /// `M_i,i` [m/s²].
-    level: [f64; 3],
+    pub(super) level: [f64; 3],
     /// `2 k_η M_i,i` [m/s³].
-    rate: [f64; 3],
+    pub(super) rate: [f64; 3],
     /// `k_η (2 k_η M_i,i + R_i,i)` [m/s⁴].
-    acceleration: [f64; 3],
+    pub(super) acceleration: [f64; 3],
 }
 
 impl IntegralTerms {
-    fn new(gains: &Gains<f64>) -> Self {
+    /// The terms of `gains`' integral action (zeros when it is off).
+    pub(super) fn new(gains: &Gains<f64>) -> Self {
         let Some(i) = &gains.integral else {
             return Self {
                 level: [0.0; 3],

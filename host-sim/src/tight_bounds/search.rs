@@ -99,7 +99,7 @@ fn components<T: Arith>(
 }
 
 /// The sum of squares of the first `count` entries.
-fn sum_of_squares<T: Arith>(v: &[T; 3], count: usize) -> T {
+pub(super) fn sum_of_squares<T: Arith>(v: &[T; 3], count: usize) -> T {
     let mut parts = v[..count].iter().map(|x| x.sqr());
     let first = parts.next().unwrap_or_else(|| T::constant(0.0));
     parts.fold(first, |sum, x| sum + x)
