@@ -279,7 +279,8 @@ fn witness_search_is_deterministic() {
 /// their own, every sampled admissible state and every witness of `|(ω̇_d1, ω̇_d2)|` and
 /// `|ω̇_d|`: for the paper's set-up from both filter start sets and with the integral action
 /// on. Their bound is over a smaller superset of the confining set than the product of boxes,
-/// so this checks the polygon of the filter states and `ü` tied to them.
+/// so this checks the polygon of the filter states (every sampled filter state lies in it) and
+/// `ü` tied to them.
 #[test]
 fn coupled_searches_bound_the_samples() {
     use host_sim::tight_bounds::confining_set::ConfiningSet;
@@ -322,6 +323,16 @@ fn coupled_searches_bound_the_samples() {
         states.extend(found.all.iter().map(|w| w.state));
         let mut largest = [0.0f64; 2];
         for (k, state) in states.iter().enumerate() {
+            // The polygon holds every filter state the sampler reaches (exact propagation
+            // from the start set under piecewise-constant and bang-bang inputs).
+            for (c, history) in state.filters.iter().enumerate() {
+                let [uf, us] = history.end_state(&setup.gains.position);
+                assert!(
+                    polygon.admits(uf, us - uf),
+                    "{name} state {k}: component {c}'s filter state ({uf}, {}) outside the polygon",
+                    us - uf
+                );
+            }
             let values = state
                 .evaluate(&setup)
                 .unwrap_or_else(|e| panic!("{name} state {k}: {e:?}"));
