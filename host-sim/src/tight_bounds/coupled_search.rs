@@ -34,7 +34,7 @@ use super::desired_rates::{desired_rates, Heading};
 use super::filter_polygon::{linear_sup, Clipped, FilterPolygon, Placement};
 use super::gradient::Gradient;
 use super::interval::{next_down, next_up, Interval};
-use super::search::{sum_of_squares, Quantity};
+use super::search::{gradient_vertex, select, sum_of_squares, Quantity};
 
 /// Number of variables: filter states `u_f` (3), `d = u_s − u_f` (3), `ψ`, `ψ̇`, the other terms
 /// of `u` (`p̈_d` and `η_f`, 3) and of `u̇` (`p_d⁽³⁾` and `η̇_f`, 3).
@@ -62,17 +62,7 @@ fn components<T: Arith>(
         rate: x[7],
         acceleration: c(y[3]),
     };
-    let v = desired_rates(&u, &u_dot, &u_ddot, &h).angular_acceleration;
-    let range = match q {
-        Quantity::HorizontalAcceleration => 0..2,
-        Quantity::YawAcceleration => 2..3,
-        _ => 0..3,
-    };
-    let mut out = [c(0.0); 3];
-    for (o, x) in out.iter_mut().zip(&v[range.clone()]) {
-        *o = *x;
-    }
-    (out, range.len())
+    select(&desired_rates(&u, &u_dot, &u_ddot, &h), q)
 }
 
 fn squared<T: Arith>(
@@ -219,13 +209,7 @@ fn bound(
             }
         }
     }
-    let toward: [f64; SEARCH_DIM] = core::array::from_fn(|j| {
-        if g.partial[j].mid() >= 0.0 {
-            region[j].hi
-        } else {
-            region[j].lo
-        }
-    });
+    let toward = gradient_vertex(&region, &g.partial);
     let at = |x: &[f64; SEARCH_DIM]| {
         if (0..3).all(|comp| poly.admits(x[comp], x[comp + 3])) {
             squared(x, (x[6].cos(), x[6].sin()), y, q, poly)
@@ -233,11 +217,8 @@ fn bound(
             f64::NAN
         }
     };
-    let lower_sq = match (at(&c), at(&toward)) {
-        (a, b) if a.is_nan() => b,
-        (a, b) if b.is_nan() => a,
-        (a, b) => a.max(b),
-    };
+    // f64::max ignores a NaN (a point outside the polygon) unless both are.
+    let lower_sq = at(&c).max(at(&toward));
     Node {
         upper: upper_sq,
         region,

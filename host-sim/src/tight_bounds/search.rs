@@ -38,7 +38,7 @@
 use super::arith::Arith;
 use super::branch_bound::{best_first, Node, Outcome};
 use super::confining_set::{ConfiningSet, SPLIT_DIM};
-use super::desired_rates::{desired_rates, Heading};
+use super::desired_rates::{desired_rates, Heading, Rates};
 use super::gradient::Gradient;
 use super::interval::{next_down, next_up, Interval};
 
@@ -84,7 +84,11 @@ fn components<T: Arith>(
         rate: x[7],
         acceleration: T::constant(y[3]),
     };
-    let rates = desired_rates(&u, &u_dot, &u_ddot, &h);
+    select(&desired_rates(&u, &u_dot, &u_ddot, &h), q)
+}
+
+/// The components of `ω_d` or `ω̇_d` in `rates` that `q` selects (the first `count` entries).
+pub(super) fn select<T: Arith>(rates: &Rates<T>, q: Quantity) -> ([T; 3], usize) {
     let (accel, range) = q.selection();
     let v = if accel {
         rates.angular_acceleration
@@ -96,6 +100,21 @@ fn components<T: Arith>(
         *o = *x;
     }
     (out, range.len())
+}
+
+/// The vertex of `region` that the gradient enclosure `partial` points to (the upper end where
+/// its midpoint is `≥ 0`): a point at which to look for a large value, for stopping only.
+pub(super) fn gradient_vertex<const N: usize>(
+    region: &[Interval; N],
+    partial: &[Interval; N],
+) -> [f64; N] {
+    core::array::from_fn(|j| {
+        if partial[j].mid() >= 0.0 {
+            region[j].hi
+        } else {
+            region[j].lo
+        }
+    })
 }
 
 /// The sum of squares of the first `count` entries.
@@ -199,13 +218,7 @@ fn bound(
     } else {
         upper_sq
     };
-    let toward: [f64; SPLIT_DIM] = core::array::from_fn(|j| {
-        if g.partial[j].mid() >= 0.0 {
-            region[j].hi
-        } else {
-            region[j].lo
-        }
-    });
+    let toward = gradient_vertex(&region, &g.partial);
     let at = |x: &[f64; SPLIT_DIM]| squared(x, (x[6].cos(), x[6].sin()), y, q);
     let lower_sq = at(&c).max(at(&toward));
     Node {
