@@ -126,9 +126,13 @@ pub struct Bounds<T: Scalar> {
     pub angular_velocity: T,
     /// `U_ω̇d = U_ρ̇ U_υ̇ + sqrt(U_ρ̈² + U_ϋ²)` [rad/s²] (Lemma 1).
     pub angular_acceleration: T,
-    /// `ι = (1 + (1 + δ)²) M_ϑ/4 + M_ω` [N m]: bound of the saturated feedback per axis.
+    /// `ι = (1 + (1 + δ)²) M_ϑ/4 + M_ω` [N m]: bound of the saturated feedback per axis; with
+    /// tilt priority the largest of [`Bounds::feedback_torque_axes`].
     pub feedback_torque: T,
-    /// Per-axis torque bound `J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd² + ι` [N m] (Theorem 2).
+    /// Per-axis feedback bound `ι_i` [N m], body axes: `ι` on every axis for the paper's law,
+    /// [`crate::TiltPriorityGains::feedback_levels`] with tilt priority.
+    pub feedback_torque_axes: Vector3<T>,
+    /// Per-axis torque bound `J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd² + ι_i` [N m] (Theorem 2).
     pub torque_max: Vector3<T>,
     /// The `U*` bounds of Assumption 1.
     pub assumption: AssumptionBounds<T>,
@@ -162,6 +166,9 @@ pub struct Certificate<T: Scalar> {
     pub conditions: [Condition<T>; CONDITION_COUNT],
     /// The integral action's terms and conditions; `None` when it is off.
     pub integral: Option<IntegralCertificate<T>>,
+    /// Tilt priority's hysteresis-band condition ([`crate::TiltPriorityGains::hysteresis_band`]);
+    /// `None` when it is off.
+    pub tilt_priority: Option<[Condition<T>; 1]>,
 }
 
 impl<T: Scalar> Certificate<T> {
@@ -178,18 +185,25 @@ impl<T: Scalar> Certificate<T> {
         }
     }
 
-    /// The violated conditions (the paper's, then the integral action's).
+    /// The violated conditions (the paper's, then the extensions').
     pub fn violations(&self) -> impl Iterator<Item = &Condition<T>> {
         self.all_conditions().filter(|c| !c.holds)
     }
 
-    /// Every condition: the paper's, then the integral action's when it is on.
+    /// Every condition: the paper's, then the integral action's and tilt priority's when on.
     pub fn all_conditions(&self) -> impl Iterator<Item = &Condition<T>> {
         let extra: &[Condition<T>] = match &self.integral {
             Some(i) => &i.conditions,
             None => &[],
         };
-        self.conditions.iter().chain(extra.iter())
+        let tilt: &[Condition<T>] = match &self.tilt_priority {
+            Some(c) => c,
+            None => &[],
+        };
+        self.conditions
+            .iter()
+            .chain(extra.iter())
+            .chain(tilt.iter())
     }
 }
 
@@ -324,11 +338,16 @@ pub fn certify<T: Scalar>(
     // Theorem 2.
     let a_gains = &gains.attitude;
     let alpha_theta = T::one() + gains.hysteresis;
-    let feedback_torque =
-        (T::one() + alpha_theta * alpha_theta) * a_gains.mrp_saturation * lit(0.25)
-            + a_gains.omega_saturation;
+    let feedback_torque_axes = match &gains.tilt_priority {
+        None => Vector3::repeat(
+            (T::one() + alpha_theta * alpha_theta) * a_gains.mrp_saturation * lit(0.25)
+                + a_gains.omega_saturation,
+        ),
+        Some(t) => t.feedback_levels(a_gains.mrp_saturation, gains.hysteresis),
+    };
+    let feedback_torque = feedback_torque_axes.max();
     let torque_max = feedforward_torque_bound(&inertia, angular_acceleration, angular_velocity)
-        .add_scalar(feedback_torque);
+        + feedback_torque_axes;
 
     // Assumption 1 (the U* quantities).
     let margin = g - ka3;
@@ -445,6 +464,7 @@ pub fn certify<T: Scalar>(
             angular_velocity,
             angular_acceleration,
             feedback_torque,
+            feedback_torque_axes,
             torque_max,
             assumption,
         },
@@ -459,6 +479,15 @@ pub fn certify<T: Scalar>(
             }),
             _ => None,
         },
+        tilt_priority: gains.tilt_priority.map(|t| {
+            let (lhs, rhs) = t.hysteresis_band(a_gains, gains.hysteresis);
+            [strict(
+                "tilt_priority.hysteresis_band",
+                "M_theta k_theta / sqrt(M_theta^2 + k_theta^2) > (tr G - min g)((1+delta)^2 - 1)(1+delta) (docs/tilt-priority.md)",
+                lhs,
+                rhs,
+            )]
+        }),
     })
 }
 

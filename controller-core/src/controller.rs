@@ -5,7 +5,8 @@
 //! direction → desired attitude `R_d`, `ω_d`, `ω̇_d`
 //! (eq:DesiredRotationMatrix, eq:DesiredAngularVelocity, eq:DesiredAngularAcceleration) →
 //! attitude error `R̃ = R_dᵀR` lifted to the MRP `ϑ̃` by the hybrid path lifting (Appendix) →
-//! saturated MRP torque with feedforward (Section V) → exact propagation of the filter states over
+//! saturated MRP torque with feedforward (Section V; or its per-axis tilt-priority variant,
+//! [`crate::tilt_priority`]) → exact propagation of the filter states over
 //! the sample with `ubar_p` held. The controller samples the state every `dt` and the caller
 //! holds `(T, τ)` until the next sample (Section VI uses `dt = 0.01 s`).
 //!
@@ -14,7 +15,7 @@
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
-use crate::attitude_control::AttitudeGains;
+use crate::attitude_control::attitude_torque;
 use crate::desired_attitude::{desired_attitude, DesiredAttitudeError};
 use crate::integral::{IntegralGains, IntegralState};
 use crate::mrp::rotation_from_quaternion;
@@ -364,8 +365,8 @@ impl<T: Scalar> Controller<T> {
         let error_rotation = desired.rotation.transpose() * rotation;
         let mut lifting = self.lifting;
         let lifted = lifting.lift(&error_rotation);
-        let attitude: &AttitudeGains<T> = &g.attitude;
-        let torque = attitude.evaluate(
+        let torque = attitude_torque(
+            g,
             &lifted.mrp,
             &state.angular_velocity,
             &error_rotation,

@@ -14,7 +14,8 @@
 //! (Assumption 1's trajectories), [`bounds`] (Assumption 1, Theorems 1–2, Lemma 1),
 //! [`integral`] and [`integral_stability`] (bounded integral action, an extension:
 //! docs/integral-action.md),
-//! [`params`], [`thrust`] (the paper's `T = m|u|` or the no-dive projection), and
+//! [`params`], [`thrust`] (the paper's `T = m|u|` or the no-dive projection),
+//! [`tilt_priority`] (per-axis attitude feedback levels, an extension: docs/tilt-priority.md), and
 //! [`controller`] which composes them.
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
@@ -34,6 +35,7 @@ pub mod reference;
 pub mod saturation;
 pub mod scalar;
 pub mod thrust;
+pub mod tilt_priority;
 pub mod trig;
 
 pub use bounds::{
@@ -49,3 +51,4 @@ pub use reference::{
 };
 pub use scalar::Scalar;
 pub use thrust::ThrustMode;
+pub use tilt_priority::TiltPriorityGains;

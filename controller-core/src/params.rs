@@ -6,6 +6,7 @@ use crate::attitude_control::AttitudeGains;
 use crate::integral::IntegralGains;
 use crate::position::PositionGains;
 use crate::scalar::{lit, to_f64, Scalar};
+use crate::tilt_priority::TiltPriorityGains;
 
 /// Rigid-body parameters of eq:FullDynamics.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,6 +42,9 @@ pub struct Gains<T: Scalar> {
     /// Bounded integral action (extension, docs/integral-action.md): `None` is the paper's law,
     /// bit for bit.
     pub integral: Option<IntegralGains<T>>,
+    /// Per-axis attitude feedback with tilt priority (extension, docs/tilt-priority.md): `None`
+    /// is the paper's radial feedback, bit for bit.
+    pub tilt_priority: Option<TiltPriorityGains<T>>,
 }
 
 impl<T: Scalar> Vehicle<T> {
@@ -86,6 +90,7 @@ impl<T: Scalar> Gains<T> {
             hysteresis: lit(0.02),
             reset_threshold: lit(0.25),
             integral: None,
+            tilt_priority: None,
         }
     }
 }
@@ -189,10 +194,14 @@ impl<T: Scalar> Gains<T> {
     /// Checks every gain and level `> 0`, `δ > 0` and `0 < α < 1`.
     /// Errors: [`ParameterError::NotPositive`] or [`ParameterError::OutOfRange`].
     /// Source: Section IV (`k_p, k_v, k_f, k_s, M_p > 0`), Section V (`k_ϑ, k_ω, M_ϑ, M_ω > 0`),
-    /// Appendix (`δ > 0`, `α ∈ (0, 1)`); with the integral action, [`IntegralGains::validate`].
+    /// Appendix (`δ > 0`, `α ∈ (0, 1)`); with the integral action, [`IntegralGains::validate`]; with
+    /// tilt priority, [`TiltPriorityGains::validate`].
     pub fn validate(&self) -> Result<(), ParameterError> {
         if let Some(i) = &self.integral {
             i.validate()?;
+        }
+        if let Some(t) = &self.tilt_priority {
+            t.validate()?;
         }
         let p = &self.position;
         let a = &self.attitude;

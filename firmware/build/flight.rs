@@ -341,7 +341,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
          controller_core::Gains {{\n        \
          position: controller_core::position::PositionGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {} }},\n        \
          attitude: controller_core::attitude_control::AttitudeGains {{ k_mrp: {}, k_omega: {}, mrp_saturation: {}, omega_saturation: {} }},\n        \
-         hysteresis: {},\n        reset_threshold: {},\n        integral: {},\n    }}\n}}",
+         hysteresis: {},\n        reset_threshold: {},\n        integral: {},\n        tilt_priority: {},\n    }}\n}}",
         lit(g.kp),
         lit(g.kv),
         lit(g.kf),
@@ -369,7 +369,14 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
                     lit(o.error_limit_m)
                 ))
             ),
-        }
+        },
+        // `[gains.tilt_priority]` (absent = None, the paper's radial feedback).
+        g.tilt_priority.map_or("None".to_string(), |t| format!(
+            "Some(controller_core::TiltPriorityGains {{ trace_weights: {}, omega_gains: {}, omega_levels: {} }})",
+            vec3(t.trace_weights_Nm),
+            vec3(t.omega_gains_Nm_s),
+            vec3(t.omega_levels_Nm)
+        ))
     ));
     put(format!(
         "/// `[trajectory]`: the demo mission.\n\

@@ -55,6 +55,25 @@ pub struct GainsTable {
     /// extension, docs/integral-action.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub integral: Option<IntegralTable>,
+    /// `[gains.tilt_priority]`: per-axis attitude feedback with tilt priority (absent = off, the
+    /// paper's radial feedback; extension, docs/tilt-priority.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tilt_priority: Option<TiltPriorityTable>,
+}
+
+/// `[gains.tilt_priority]`: per-axis attitude feedback with tilt priority (extension,
+/// docs/tilt-priority.md, controller-core's `tilt_priority`). `k_theta`, `M_theta` of `[gains]`
+/// give its radial MRP term; these replace `k_omega`, `M_omega`.
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct TiltPriorityTable {
+    /// `(g_1, g_2, g_3)` [N m], body axes: weights of the trace potential `½ tr(G(I − R̃))`.
+    pub trace_weights_Nm: [f64; 3],
+    /// `k_ω,i` [N m s/rad], body axes: per-axis damping gains.
+    pub omega_gains_Nm_s: [f64; 3],
+    /// `M_ω,i` [N m], body axes: per-axis damping levels.
+    pub omega_levels_Nm: [f64; 3],
 }
 
 /// `[gains.integral]`: the bounded integral action (extension, docs/integral-action.md).

@@ -121,10 +121,29 @@ fn fly_one(
     floor: f64,
     keep_trace: bool,
 ) -> Result<Flown> {
+    fly_one_with(
+        scenario,
+        bound_set(scenario)?,
+        initial,
+        seed,
+        floor,
+        keep_trace,
+    )
+}
+
+/// [`fly_one`] with the bounds its metrics count against given.
+fn fly_one_with(
+    scenario: &Scenario,
+    bounds: crate::campaign::metrics::BoundSet,
+    initial: &RigidBodyState,
+    seed: u64,
+    floor: f64,
+    keep_trace: bool,
+) -> Result<Flown> {
     let sim = &scenario.simulation;
     let mut acc = MetricsAccumulator::new(
         Convergence::default(),
-        bound_set(scenario)?,
+        bounds,
         sim.duration_s,
         sim.controller_period_s,
     );
@@ -195,6 +214,23 @@ fn half_turn_starts(scenario: &Scenario) -> Result<Vec<(String, RigidBodyState)>
             (ic.kind.label(), ic.state)
         })
         .collect())
+}
+
+/// Altitude lost \[m\] and settling time \[s\] (5 cm, 2°; `None` if not settled) from the seven
+/// 180° starts of `scenario` against a hover at its start ([`hover_at_start`]), at rest, no
+/// noise, with the scenario's own law; labelled as the campaign labels them.
+/// Errors: the scenario is invalid or a run fails.
+pub fn hover_half_turns(scenario: &Scenario) -> Result<Vec<(String, f64, Option<f64>)>> {
+    let hover = hover_at_start(scenario);
+    // Only the altitude and the settling are kept: the paper's bounds (no branch and bound).
+    let bounds = crate::campaign::runner::paper_bound_set(&hover)?;
+    half_turn_starts(&hover)?
+        .into_iter()
+        .map(|(label, start)| {
+            let f = fly_one_with(&hover, bounds, &start, 0, 0.0, false)?;
+            Ok((label, f.altitude_loss_m, f.settling_s))
+        })
+        .collect()
 }
 
 /// The no-dive configuration measured for `scenario`: its own `[controller]` if it departs

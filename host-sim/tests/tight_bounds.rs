@@ -166,6 +166,7 @@ fn torque_decomposition_bounds_the_law() {
             horizontal_acceleration: h12,
             yaw_acceleration: h3,
             total_acceleration: total,
+            trace_weights: [0.0; 3],
         };
         let phi = term.maximise(0.01, 1_000_000);
         *bound = host_sim::tight_bounds::torque::torque_bound(
@@ -237,6 +238,98 @@ fn torque_decomposition_bounds_the_law() {
                 tau[i].abs() <= bounds[i] && tau2[i].abs() <= bounds[i],
                 "{tau} {tau2} {bounds:?}"
             );
+        }
+    }
+}
+
+/// With tilt priority (controller-core's `tilt_priority`): the attitude term's enclosure at a
+/// point contains `|(1+|ϑ|²)/4 s_ϑ,i − τ_trace,i| + J_ii(…)` computed from the core's trace
+/// torque on `R(ϑ)`, and the law's `|τ_i|` at random states stays below the per-axis bound
+/// `M_ω,i + φ_i + ½|J_jj − J_kk| W²` (the yaw search domain is wider than the paper's octant:
+/// a too-small one fails here).
+#[test]
+fn tilt_priority_torque_decomposition_bounds_the_law() {
+    use controller_core::TiltPriorityGains;
+    let gains = Gains::<f64>::paper();
+    let tilt = TiltPriorityGains {
+        trace_weights: Vector3::new(0.05, 0.02, 0.3),
+        omega_gains: Vector3::new(0.1, 0.1, 0.05),
+        omega_levels: Vector3::new(0.08, 0.07, 0.02),
+    };
+    let a = AttitudeGains {
+        k_mrp: 4.0,
+        mrp_saturation: 0.03,
+        ..gains.attitude
+    };
+    let inertia = [2.24e-3, 2.9e-3, 5.3e-3];
+    let (w_max, h12, h3, total) = (2.5, 40.0, 17.0, 41.0);
+    let radius = 1.0 + gains.hysteresis;
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let mut unit = move || {
+        let v = Vector3::new(
+            rng.random::<f64>() - 0.5,
+            rng.random::<f64>() - 0.5,
+            rng.random::<f64>() - 0.5,
+        );
+        v / v.norm()
+    };
+    let mut bounds = [0.0; 3];
+    for (axis, bound) in bounds.iter_mut().enumerate() {
+        let term = AttitudeTerm {
+            axis,
+            gains: a,
+            radius,
+            inertia: inertia[axis],
+            horizontal_acceleration: h12,
+            yaw_acceleration: h3,
+            total_acceleration: total,
+            trace_weights: tilt.trace_weights.into(),
+        };
+        let phi = term.maximise(0.01, 1_000_000);
+        *bound = host_sim::tight_bounds::torque::torque_bound(
+            axis,
+            tilt.omega_levels[axis],
+            phi.upper,
+            inertia,
+            w_max,
+        );
+        for k in 0..2000 {
+            let t = unit() * (radius * (k as f64 / 2000.0).cbrt());
+            let r = rotation_from_mrp(&t);
+            let q = r.column(axis).into_owned();
+            let sat =
+                controller_core::saturation::radial_saturation(&(t * a.k_mrp), a.mrp_saturation);
+            let feedback = (1.0 + t.norm_squared()) / 4.0 * sat[axis] - tilt.trace_torque(&r)[axis];
+            let expected = feedback.abs()
+                + inertia[axis]
+                    * ((q.x * q.x + q.y * q.y).sqrt() * h12 + q.z.abs() * h3).min(total);
+            let enc = term
+                .enclosure(&[t.x, t.y, t.z].map(Interval::point))
+                .unwrap();
+            assert!(
+                enc.lo - 1e-12 <= expected && expected <= enc.hi + 1e-12,
+                "axis {axis}: {enc:?} {expected}"
+            );
+            assert!(
+                expected <= phi.upper,
+                "axis {axis}: {expected} > {}",
+                phi.upper
+            );
+        }
+    }
+    let j = Vector3::from(inertia);
+    for _ in 0..20_000 {
+        let (d1, d2, d3, d4) = (unit(), unit(), unit(), unit());
+        let mrp = d1 * radius;
+        let wdd =
+            Vector3::new(d4.x, d4.y, 0.0).normalize() * h12 + Vector3::z() * (h3 * d4.z.signum());
+        let wdd = wdd * (total / wdd.norm()).min(1.0);
+        let r = rotation_from_mrp(&mrp);
+        let tau = tilt
+            .evaluate(&a, &mrp, &(d2 * 50.0), &r, &(d3 * w_max), &wdd, &j)
+            .torque;
+        for i in 0..3 {
+            assert!(tau[i].abs() <= bounds[i], "{tau} {bounds:?}");
         }
     }
 }

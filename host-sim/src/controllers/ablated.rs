@@ -247,7 +247,8 @@ impl<T: Scalar> AblatedLaw<T> {
                 )
             }
         };
-        let torque = g.attitude.evaluate(
+        let torque = controller_core::attitude_control::attitude_torque(
+            g,
             &mrp,
             &state.angular_velocity,
             &error_rotation,

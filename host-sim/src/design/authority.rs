@@ -110,7 +110,7 @@ pub fn envelope(
     let b = c.bounds;
     Some(Envelope {
         thrust: (b.thrust_min, b.thrust_max),
-        feedforward: b.torque_max.add_scalar(-b.feedback_torque),
+        feedforward: b.torque_max - b.feedback_torque_axes,
         bounds: b,
     })
 }

@@ -38,6 +38,13 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
                 error_limit_m: o.error_limit,
             }),
         }),
+        tilt_priority: g
+            .tilt_priority
+            .map(|t| firmware::flight_tables::TiltPriorityTable {
+                trace_weights_Nm: t.trace_weights.into(),
+                omega_gains_Nm_s: t.omega_gains.into(),
+                omega_levels_Nm: t.omega_levels.into(),
+            }),
     }
 }
 

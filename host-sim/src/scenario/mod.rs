@@ -15,7 +15,8 @@ use std::path::Path;
 use anyhow::{anyhow, Context, Result};
 use controller_core::scalar::{lit, Scalar};
 use controller_core::{
-    Gains, HeadingProfile, IntegralGains, Limits, ParameterError, ReferenceTrajectory, Vehicle,
+    Gains, HeadingProfile, IntegralGains, Limits, ParameterError, ReferenceTrajectory,
+    TiltPriorityGains, Vehicle,
 };
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -195,6 +196,9 @@ fn key_of(name: &str) -> &'static str {
         "M_i_x" | "M_i_y" | "M_i_z" => "gains.integral.M_i_m_s2",
         "R_i_x" | "R_i_y" | "R_i_z" => "gains.integral.rate_m_s3",
         n if n.starts_with("M_p + M_i_z") => "gains.integral.M_i_m_s2",
+        "g_1" | "g_2" | "g_3" => "gains.tilt_priority.trace_weights_Nm",
+        "k_omega_1" | "k_omega_2" | "k_omega_3" => "gains.tilt_priority.omega_gains_Nm_s",
+        "M_omega_1" | "M_omega_2" | "M_omega_3" => "gains.tilt_priority.omega_levels_Nm",
         "thrust_floor" => "controller.thrust_floor_N",
         "thrust_ramp" => "controller.thrust_ramp",
         "thrust_cap" => "controller.thrust",
@@ -330,6 +334,11 @@ impl Scenario {
         out.attitude.omega_saturation = lit(g.M_omega);
         out.hysteresis = lit(g.delta);
         out.reset_threshold = lit(g.alpha);
+        out.tilt_priority = g.tilt_priority.map(|t| TiltPriorityGains {
+            trace_weights: v3(&t.trace_weights_Nm),
+            omega_gains: v3(&t.omega_gains_Nm_s),
+            omega_levels: v3(&t.omega_levels_Nm),
+        });
         out.integral = g.integral.as_ref().map(|i| IntegralGains {
             gain: lit(i.k_i),
             level: v3(&i.M_i_m_s2),

@@ -229,13 +229,18 @@ pub fn tight_bounds(
             horizontal_acceleration: h,
             yaw_acceleration: y,
             total_acceleration: total,
+            trace_weights: gains
+                .tilt_priority
+                .map_or([0.0; 3], |t| t.trace_weights.into()),
         };
         // This search is cheap (3-D, no gradients): never looser than 0.1 % (at 1 % it left up
         // to 0.002 N m of the paper's torque bounds on the table, a tenth of a second to take).
         let phi_gap = options.relative_gap.min(0.001);
         let phi = term(h12_upper, h3.upper, acceleration).maximise(phi_gap, options.max_boxes);
         boxes += phi.boxes;
-        let omega = gains.attitude.omega_saturation;
+        let omega = gains
+            .tilt_priority
+            .map_or(gains.attitude.omega_saturation, |t| t.omega_levels[axis]);
         torque_max[axis] = torque_bound(axis, omega, phi.upper, inertia, w.upper);
         let phi_low = term(h12.lower, h3.lower, f64::INFINITY).maximise(phi_gap, options.max_boxes);
         torque_lower[axis] = torque_bound(axis, omega, phi_low.lower, inertia, w.lower);

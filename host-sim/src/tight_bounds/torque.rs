@@ -44,6 +44,12 @@ pub struct AttitudeTerm {
     /// Bound `A` of `|ω̇_d|` [rad/s²] (`f64::INFINITY` for none): `|q·ω̇_d| ≤ A` too, which caps
     /// `√(1 − q₃²) H₁₂ + |q₃| H₃` where `H₁₂` and `H₃` are not reached together.
     pub total_acceleration: f64,
+    /// Tilt priority's trace weights `(g₁, g₂, g₃)` [N m] (controller-core's `tilt_priority`);
+    /// all zero for the paper's law. Nonzero, the attitude term is
+    /// `|(1 + |ϑ|²)/4 · s_ϑ,i + ½ vee(G R − RᵀG)_i| + J_ii(…)`, with
+    /// `½ vee(G R − RᵀG)_i = (4(g_k − g_j)ϑ_jϑ_k + 2(g_j + g_k)(1 − |ϑ|²)ϑ_i)/(1 + |ϑ|²)²` for
+    /// `(i, j, k)` cyclic (from `R(ϑ)`'s entries).
+    pub trace_weights: [f64; 3],
 }
 
 impl AttitudeTerm {
@@ -73,7 +79,18 @@ impl AttitudeTerm {
             horizontal * p(self.horizontal_acceleration) + q3.abs() * p(self.yaw_acceleration);
         let a = self.total_acceleration;
         let projected = Interval::new(projected.lo.min(a), projected.hi.min(a));
-        Some(shape * saturated + p(self.inertia) * projected)
+        let feedback = if self.trace_weights == [0.0; 3] {
+            shape * saturated
+        } else {
+            let (i, a, b) = (self.axis, (self.axis + 1) % 3, (self.axis + 2) % 3);
+            let g = self.trace_weights;
+            let trace = (p(4.0) * (p(g[b]) - p(g[a])) * t[a] * t[b]
+                + p(2.0) * (p(g[a]) + p(g[b])) * (one - n2) * t[i])
+                / den;
+            let signed = m * k * t[i] / (m.sqr() + k.sqr() * n2).sqrt();
+            (shape * signed + trace).abs()
+        };
+        Some(feedback + p(self.inertia) * projected)
     }
 
     fn node(&self, region: [Interval; 3]) -> Node<3> {
@@ -121,8 +138,15 @@ impl AttitudeTerm {
         } else {
             Interval::symmetric(r)
         };
+        // With trace weights the yaw term has `ϑ₁ϑ₂ + c ϑ₃`: the flips of `(ϑ₁, ϑ₂)` and of
+        // `(ϑ₁, ϑ₃)` keep its modulus (and the rest), so `ϑ₁, ϑ₂ ≥ 0` suffices, not the octant.
+        let start = if self.axis == 2 && self.trace_weights != [0.0; 3] {
+            [half, half, Interval::symmetric(r)]
+        } else {
+            [half, half, third]
+        };
         best_first(
-            &[([half, half, third], 0)],
+            &[(start, 0)],
             |region, _| self.node(region),
             |x| x,
             relative_gap,
