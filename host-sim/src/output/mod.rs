@@ -110,6 +110,7 @@ pub(crate) mod test_support {
                 angular_velocity_max_rad_s: 1.0,
                 angular_acceleration_max_rad_s2: 2.0,
                 feedback_torque_max_Nm: 0.25,
+                feedback_torque_axes_Nm: None,
                 feasible: true,
                 conditions: vec![],
                 tight: crate::tight_certificate::TightReport {

@@ -38,8 +38,13 @@ pub struct APriori {
     pub angular_velocity_max_rad_s: f64,
     /// `U_ω̇d` [rad/s²].
     pub angular_acceleration_max_rad_s2: f64,
-    /// `ι` [N m].
+    /// `ι` [N m] (with tilt priority the largest of the per-axis levels).
     pub feedback_torque_max_Nm: f64,
+    /// With `[gains.tilt_priority]` only: the per-axis feedback levels `ι_i` [N m], body axes
+    /// (docs/tilt-priority.md; absent with the paper's radial feedback, whose level is the same
+    /// on every axis).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub feedback_torque_axes_Nm: Option<[f64; 3]>,
     /// True when every condition holds.
     pub feasible: bool,
     /// Every condition with both sides.
@@ -192,6 +197,7 @@ pub(super) fn a_priori(
         angular_velocity_max_rad_s: b.angular_velocity,
         angular_acceleration_max_rad_s2: b.angular_acceleration,
         feedback_torque_max_Nm: b.feedback_torque,
+        feedback_torque_axes_Nm: c.tilt_priority.map(|_| b.feedback_torque_axes.into()),
         feasible: c.require_feasible().is_ok(),
         conditions: c
             .all_conditions()
