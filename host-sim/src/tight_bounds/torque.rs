@@ -82,10 +82,11 @@ impl AttitudeTerm {
         let feedback = if self.trace_weights == [0.0; 3] {
             shape * saturated
         } else {
-            let (i, a, b) = (self.axis, (self.axis + 1) % 3, (self.axis + 2) % 3);
+            // (i, next, prev) cyclic: the formula's (i, j, k); `k` names the MRP gain here.
+            let (i, next, prev) = (self.axis, (self.axis + 1) % 3, (self.axis + 2) % 3);
             let g = self.trace_weights;
-            let trace = (p(4.0) * (p(g[b]) - p(g[a])) * t[a] * t[b]
-                + p(2.0) * (p(g[a]) + p(g[b])) * (one - n2) * t[i])
+            let trace = (p(4.0) * (p(g[prev]) - p(g[next])) * t[next] * t[prev]
+                + p(2.0) * (p(g[next]) + p(g[prev])) * (one - n2) * t[i])
                 / den;
             let signed = m * k * t[i] / (m.sqr() + k.sqr() * n2).sqrt();
             (shape * signed + trace).abs()
