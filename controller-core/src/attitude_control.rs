@@ -54,14 +54,15 @@ impl<T: Scalar> AttitudeGains<T> {
         desired_angular_acceleration: &Vector3<T>,
         inertia: &Vector3<T>,
     ) -> TorqueOutput<T> {
-        let rt = error_rotation.transpose();
-        let w_d = rt * desired_angular_velocity;
-        let w_d_dot = rt * desired_angular_acceleration;
-        let omega_error = angular_velocity - w_d;
-        let feedforward = inertia.component_mul(&w_d).cross(&w_d) - inertia.component_mul(&w_d_dot);
-        let s_mrp = radial_saturation(&(mrp_error * self.k_mrp), self.mrp_saturation);
+        let (omega_error, feedforward) = error_and_feedforward(
+            angular_velocity,
+            error_rotation,
+            desired_angular_velocity,
+            desired_angular_acceleration,
+            inertia,
+        );
+        let (s_mrp, shape) = self.radial_mrp_term(mrp_error);
         let s_omega = radial_saturation(&(omega_error * self.k_omega), self.omega_saturation);
-        let shape = (T::one() + mrp_error.norm_squared()) * lit::<T>(0.25);
         TorqueOutput {
             torque: -s_mrp * shape - s_omega - feedforward,
             s_mrp,
@@ -70,6 +71,35 @@ impl<T: Scalar> AttitudeGains<T> {
             omega_error,
         }
     }
+}
+
+impl<T: Scalar> AttitudeGains<T> {
+    /// The radial MRP term's parts: `s_ϑ(k_ϑ ϑ̃)` [N m] and the shape `(1 + |ϑ̃|²)/4`, whose
+    /// product is the term (Section V).
+    #[inline]
+    pub(crate) fn radial_mrp_term(&self, mrp_error: &Vector3<T>) -> (Vector3<T>, T) {
+        let s_mrp = radial_saturation(&(mrp_error * self.k_mrp), self.mrp_saturation);
+        let shape = (T::one() + mrp_error.norm_squared()) * lit::<T>(0.25);
+        (s_mrp, shape)
+    }
+}
+
+/// `ω̃ = ω − R̃ᵀω_d` [rad/s] and the feedforward `τ_c = [J R̃ᵀω_d]ₓ R̃ᵀω_d − J R̃ᵀω̇_d` [N m],
+/// body frame (Section V); inputs as [`AttitudeGains::evaluate`].
+#[inline]
+pub(crate) fn error_and_feedforward<T: Scalar>(
+    angular_velocity: &Vector3<T>,
+    error_rotation: &Matrix3<T>,
+    desired_angular_velocity: &Vector3<T>,
+    desired_angular_acceleration: &Vector3<T>,
+    inertia: &Vector3<T>,
+) -> (Vector3<T>, Vector3<T>) {
+    let rt = error_rotation.transpose();
+    let w_d = rt * desired_angular_velocity;
+    let w_d_dot = rt * desired_angular_acceleration;
+    let omega_error = angular_velocity - w_d;
+    let feedforward = inertia.component_mul(&w_d).cross(&w_d) - inertia.component_mul(&w_d_dot);
+    (omega_error, feedforward)
 }
 
 /// The torque law the gains select: the paper's ([`AttitudeGains::evaluate`]) or, with

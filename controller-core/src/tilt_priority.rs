@@ -27,9 +27,8 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::attitude_control::{AttitudeGains, TorqueOutput};
+use crate::attitude_control::{error_and_feedforward, AttitudeGains, TorqueOutput};
 use crate::params::{positive, ParameterError};
-use crate::saturation::radial_saturation;
 use crate::scalar::{lit, to_f64, Scalar};
 
 /// Gains of the tilt-priority feedback (extension, docs/tilt-priority.md). The radial MRP
@@ -139,14 +138,15 @@ impl<T: Scalar> TiltPriorityGains<T> {
         desired_angular_acceleration: &Vector3<T>,
         inertia: &Vector3<T>,
     ) -> TorqueOutput<T> {
-        let rt = error_rotation.transpose();
-        let w_d = rt * desired_angular_velocity;
-        let w_d_dot = rt * desired_angular_acceleration;
-        let omega_error = angular_velocity - w_d;
-        let feedforward = inertia.component_mul(&w_d).cross(&w_d) - inertia.component_mul(&w_d_dot);
-        let s_mrp = radial_saturation(&(mrp_error * attitude.k_mrp), attitude.mrp_saturation);
+        let (omega_error, feedforward) = error_and_feedforward(
+            angular_velocity,
+            error_rotation,
+            desired_angular_velocity,
+            desired_angular_acceleration,
+            inertia,
+        );
+        let (s_mrp, shape) = attitude.radial_mrp_term(mrp_error);
         let s_omega = self.damping(&omega_error);
-        let shape = (T::one() + mrp_error.norm_squared()) * lit::<T>(0.25);
         TorqueOutput {
             torque: -s_mrp * shape + self.trace_torque(error_rotation) - s_omega - feedforward,
             s_mrp,
