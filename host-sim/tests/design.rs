@@ -27,6 +27,7 @@ fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOptions 
         margin: 0.05,
         evaluations,
         duration_s: host_sim::design::run::DEFAULT_DURATION_S,
+        law: Default::default(),
         out,
     }
 }
@@ -44,17 +45,8 @@ fn rotors_of(s: &Scenario) -> firmware::config::RotorConfig {
     airframe(&file).rotors
 }
 
-/// A small-budget design of the Crazyflie: `all_hold` and `fits`, and the written
-/// scenario.toml, read back, passes `certify` and `box_fit` (with the 5 % margin) on its own.
-#[test]
-fn design_certifies_and_the_written_scenario_recertifies() {
-    let out = out_dir("cf");
-    let outcome = run_design(&options(preset_path("crazyflie-2.1"), out.clone(), 16)).unwrap();
-    let r = &outcome.report;
-    assert!(r.certificate.all_hold && r.box_fit.fits && r.box_fit.fits_with_margin);
-    assert!(r.evaluations <= 16 && r.evaluations > 0);
-
-    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+/// The core's `certify` on a written scenario as read back; panics unless every condition holds.
+fn certified_read_back(s: &Scenario) -> controller_core::Certificate<f64> {
     let cert = certify(
         &s.vehicle::<f64>(),
         &s.limits::<f64>(),
@@ -68,6 +60,21 @@ fn design_certifies_and_the_written_scenario_recertifies() {
         "{:?}",
         cert.require_feasible()
     );
+    cert
+}
+
+/// A small-budget design of the Crazyflie: `all_hold` and `fits`, and the written
+/// scenario.toml, read back, passes `certify` and `box_fit` (with the 5 % margin) on its own.
+#[test]
+fn design_certifies_and_the_written_scenario_recertifies() {
+    let out = out_dir("cf");
+    let outcome = run_design(&options(preset_path("crazyflie-2.1"), out.clone(), 16)).unwrap();
+    let r = &outcome.report;
+    assert!(r.certificate.all_hold && r.box_fit.fits && r.box_fit.fits_with_margin);
+    assert!(r.evaluations <= 16 && r.evaluations > 0);
+
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    let cert = certified_read_back(&s);
     let b = cert.bounds;
     let tau = b.torque_max.map(|x| x as f32);
     let mut rotors = rotors_of(&s);
@@ -110,6 +117,75 @@ fn design_certifies_and_the_written_scenario_recertifies() {
         &["limits", "gains", "trajectory", "design"],
     )
     .unwrap();
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// `--law tilt-priority`: the design's per-axis levels are certified as written (the read-back
+/// scenario passes `certify`, tilt priority's band condition included, and the per-axis box fits
+/// with the margin), yaw's level is at most roll's, and the firmware's flight file carries the
+/// same `[gains.tilt_priority]` table.
+#[test]
+fn tilt_priority_design_certifies_per_axis_levels() {
+    let out = out_dir("tilt");
+    let mut o = options(preset_path("hummingbird"), out.clone(), 4);
+    o.law = host_sim::design::variables::AttitudeLaw::TiltPriority;
+    let outcome = run_design(&o).unwrap();
+    let r = &outcome.report;
+    assert!(r.certificate.all_hold && r.box_fit.fits && r.box_fit.fits_with_margin);
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    let gains = s.gains::<f64>();
+    let tilt = gains
+        .tilt_priority
+        .expect("the written scenario flies tilt priority");
+    let cert = certified_read_back(&s);
+    let band = cert
+        .tilt_priority
+        .expect("the band condition is part of the certificate");
+    assert!(band[0].holds && band[0].lhs > band[0].rhs);
+    let b = cert.bounds;
+    let levels = b.feedback_torque_axes;
+    assert!(
+        levels.z <= levels.x * (1.0 + 1e-12) && levels.x == levels.y,
+        "{levels:?}"
+    );
+    for i in 0..3 {
+        assert!((levels[i] - r.feedback_torque_axes_Nm[i]).abs() < 1e-9 * levels.x);
+    }
+    // Body z first: g3 is at least g1 = g2.
+    let g = tilt.trace_weights;
+    assert!(g.z >= g.x && g.x == g.y, "{g:?}");
+    let mut rotors = rotors_of(&s);
+    let span = rotors.thrust_max - rotors.thrust_min;
+    rotors.thrust_min += 0.05 * span;
+    rotors.thrust_max -= 0.05 * span;
+    let tau = b.torque_max.map(|x| x as f32);
+    assert!(
+        Mixer::new(&rotors)
+            .unwrap()
+            .box_fit(b.thrust_min as f32, b.thrust_max as f32, &tau)
+            .fits
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
+    assert_eq!(json["law"], "tilt-priority");
+    let names: Vec<&str> = json["certificate"]["conditions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|c| c["name"].as_str())
+        .collect();
+    assert!(
+        names.contains(&"tilt_priority.hysteresis_band"),
+        "{names:?}"
+    );
+    let flight: toml::Table =
+        toml::from_str(&std::fs::read_to_string(out.join("firmware.toml")).unwrap()).unwrap();
+    let scenario: toml::Table =
+        toml::from_str(&std::fs::read_to_string(out.join("scenario.toml")).unwrap()).unwrap();
+    assert_eq!(
+        flight["gains"]["tilt_priority"], scenario["gains"]["tilt_priority"],
+        "the firmware flies the gains that were certified"
+    );
     let _ = std::fs::remove_dir_all(&out);
 }
 

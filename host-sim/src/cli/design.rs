@@ -6,7 +6,9 @@ use anyhow::Result;
 use clap::Args;
 use host_sim::design::{
     run::{DEFAULT_DURATION_S, DEFAULT_EVALUATIONS},
-    run_design, DesignOptions,
+    run_design,
+    variables::AttitudeLaw,
+    DesignOptions,
 };
 
 /// Options of `host-sim design`.
@@ -32,6 +34,10 @@ pub struct DesignArgs {
     /// its end. Slow certified designs (small authority) need longer than the paper's 30 s.
     #[arg(long, default_value_t = DEFAULT_DURATION_S)]
     pub duration_s: f64,
+    /// Attitude feedback to search: `paper` (one feedback torque level on every axis) or
+    /// `tilt-priority` (per-axis levels, yaw's small; docs/tilt-priority.md).
+    #[arg(long, value_enum, default_value_t = AttitudeLaw::Paper)]
+    pub law: AttitudeLaw,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/design")]
     pub out: PathBuf,
@@ -46,6 +52,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         margin: args.margin,
         evaluations: args.evaluations,
         duration_s: args.duration_s,
+        law: args.law,
         out: args.out.clone(),
     })?;
     let r = &outcome.report;

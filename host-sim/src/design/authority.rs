@@ -118,13 +118,26 @@ pub fn envelope(
 /// The largest `ι` [N m] for which the box of `env` fits `rotors` with `margin` (fraction of
 /// the range at both ends); negative when even `ι = 0` does not fit.
 pub fn iota_max(rotors: &RotorSet, env: &Envelope, margin: f64) -> f64 {
+    iota_max_along(rotors, env, margin, &Vector3::repeat(1.0))
+}
+
+/// The largest `ι` [N m] for which the box with per-axis feedback levels `ι d`
+/// (`d` [dimensionless], each `≥ 0`, body axes: tilt priority's `(1, 1, ρ)`) fits `rotors`
+/// with `margin`: the same closed form as [`iota_max`] with `Σ_i e_ki` replaced by
+/// `Σ_i e_ki d_i`. Negative when even `ι = 0` does not fit.
+pub fn iota_max_along(
+    rotors: &RotorSet,
+    env: &Envelope,
+    margin: f64,
+    direction: &Vector3<f64>,
+) -> f64 {
     let (lo, hi) = rotors.shrunk(margin);
     let (t_lo, t_hi) = env.thrust;
     let mut best = f64::INFINITY;
     for k in 0..4 {
         let w = rotors.mix[(k, 0)];
         let e = Vector3::from_fn(|i, _| rotors.mix[(k, i + 1)].abs());
-        let (ff, s) = (e.dot(&env.feedforward), e.sum());
+        let (ff, s) = (e.dot(&env.feedforward), e.dot(direction));
         if w <= 0.0 || s <= 0.0 {
             return f64::NEG_INFINITY;
         }
@@ -250,6 +263,17 @@ mod tests {
             let tau = env.feedforward.add_scalar(closed);
             let m = box_margin(&set, env.thrust, &tau);
             assert!((m - margin).abs() < 1e-9, "corner margin {m}");
+            // Along tilt priority's direction (1, 1, ρ): the same, corner by corner.
+            for rho in [0.05, 0.3, 1.0] {
+                let d = Vector3::new(1.0, 1.0, rho);
+                let along = iota_max_along(&set, &env, margin, &d);
+                let m = box_margin(&set, env.thrust, &(env.feedforward + along * d));
+                assert!((m - margin).abs() < 1e-9, "rho {rho}: corner margin {m}");
+                assert!(
+                    along >= closed - 1e-12,
+                    "a smaller yaw share frees roll: {along} {closed}"
+                );
+            }
         }
     }
 

@@ -14,8 +14,6 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 
 use crate::campaign::sampler::seeded_rng;
 
-use super::variables::DIMENSION;
-
 /// Particles per swarm (capped by the budget).
 pub const PARTICLES: usize = 16;
 
@@ -48,14 +46,15 @@ pub struct Optimum {
     pub evaluations: usize,
 }
 
-/// Minimises `cost` over `[0, 1]^DIMENSION` with about `budget` evaluations, from `guess`,
-/// reproducibly from `seed`. Errors: argmin's.
+/// Minimises `cost` over `[0, 1]^n` (`n = guess.len()`) with about `budget` evaluations, from
+/// `guess`, reproducibly from `seed`. Errors: argmin's.
 pub fn minimise<F: Fn(&[f64]) -> f64 + Sync>(
     cost: &F,
     guess: &[f64],
     budget: usize,
     seed: u64,
 ) -> Result<Optimum> {
+    let dimension = guess.len();
     let seen = Mutex::new(Vec::new());
     let problem = Objective { cost, seen: &seen };
     let particles = PARTICLES.min(budget.max(1));
@@ -64,7 +63,7 @@ pub fn minimise<F: Fn(&[f64]) -> f64 + Sync>(
     // The first swarm: the guess plus random points, velocities up to a quarter of the box.
     let mut positions = vec![guess.to_vec()];
     while positions.len() < particles {
-        positions.push((0..DIMENSION).map(|_| rng.random_range(0.0..1.0)).collect());
+        positions.push((0..dimension).map(|_| rng.random_range(0.0..1.0)).collect());
     }
     let population: Vec<Particle<Vec<f64>, f64>> = {
         use rayon::prelude::*;
@@ -76,14 +75,14 @@ pub fn minimise<F: Fn(&[f64]) -> f64 + Sync>(
             .into_iter()
             .zip(costs)
             .map(|(p, c)| {
-                let v = (0..DIMENSION)
+                let v = (0..dimension)
                     .map(|_| rng.random_range(-0.25..0.25))
                     .collect();
                 Particle::new(p, c, v)
             })
             .collect()
     };
-    let solver = ParticleSwarm::new((vec![0.0; DIMENSION], vec![1.0; DIMENSION]), particles)
+    let solver = ParticleSwarm::new((vec![0.0; dimension], vec![1.0; dimension]), particles)
         .with_rng_generator(Xoshiro256PlusPlus::seed_from_u64(seed));
     let result = Executor::new(problem, solver)
         .configure(|state: PopulationState<Particle<Vec<f64>, f64>, f64>| {
@@ -118,7 +117,7 @@ mod tests {
                 .map(|(a, b)| (a - b).powi(2))
                 .sum::<f64>()
         };
-        let guess = vec![0.5; DIMENSION];
+        let guess = vec![0.5; target.len()];
         let a = minimise(&f, &guess, 200, 7).unwrap();
         let b = minimise(&f, &guess, 200, 7).unwrap();
         assert_eq!(a.x, b.x);

@@ -154,12 +154,16 @@ pub struct Report {
     pub gains: GainsConfig,
     /// Limits (scenario `[limits]`): what the rotors deliver.
     pub limits: LimitsConfig,
+    /// The attitude feedback searched (`paper` or `tilt-priority`).
+    pub law: super::variables::AttitudeLaw,
     /// The physical choices behind the gains.
     pub choices: Choices,
     /// `M_p,max(k_f, k_s)` [m/s²].
     pub saturation_max_m_s2: f64,
-    /// `ι_max` [N m] and the chosen `ι` [N m].
+    /// `ι_max` [N m] and the chosen `ι` [N m] (roll's, with tilt priority).
     pub feedback_torque_Nm: (f64, f64),
+    /// The feedback torque level of each body axis `ι_i` [N m] (all equal with the paper's law).
+    pub feedback_torque_axes_Nm: [f64; 3],
     /// A-priori bounds: thrust interval \[N\], per-axis torque [N m].
     pub a_priori: (f64, f64, [f64; 3]),
     /// The objective.
@@ -193,8 +197,7 @@ impl Report {
         let c = &best.certified;
         let conditions: Vec<ConditionEntry> = c
             .certificate
-            .conditions
-            .iter()
+            .all_conditions()
             .map(|k| ConditionEntry {
                 name: k.name.into(),
                 statement: k.statement.into(),
@@ -241,9 +244,11 @@ impl Report {
             },
             gains: gains_config(g),
             limits: limits_config(&c.limits),
+            law: o.law,
             choices,
             saturation_max_m_s2: best.mapped.saturation_max,
             feedback_torque_Nm: (best.mapped.iota_max, b.feedback_torque),
+            feedback_torque_axes_Nm: b.feedback_torque_axes.into(),
             a_priori: (b.thrust_min, b.thrust_max, b.torque_max.into()),
             objective: ObjectiveEntry {
                 definition: format!(
@@ -264,7 +269,7 @@ impl Report {
                     thrust_interval_over_weight: [b.thrust_min, b.thrust_max]
                         .map(|t| t / (vehicle.body.mass * vehicle.body.gravity)),
                     feedback_angular_acceleration_rad_s2: <[f64; 3]>::from(
-                        vehicle.body.inertia.map(|j| b.feedback_torque / j),
+                        b.feedback_torque_axes.component_div(&vehicle.body.inertia),
                     ),
                 },
             },
@@ -500,6 +505,28 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
          |---|---|---|---|---|---|---|---|---|---|---|\n| {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4e} | {:.4e} | {:.4e} | {:.4e} | {} | {} |\n",
         g.kp, g.kv, g.kf, g.ks, g.M_p, g.k_theta, g.k_omega, g.M_theta, g.M_omega, g.delta, g.alpha
     );
+    if let Some(t) = &g.tilt_priority {
+        let _ = writeln!(
+            s,
+            "Tilt priority (`[gains.tilt_priority]`, docs/tilt-priority.md; `k_omega`, `M_omega` above \
+             are unused): trace weights G = diag({:.4e}, {:.4e}, {:.4e}) N m, per-axis damping gains \
+             [{:.4e}, {:.4e}, {:.4e}] N m s/rad, levels [{:.4e}, {:.4e}, {:.4e}] N m; feedback levels \
+             iota_i = [{:.4e}, {:.4e}, {:.4e}] N m (roll and pitch first: the body z axis turns to the \
+             thrust direction, the heading after).\n",
+            t.trace_weights_Nm[0],
+            t.trace_weights_Nm[1],
+            t.trace_weights_Nm[2],
+            t.omega_gains_Nm_s[0],
+            t.omega_gains_Nm_s[1],
+            t.omega_gains_Nm_s[2],
+            t.omega_levels_Nm[0],
+            t.omega_levels_Nm[1],
+            t.omega_levels_Nm[2],
+            r.feedback_torque_axes_Nm[0],
+            r.feedback_torque_axes_Nm[1],
+            r.feedback_torque_axes_Nm[2],
+        );
+    }
     let c = &r.choices;
     let _ = writeln!(
         s,

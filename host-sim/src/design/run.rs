@@ -13,7 +13,7 @@ use super::flight::{scenarios, FlightSettings};
 use super::optimise::minimise;
 use super::reference::{largest_certifiable_scale, Reference};
 use super::report::{write_outputs, Report};
-use super::variables::{map, Choices, Context, Mapped};
+use super::variables::{map, AttitudeLaw, Choices, Context, Mapped};
 use super::vehicle::DesignVehicle;
 use crate::scenario::Scenario;
 
@@ -44,6 +44,8 @@ pub struct DesignOptions {
     /// [`MIN_DURATION_S`]): the horizon a run must settle in, 5 s before its end. A vehicle whose
     /// certified authority is small needs longer than the paper's 30 s.
     pub duration_s: f64,
+    /// The attitude feedback searched: the paper's law or tilt priority (per-axis levels).
+    pub law: AttitudeLaw,
     /// Output directory.
     pub out: PathBuf,
 }
@@ -59,13 +61,13 @@ pub struct DesignOutcome {
 
 /// The probe design used to decide whether a reference can be certified at all: slow filters,
 /// half the largest `M_p` and half of `ι_max`.
-fn probe_choices() -> Choices {
+fn probe_choices(law: AttitudeLaw) -> Choices {
     Choices {
         kf: 0.3,
         ks: 0.45,
         saturation_fraction: 0.5,
         iota_fraction: 0.5,
-        ..Choices::initial_guess()
+        ..Choices::initial_guess(law)
     }
 }
 
@@ -89,7 +91,7 @@ fn iota_floor(
 fn binding_condition(
     vehicle: &DesignVehicle,
     set: &RotorSet,
-    margin: f64,
+    (margin, law): (f64, AttitudeLaw),
     r: &Reference,
 ) -> Option<String> {
     let constants = r.constants();
@@ -127,7 +129,7 @@ fn binding_condition(
             )
         });
     }
-    let probe = probe_choices();
+    let probe = probe_choices(law);
     let ctx = Context {
         vehicle: &vehicle.body,
         constants: &constants,
@@ -295,7 +297,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
     let vehicle = DesignVehicle::load(&o.vehicle)?;
     let set = refuse_impossible(&vehicle)?;
     let (requested, period) = load_reference(o.reference.as_ref())?;
-    let binding = binding_condition(&vehicle, &set, o.margin, &requested);
+    let binding = binding_condition(&vehicle, &set, (o.margin, o.law), &requested);
     let (reference, scale) = match &binding {
         None => (requested.clone(), 1.0),
         Some(why) => {
@@ -304,7 +306,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
                 vehicle.name
             );
             let s = largest_certifiable_scale(&requested, |r| {
-                binding_condition(&vehicle, &set, o.margin, r).is_none()
+                binding_condition(&vehicle, &set, (o.margin, o.law), r).is_none()
             })
             .with_context(|| {
                 format!(
@@ -332,7 +334,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         Ok(s) => s.evaluation.cost,
         Err(c) => c,
     };
-    let guess = Choices::initial_guess().to_unit();
+    let guess = Choices::initial_guess(o.law).to_unit();
     let optimum = minimise(&cost, &guess, o.evaluations, o.seed)?;
     let best = score(&vehicle, &ctx, &reference, settings, &optimum.x, true).map_err(|_| {
         anyhow::anyhow!("the best design found could not be certified and flown (bug)")

@@ -13,6 +13,20 @@
 //! | 7 | position natural frequency `ω_p` | log scale on `[0.5, 4]` rad/s |
 //! | 8 | position damping `ζ_p` | `[0.6, 1.5]` |
 //!
+//! With `--law tilt-priority` ([`AttitudeLaw::TiltPriority`], `docs/tilt-priority.md`) three
+//! more choose how the per-axis levels `ι_i` are spent; `ι` above is then roll's and pitch's
+//! level `ι₁ = ι₂`, the box fit's `ι_max` taken along the direction `(1, 1, ρ)`:
+//!
+//! | # | variable | maps to |
+//! |---|----------|---------|
+//! | 9 | yaw share `ρ = ι₃/ι₁` | log scale on `[0.03, 1]` |
+//! | 10 | share of `ι₃` taken by the radial MRP term | `[0.2, 0.9]`; the rest of `ι₃` is split equally between `g₁ = g₂` and `M_ω,3` |
+//! | 11 | share of `ι₁ − (1+(1+δ)²)M_ϑ/4` taken by the trace term `½(g₁ + g₃)` | `[0.2, 0.9]`; `M_ω,1 = M_ω,2` is the rest |
+//!
+//! `g₃` is capped so that tilt priority's hysteresis-band condition holds with 10 % to spare,
+//! and kept `≥ g₁` (the body z axis turns first); per-axis damping
+//! `k_ω,i = 2 ζ_a √(κ_i J_ii)` with the stiffness `κ_i = k_ϑ/16 + ½(g_j + g_k)` at zero error.
+//!
 //! Attitude gains from the linearisation about zero error: the MRP is `ϑ ≈ θ/4` (θ the error
 //! angle about one axis) and the torque law is `τ ≈ −(k_ϑ/4) ϑ − k_ω ω = −(k_ϑ/16) θ − k_ω ω`
 //! (Section V, `(1 + |ϑ|²)/4 → 1/4`), so `J θ̈ = −(k_ϑ/16) θ − k_ω θ̇` gives
@@ -25,17 +39,42 @@
 //! `z̈₁ = ubar_p = −σ_p(k_p z₁ + k_v ż₁)`, so `k_p = ω_p²`, `k_v = 2 ζ_p ω_p` (Table I: `ω_p = 3`,
 //! `ζ_p = 1`).
 
-use controller_core::{Gains, TrajectoryConstants, Vehicle};
+use controller_core::{Gains, TiltPriorityGains, TrajectoryConstants, Vehicle};
+use nalgebra::Vector3;
 
 use super::authority::{
-    envelope, iota_max, mrp_factor, probe_gains, saturation_max, RotorSet, ALPHA, DELTA,
+    envelope, iota_max_along, mrp_factor, probe_gains, saturation_max, RotorSet, ALPHA, DELTA,
 };
 
-/// Number of decision variables.
+/// Number of decision variables of the paper's attitude law.
 pub const DIMENSION: usize = 9;
+/// Number of decision variables with tilt priority (three more).
+pub const TILT_DIMENSION: usize = DIMENSION + 3;
+
+/// The attitude feedback a design searches.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum AttitudeLaw {
+    /// The paper's law (Section V): one feedback torque level `ι` on every axis.
+    #[default]
+    Paper,
+    /// Tilt priority (`docs/tilt-priority.md`): per-axis levels `ι_i`, a small yaw level and
+    /// the body z axis turned first.
+    TiltPriority,
+}
+
+impl AttitudeLaw {
+    /// Number of decision variables.
+    pub fn dimension(self) -> usize {
+        match self {
+            Self::Paper => DIMENSION,
+            Self::TiltPriority => TILT_DIMENSION,
+        }
+    }
+}
 
 /// The interval of each variable: `(low, high, logarithmic)`.
-const RANGES: [(f64, f64, bool); DIMENSION] = [
+const RANGES: [(f64, f64, bool); TILT_DIMENSION] = [
     (0.1, 6.0, true),
     (1.5, 12.0, true),
     (0.05, 0.95, false),
@@ -45,6 +84,9 @@ const RANGES: [(f64, f64, bool); DIMENSION] = [
     (0.2, 1.5, false),
     (0.5, 4.0, true),
     (0.6, 1.5, false),
+    (0.03, 1.0, true),
+    (0.2, 0.9, false),
+    (0.2, 0.9, false),
 ];
 
 fn to_value(i: usize, x: f64) -> f64 {
@@ -88,13 +130,43 @@ pub struct Choices {
     pub position_frequency_rad_s: f64,
     /// Position damping ratio.
     pub position_damping: f64,
+    /// How tilt priority spends the per-axis levels; `None`: the paper's law.
+    pub tilt: Option<TiltChoices>,
+}
+
+/// The three choices of tilt priority (variables 9-11 of the module table).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct TiltChoices {
+    /// `ρ = ι₃/ι₁`.
+    pub yaw_share: f64,
+    /// Share of `ι₃` in the radial MRP term.
+    pub yaw_radial_share: f64,
+    /// Share of `ι₁ − (1+(1+δ)²)M_ϑ/4` in the trace term.
+    pub roll_trace_share: f64,
+}
+
+impl TiltChoices {
+    /// The initial guess: yaw a tenth of roll, mostly radial, roll mostly trace.
+    pub fn initial_guess() -> Self {
+        Self {
+            yaw_share: 0.1,
+            yaw_radial_share: 0.6,
+            roll_trace_share: 0.6,
+        }
+    }
 }
 
 impl Choices {
-    /// From a point of the unit box (clamped into it).
+    /// From a point of the unit box (clamped into it): 9 coordinates for the paper's law, 12
+    /// for tilt priority.
     pub fn from_unit(x: &[f64]) -> Self {
         let v = |i: usize| to_value(i, x.get(i).copied().unwrap_or(0.5));
         let kf = v(0);
+        let tilt = (x.len() >= TILT_DIMENSION).then(|| TiltChoices {
+            yaw_share: v(9),
+            yaw_radial_share: v(10),
+            roll_trace_share: v(11),
+        });
         Self {
             kf,
             ks: kf * v(1),
@@ -105,11 +177,15 @@ impl Choices {
             attitude_damping: v(6),
             position_frequency_rad_s: v(7),
             position_damping: v(8),
+            tilt,
         }
     }
 
     /// The point of the unit box (inverse of [`Choices::from_unit`], clamped).
     pub fn to_unit(&self) -> Vec<f64> {
+        let tilt = self
+            .tilt
+            .map(|t| [t.yaw_share, t.yaw_radial_share, t.roll_trace_share]);
         [
             self.kf,
             self.ks / self.kf,
@@ -122,14 +198,16 @@ impl Choices {
             self.position_damping,
         ]
         .iter()
+        .chain(tilt.iter().flatten())
         .enumerate()
         .map(|(i, &v)| to_unit(i, v))
         .collect()
     }
 
     /// The initial guess: the most certified torque authority (`ι` at 90 % of `ι_max`) with a
-    /// moderate position saturation, slow filters and moderate, well-damped loops.
-    pub fn initial_guess() -> Self {
+    /// moderate position saturation, slow filters and moderate, well-damped loops; for tilt
+    /// priority, [`TiltChoices::initial_guess`].
+    pub fn initial_guess(law: AttitudeLaw) -> Self {
         Self {
             kf: 0.6,
             ks: 1.5,
@@ -140,6 +218,7 @@ impl Choices {
             attitude_damping: 0.8,
             position_frequency_rad_s: 1.0,
             position_damping: 1.0,
+            tilt: (law == AttitudeLaw::TiltPriority).then(TiltChoices::initial_guess),
         }
     }
 }
@@ -164,8 +243,49 @@ pub struct Mapped {
     pub gains: Gains<f64>,
     /// `M_p,max(k_f, k_s)` [m/s²].
     pub saturation_max: f64,
-    /// `ι_max(M_p, k_f, k_s)` [N m].
+    /// `ι_max(M_p, k_f, k_s)` [N m] (roll's, with tilt priority).
     pub iota_max: f64,
+}
+
+/// `((1 + δ)² − 1)(1 + δ)`: the factor of `tr G − min g` in tilt priority's hysteresis-band
+/// condition ([`TiltPriorityGains::hysteresis_band`]).
+fn band_factor() -> f64 {
+    ((1.0 + DELTA).powi(2) - 1.0) * (1.0 + DELTA)
+}
+
+/// Tilt priority's gains for roll/pitch level `iota` and yaw level `ρ iota` (module table).
+/// Returns the gains and `M_ϑ`.
+fn tilt_gains(
+    t: &TiltChoices,
+    iota: f64,
+    k_mrp: f64,
+    inertia: &Vector3<f64>,
+    damping: f64,
+) -> (TiltPriorityGains<f64>, f64) {
+    let iota_yaw = t.yaw_share * iota;
+    let radial = t.yaw_radial_share * iota_yaw;
+    let mrp_saturation = radial / mrp_factor();
+    let g_tilt = 0.5 * (iota_yaw - radial);
+    // The band condition: M_ϑ k_ϑ/√(M_ϑ² + k_ϑ²) > (g₁ + g₃) · band_factor.
+    let band_lhs = mrp_saturation * k_mrp / mrp_saturation.hypot(k_mrp);
+    let g_yaw_cap = 0.9 * band_lhs / band_factor() - g_tilt;
+    let g_yaw = (2.0 * t.roll_trace_share * (iota - radial) - g_tilt)
+        .min(g_yaw_cap)
+        .max(g_tilt);
+    let g = Vector3::new(g_tilt, g_tilt, g_yaw);
+    let trace_level = Vector3::new(0.5 * (g.y + g.z), 0.5 * (g.x + g.z), 0.5 * (g.x + g.y));
+    let levels = Vector3::new(iota, iota, iota_yaw);
+    let omega_levels = levels - trace_level.add_scalar(radial);
+    let stiffness = trace_level.add_scalar(k_mrp / 16.0);
+    let omega_gains = stiffness.zip_map(inertia, |k, j| 2.0 * damping * (k * j).sqrt());
+    (
+        TiltPriorityGains {
+            trace_weights: g,
+            omega_gains,
+            omega_levels,
+        },
+        mrp_saturation,
+    )
 }
 
 /// Maps `choices` to gains. `None` when no positive `ι` exists for `(k_f, k_s)` (the reference
@@ -181,7 +301,8 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     )?;
     let mp = mp_max * c.saturation_fraction;
     let env = envelope(ctx.vehicle, ctx.constants, mp, c.kf, c.ks)?;
-    let i_max = iota_max(ctx.rotors, &env, ctx.margin);
+    let direction = Vector3::new(1.0, 1.0, c.tilt.map_or(1.0, |t| t.yaw_share));
+    let i_max = iota_max_along(ctx.rotors, &env, ctx.margin, &direction);
     if i_max <= 0.0 {
         return None;
     }
@@ -196,6 +317,20 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     g.attitude.k_omega = 2.0 * c.attitude_damping * w * j;
     g.attitude.mrp_saturation = c.mrp_share * iota / mrp_factor();
     g.attitude.omega_saturation = (1.0 - c.mrp_share) * iota;
+    if let Some(t) = &c.tilt {
+        let (tilt, mrp_saturation) = tilt_gains(
+            t,
+            iota,
+            g.attitude.k_mrp,
+            &ctx.vehicle.inertia,
+            c.attitude_damping,
+        );
+        g.attitude.mrp_saturation = mrp_saturation;
+        // Unused by tilt priority's torque; kept valid (`> 0`) for `certify`'s checks.
+        g.attitude.omega_saturation = tilt.omega_levels.x;
+        g.attitude.k_omega = tilt.omega_gains.x;
+        g.tilt_priority = Some(tilt);
+    }
     g.hysteresis = DELTA;
     g.reset_threshold = ALPHA;
     Some(Mapped {
@@ -211,12 +346,16 @@ mod tests {
 
     #[test]
     fn unit_box_round_trips() {
-        let c = Choices::initial_guess();
+        let c = Choices::initial_guess(AttitudeLaw::TiltPriority);
         let back = Choices::from_unit(&c.to_unit());
         for (a, b) in c.to_unit().iter().zip(back.to_unit()) {
             assert!((a - b).abs() < 1e-12);
         }
         assert!((back.ks - c.ks).abs() < 1e-9 && (back.kf - c.kf).abs() < 1e-9);
+        assert_eq!(c.to_unit().len(), TILT_DIMENSION);
+        let paper = Choices::initial_guess(AttitudeLaw::Paper);
+        assert_eq!(paper.to_unit().len(), DIMENSION);
+        assert!(Choices::from_unit(&paper.to_unit()).tilt.is_none());
     }
 
     /// Certified by construction: points all over the unit box map to gains that pass
@@ -237,21 +376,43 @@ mod tests {
             margin: 0.05,
         };
         let mut rng = crate::campaign::sampler::seeded_rng(11);
-        for _ in 0..200 {
-            use rand::RngExt;
-            let x: Vec<f64> = (0..DIMENSION)
-                .map(|_| rng.random_range(0.0..=1.0))
-                .collect();
-            let m = map(&ctx, &Choices::from_unit(&x))
-                .expect("the paper helix is usable on the Crazyflie");
-            let c = certify_design(&v.body, &v.rotors, &m.gains, &constants, 0.05).unwrap();
-            assert!(
-                c.ok(),
-                "{x:?}: {:?} margin {}",
-                c.certificate.require_feasible(),
-                c.margin
-            );
-            assert!(c.margin >= 0.05 - 1e-6, "{}", c.margin);
+        for law in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority] {
+            for _ in 0..200 {
+                use rand::RngExt;
+                let x: Vec<f64> = (0..law.dimension())
+                    .map(|_| rng.random_range(0.0..=1.0))
+                    .collect();
+                let choices = Choices::from_unit(&x);
+                let m = map(&ctx, &choices).expect("the paper helix is usable on the Crazyflie");
+                assert_eq!(
+                    m.gains.tilt_priority.is_some(),
+                    law == AttitudeLaw::TiltPriority
+                );
+                let c = certify_design(&v.body, &v.rotors, &m.gains, &constants, 0.05).unwrap();
+                assert!(
+                    c.ok(),
+                    "{law:?} {x:?}: {:?} margin {}",
+                    c.certificate.require_feasible(),
+                    c.margin
+                );
+                assert!(c.margin >= 0.05 - 1e-6, "{}", c.margin);
+                if let Some(t) = choices.tilt {
+                    // The levels are spent as chosen: yaw's is ρ times roll's, roll's the
+                    // chosen fraction of ι_max along (1, 1, ρ).
+                    let levels = c.certificate.bounds.feedback_torque_axes;
+                    let iota = choices.iota_fraction * m.iota_max;
+                    assert!(
+                        (levels.x - iota).abs() <= 1e-9 * iota,
+                        "{levels:?} vs {iota}"
+                    );
+                    assert!(
+                        (levels.z - t.yaw_share * iota).abs() <= 1e-9 * iota,
+                        "{levels:?}"
+                    );
+                    let g = m.gains.tilt_priority.unwrap().trace_weights;
+                    assert!(g.z >= g.x && g.x == g.y, "{g:?}");
+                }
+            }
         }
     }
 }
