@@ -28,6 +28,7 @@ fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOptions 
         evaluations,
         duration_s: host_sim::design::run::DEFAULT_DURATION_S,
         law: Default::default(),
+        bounds: Default::default(),
         out,
     }
 }
@@ -45,16 +46,21 @@ fn rotors_of(s: &Scenario) -> firmware::config::RotorConfig {
     airframe(&file).rotors
 }
 
-/// The core's `certify` on a written scenario as read back; panics unless every condition holds.
-fn certified_read_back(s: &Scenario) -> controller_core::Certificate<f64> {
-    let cert = certify(
+/// The core's `certify` on a written scenario as read back.
+fn read_back(s: &Scenario) -> controller_core::Certificate<f64> {
+    certify(
         &s.vehicle::<f64>(),
         &s.limits::<f64>(),
         &s.gains::<f64>(),
         &s.trajectory::<f64>().constants(),
         FilterStart::Zero,
     )
-    .unwrap();
+    .unwrap()
+}
+
+/// [`read_back`]; panics unless every condition holds.
+fn certified_read_back(s: &Scenario) -> controller_core::Certificate<f64> {
+    let cert = read_back(s);
     assert!(
         cert.require_feasible().is_ok(),
         "{:?}",
@@ -187,6 +193,79 @@ fn tilt_priority_design_certifies_per_axis_levels() {
         "the firmware flies the gains that were certified"
     );
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// `--bounds tight` on the x500, whose helix the paper's bounds certify only slowed down: the
+/// tight bounds certify a faster one. The written scenario is re-checked with tight bounds
+/// computed again at the full budget (Theorem 2 per axis against the rotors' capacity, and the
+/// firmware mixer's box fit with the margin), and the firmware file is written only when the
+/// paper's certificate, which the firmware re-checks on board, holds too.
+#[test]
+fn tight_bounds_certify_a_faster_reference_than_the_papers() {
+    use host_sim::design::tight::{tight_feedforward, BoundsKind};
+    let paper_out = out_dir("x500-paper");
+    let paper = run_design(&options(preset_path("x500"), paper_out.clone(), 1)).unwrap();
+    let out = out_dir("x500-tight");
+    let mut o = options(preset_path("x500"), out.clone(), 2);
+    o.bounds = BoundsKind::Tight;
+    let tight = run_design(&o).unwrap();
+    let r = &tight.report;
+    assert!(r.certificate.all_hold && r.box_fit.fits && r.box_fit.fits_with_margin);
+    assert!(
+        r.reference.scale > paper.report.reference.scale,
+        "tight {} vs paper {}",
+        r.reference.scale,
+        paper.report.reference.scale
+    );
+    // Theorem 2's rows carry the paper's bound beside the tight one, which is below it.
+    let theorem2: Vec<_> = r
+        .certificate
+        .conditions
+        .iter()
+        .filter(|c| c.name.starts_with("theorem2.torque_max"))
+        .collect();
+    assert_eq!(theorem2.len(), 3);
+    for c in &theorem2 {
+        let (paper_rhs, _) = c.paper.expect("the paper's bound beside");
+        assert!(c.holds && c.rhs < paper_rhs, "{c:?}");
+    }
+    assert_eq!(
+        out.join("firmware.toml").exists(),
+        r.certificate.paper_certified,
+        "a flight file only when the firmware's own check passes"
+    );
+
+    // Independently: the core's bounds and the tight bounds at the full budget.
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    let core = read_back(&s);
+    let t = host_sim::tight_certificate::scenario_tight_bounds(&s).unwrap();
+    let split = tight_feedforward(&s.vehicle(), (t.angular_velocity, t.angular_acceleration))
+        + core.bounds.feedback_torque_axes;
+    let torque = nalgebra::Vector3::from_fn(|i, _| t.torque_max[i].min(split[i]));
+    for i in 0..3 {
+        assert!(
+            torque[i] < s.limits.torque_max_Nm[i],
+            "axis {i}: {torque:?} vs {:?}",
+            s.limits.torque_max_Nm
+        );
+    }
+    let mut rotors = rotors_of(&s);
+    let span = rotors.thrust_max - rotors.thrust_min;
+    rotors.thrust_min += 0.05 * span;
+    rotors.thrust_max -= 0.05 * span;
+    let b = &core.bounds;
+    assert!(
+        Mixer::new(&rotors)
+            .unwrap()
+            .box_fit(
+                b.thrust_min as f32,
+                b.thrust_max as f32,
+                &torque.map(|x| x as f32)
+            )
+            .fits
+    );
+    let _ = std::fs::remove_dir_all(&out);
+    let _ = std::fs::remove_dir_all(&paper_out);
 }
 
 /// The written scenario loads and flies as is (the main run's loop), its commands inside the

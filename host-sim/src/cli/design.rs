@@ -7,6 +7,7 @@ use clap::Args;
 use host_sim::design::{
     run::{DEFAULT_DURATION_S, DEFAULT_EVALUATIONS},
     run_design,
+    tight::BoundsKind,
     variables::AttitudeLaw,
     DesignOptions,
 };
@@ -38,6 +39,11 @@ pub struct DesignArgs {
     /// `tilt-priority` (per-axis levels, yaw's small; docs/tilt-priority.md).
     #[arg(long, value_enum, default_value_t = AttitudeLaw::Paper)]
     pub law: AttitudeLaw,
+    /// Bounds that certify Theorem 2's torque condition and the box fit: `paper` (Lemma 1 and
+    /// Theorem 2 as written; the firmware re-checks them on board) or `tight` (the tight
+    /// a-priori bounds, docs/tight-bounds.md; no firmware file unless the paper's also hold).
+    #[arg(long, value_enum, default_value_t = BoundsKind::Paper)]
+    pub bounds: BoundsKind,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/design")]
     pub out: PathBuf,
@@ -53,6 +59,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         evaluations: args.evaluations,
         duration_s: args.duration_s,
         law: args.law,
+        bounds: args.bounds,
         out: args.out.clone(),
     })?;
     let r = &outcome.report;

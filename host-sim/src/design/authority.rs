@@ -115,6 +115,31 @@ pub fn envelope(
     })
 }
 
+/// [`envelope`] with the feedforward part of the torque bound taken from `bounds`: with
+/// [`super::tight::BoundsKind::Tight`], per axis the least of Lemma 1's and
+/// [`super::tight::tight_feedforward`] at [`super::tight::SEARCH_BOXES`] boxes per search.
+pub fn envelope_with(
+    bounds: super::tight::BoundsKind,
+    vehicle: &Vehicle<f64>,
+    constants: &TrajectoryConstants<f64>,
+    (mp, kf, ks): (f64, f64, f64),
+) -> Option<Envelope> {
+    let mut env = envelope(vehicle, constants, mp, kf, ks)?;
+    if bounds == super::tight::BoundsKind::Tight {
+        let rates = super::tight::rates(
+            vehicle,
+            &probe_gains(mp, kf, ks),
+            constants,
+            super::tight::SEARCH_BOXES,
+        )
+        .ok()?;
+        env.feedforward = env
+            .feedforward
+            .inf(&super::tight::tight_feedforward(vehicle, rates));
+    }
+    Some(env)
+}
+
 /// The largest `ι` [N m] for which the box of `env` fits `rotors` with `margin` (fraction of
 /// the range at both ends); negative when even `ι = 0` does not fit.
 pub fn iota_max(rotors: &RotorSet, env: &Envelope, margin: f64) -> f64 {
@@ -122,7 +147,7 @@ pub fn iota_max(rotors: &RotorSet, env: &Envelope, margin: f64) -> f64 {
 }
 
 /// The largest `ι` [N m] for which the box with per-axis feedback levels `ι d`
-/// (`d` [dimensionless], each `≥ 0`, body axes: tilt priority's `(1, 1, ρ)`) fits `rotors`
+/// (`d` \[dimensionless\], each `≥ 0`, body axes: tilt priority's `(1, 1, ρ)`) fits `rotors`
 /// with `margin`: the same closed form as [`iota_max`] with `Σ_i e_ki` replaced by
 /// `Σ_i e_ki d_i`. Negative when even `ι = 0` does not fit.
 pub fn iota_max_along(
@@ -172,8 +197,35 @@ pub fn saturation_max(
     kf: f64,
     ks: f64,
 ) -> Option<f64> {
+    saturation_max_with(
+        super::tight::BoundsKind::Paper,
+        vehicle,
+        constants,
+        (rotors, margin),
+        (kf, ks),
+    )
+}
+
+/// [`saturation_max`] with the feedforward of `bounds` ([`envelope_with`]). With the tight
+/// bounds each step is a branch and bound, so the bisection stops after 12 steps (the bracket
+/// at `2⁻¹²` of `g − K_a3`) instead of 60; the value returned is always one where `ι_max > 0`
+/// was evaluated.
+pub fn saturation_max_with(
+    bounds: super::tight::BoundsKind,
+    vehicle: &Vehicle<f64>,
+    constants: &TrajectoryConstants<f64>,
+    (rotors, margin): (&RotorSet, f64),
+    (kf, ks): (f64, f64),
+) -> Option<f64> {
     let top = vehicle.gravity - constants.vertical_acceleration;
-    let positive = |mp: f64| iota_max_at(vehicle, constants, rotors, margin, (mp, kf, ks)) > 0.0;
+    let positive = |mp: f64| {
+        envelope_with(bounds, vehicle, constants, (mp, kf, ks))
+            .is_some_and(|env| iota_max(rotors, &env, margin) > 0.0)
+    };
+    let steps = match bounds {
+        super::tight::BoundsKind::Paper => 60,
+        super::tight::BoundsKind::Tight => 12,
+    };
     let (mut lo, mut hi) = (top * 1e-6, top * (1.0 - 1e-9));
     if !positive(lo) {
         return None;
@@ -181,7 +233,7 @@ pub fn saturation_max(
     if positive(hi) {
         return Some(hi);
     }
-    for _ in 0..60 {
+    for _ in 0..steps {
         let mid = 0.5 * (lo + hi);
         if positive(mid) {
             lo = mid;

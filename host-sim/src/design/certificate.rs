@@ -16,6 +16,7 @@ use firmware::mixer::{BoxFit, Mixer};
 use nalgebra::Vector3;
 
 use super::authority::{box_margin, RotorSet};
+use crate::tight_certificate::TightCondition;
 
 /// A set-up checked by `certify` and `box_fit`.
 #[derive(Clone, Debug)]
@@ -30,12 +31,42 @@ pub struct Certified {
     pub fits_with_margin: bool,
     /// Smallest headroom over rotors and corners, fraction of the rotor range.
     pub margin: f64,
+    /// The certified torque box [N m] (body axes): Theorem 2's bounds, or the tight box.
+    pub torque_box: Vector3<f64>,
+    /// With the tight bounds: Theorem 2's torque conditions judged with both bounds (they
+    /// replace the paper's verdict on those three); `None`: the paper's bounds.
+    pub tight: Option<Vec<TightCondition>>,
+    /// `box_fit` of the paper's box (Theorem 1's interval × Theorem 2's bounds) on the range
+    /// shrunk by the margin: what the firmware's gate measures (the same as
+    /// [`Certified::fits_with_margin`] when certified with the paper's bounds).
+    pub paper_fits_with_margin: bool,
 }
 
 impl Certified {
-    /// Every condition holds and the box fits with the margin.
+    /// Every condition holds (Theorem 2's torque conditions with the tight bounds when
+    /// certified with them) and the box fits with the margin.
     pub fn ok(&self) -> bool {
-        self.certificate.require_feasible().is_ok() && self.box_fit.fits && self.fits_with_margin
+        self.all_hold() && self.box_fit.fits && self.fits_with_margin
+    }
+
+    /// What the firmware's gate re-checks on board (`firmware::pipeline::gate::check`): every
+    /// condition with the paper's bounds, and the paper's box fits with the margin.
+    pub fn paper_certified(&self) -> bool {
+        self.certificate.require_feasible().is_ok() && self.paper_fits_with_margin
+    }
+
+    /// Every condition holds, Theorem 2's torque conditions judged with the bounds the design
+    /// was certified with.
+    pub fn all_hold(&self) -> bool {
+        match &self.tight {
+            None => self.certificate.require_feasible().is_ok(),
+            Some(tight) => {
+                self.certificate
+                    .violations()
+                    .all(|v| tight.iter().any(|t| t.name == v.name))
+                    && tight.iter().all(|t| t.holds_tight)
+            }
+        }
     }
 }
 
@@ -50,7 +81,8 @@ pub fn shrunk_rotors(rotors: &RotorConfig, margin: f64) -> RotorConfig {
     }
 }
 
-/// Certifies `gains` for `vehicle` on `rotors` with reference `constants`.
+/// Certifies `gains` for `vehicle` on `rotors` with reference `constants`, with the paper's
+/// bounds.
 ///
 /// Errors: `certify` refuses the parameters (e.g. a limit of zero when the box leaves no torque
 /// capacity), or the mixer cannot be built.
@@ -60,6 +92,23 @@ pub fn certify_design(
     gains: &Gains<f64>,
     constants: &TrajectoryConstants<f64>,
     margin: f64,
+) -> Result<Certified> {
+    certify_design_with(vehicle, rotors, gains, constants, margin, None)
+}
+
+/// [`certify_design`] with the torque box `tight_box` [N m] (body axes; a sound bound on each
+/// `|τ_i|` smaller than Theorem 2's, [`super::tight::tight_torque_box`]) in place of Theorem
+/// 2's: the box fit, the torque capacity over the thrust interval and Theorem 2's torque
+/// conditions use it; the paper's verdicts are kept beside ([`Certified::tight`]).
+///
+/// Errors: as [`certify_design`].
+pub fn certify_design_with(
+    vehicle: &Vehicle<f64>,
+    rotors: &RotorConfig,
+    gains: &Gains<f64>,
+    constants: &TrajectoryConstants<f64>,
+    margin: f64,
+    tight_box: Option<Vector3<f64>>,
 ) -> Result<Certified> {
     let mixer = Mixer::new(rotors).map_err(|e| anyhow!("rotor set refused by the mixer: {e:?}"))?;
     let set = RotorSet::new(rotors).map_err(|e| anyhow!("rotor set: {e}"))?;
@@ -71,7 +120,8 @@ pub fn certify_design(
     let first = certify(vehicle, &probe, gains, constants, FilterStart::Zero)
         .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?;
     let b = &first.bounds;
-    let tau32 = b.torque_max.map(|x| x as f32);
+    let torque_box = tight_box.map_or(b.torque_max, |t| t.inf(&b.torque_max));
+    let tau32 = torque_box.map(|x| x as f32);
     let fit = mixer.box_fit(b.thrust_min as f32, b.thrust_max as f32, &tau32);
     let capacity = Vector3::from(fit.torque_capacity.map(f64::from));
     // A zero capacity is a limit `certify` refuses; keep it positive and let the condition fail.
@@ -86,11 +136,37 @@ pub fn certify_design(
     let fits_with_margin = shrunk
         .box_fit(b.thrust_min as f32, b.thrust_max as f32, &tau32)
         .fits;
+    let paper_fits_with_margin = shrunk
+        .box_fit(
+            b.thrust_min as f32,
+            b.thrust_max as f32,
+            &b.torque_max.map(|x| x as f32),
+        )
+        .fits;
+    let tight = tight_box.map(|_| {
+        certificate
+            .conditions
+            .iter()
+            .filter(|c| c.name.starts_with("theorem2.torque_max"))
+            .zip(0..3)
+            .map(|(c, i)| TightCondition {
+                name: c.name.to_owned(),
+                lhs: c.lhs,
+                rhs_paper: c.rhs,
+                rhs_tight: torque_box[i],
+                holds_paper: c.holds,
+                holds_tight: c.lhs > torque_box[i],
+            })
+            .collect()
+    });
     Ok(Certified {
         limits,
         certificate,
         box_fit: fit,
         fits_with_margin,
-        margin: box_margin(&set, (b.thrust_min, b.thrust_max), &b.torque_max),
+        margin: box_margin(&set, (b.thrust_min, b.thrust_max), &torque_box),
+        torque_box,
+        tight,
+        paper_fits_with_margin,
     })
 }

@@ -19,6 +19,7 @@ pub mod optimise;
 pub mod reference;
 pub mod report;
 pub mod run;
+pub mod tight;
 pub mod variables;
 pub mod vehicle;
 

@@ -34,13 +34,22 @@ pub struct ConditionEntry {
     pub rhs: f64,
     /// `lhs − rhs` (positive when it holds).
     pub slack: f64,
+    /// Certified with the tight bounds, Theorem 2's torque conditions: the paper's bound (the
+    /// `rhs` above is the tight one) and whether the condition holds with it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub paper: Option<(f64, bool)>,
 }
 
 /// `certificate`.
 #[derive(Clone, Debug, Serialize)]
 pub struct CertificateEntry {
+    /// The bounds Theorem 2's torque conditions and the box fit are judged with.
+    pub bounds: super::tight::BoundsKind,
     /// Every condition holds.
     pub all_hold: bool,
+    /// Every condition holds and the box fits with the margin with the paper's bounds too: what
+    /// the firmware's gate re-checks on board (a flight file is written only then).
+    pub paper_certified: bool,
     /// Every condition, in the paper's order (from `controller_core::bounds::certify`).
     pub conditions: Vec<ConditionEntry>,
 }
@@ -198,13 +207,18 @@ impl Report {
         let conditions: Vec<ConditionEntry> = c
             .certificate
             .all_conditions()
-            .map(|k| ConditionEntry {
-                name: k.name.into(),
-                statement: k.statement.into(),
-                holds: k.holds,
-                lhs: k.lhs,
-                rhs: k.rhs,
-                slack: k.lhs - k.rhs,
+            .map(|k| {
+                let tight = c.tight.iter().flatten().find(|t| t.name == k.name);
+                let rhs = tight.map_or(k.rhs, |t| t.rhs_tight);
+                ConditionEntry {
+                    name: k.name.into(),
+                    statement: k.statement.into(),
+                    holds: tight.map_or(k.holds, |t| t.holds_tight),
+                    lhs: k.lhs,
+                    rhs,
+                    slack: k.lhs - rhs,
+                    paper: tight.map(|t| (t.rhs_paper, t.holds_paper)),
+                }
             })
             .collect();
         let tightest = conditions
@@ -229,7 +243,9 @@ impl Report {
             evaluations,
             wall_time_s,
             certificate: CertificateEntry {
-                all_hold: c.certificate.require_feasible().is_ok(),
+                bounds: o.bounds,
+                all_hold: c.all_hold(),
+                paper_certified: c.paper_certified(),
                 conditions,
             },
             box_fit: BoxFitEntry {
@@ -249,7 +265,7 @@ impl Report {
             saturation_max_m_s2: best.mapped.saturation_max,
             feedback_torque_Nm: (best.mapped.iota_max, b.feedback_torque),
             feedback_torque_axes_Nm: b.feedback_torque_axes.into(),
-            a_priori: (b.thrust_min, b.thrust_max, b.torque_max.into()),
+            a_priori: (b.thrust_min, b.thrust_max, c.torque_box.into()),
             objective: ObjectiveEntry {
                 definition: format!(
                     "worst settling time over the seven 180 degree starts [s] + {DOUBLED_LAG_WEIGHT} x the same \
@@ -323,6 +339,39 @@ fn write_text(path: &Path, text: &str) -> Result<PathBuf> {
     Ok(path.to_path_buf())
 }
 
+/// Writes `firmware.toml`: the vehicle file's tables, `[limits]`, `[gains]`, `[trajectory]` of
+/// the scenario `table`, and `[design]`.
+fn write_flight_file(
+    dir: &Path,
+    report: &Report,
+    vehicle: &DesignVehicle,
+    table: &toml::Table,
+) -> Result<PathBuf> {
+    let mut flight = toml::Table::new();
+    for (k, v) in &vehicle.tables {
+        flight.insert(k.clone(), v.clone());
+    }
+    for key in ["limits", "gains", "trajectory"] {
+        if let Some(v) = table.get(key) {
+            flight.insert(key.into(), v.clone());
+        }
+    }
+    let mut design = toml::Table::new();
+    design.insert("seed".into(), report.seed.to_string().into());
+    design.insert(
+        "objective".into(),
+        report.objective.definition.clone().into(),
+    );
+    design.insert("margin".into(), report.box_fit.requested_margin.into());
+    flight.insert("design".into(), toml::Value::Table(design));
+    let text = ordered_toml(&flight)?;
+    let header = format!(
+        "# Flight file for the firmware build (FIRMWARE_FLIGHT_FILE), written by `host-sim design` for {}.\n\n",
+        report.vehicle
+    );
+    write_text(&dir.join("firmware.toml"), &format!("{header}{text}"))
+}
+
 /// Writes every file of the design into `dir` (created if missing); returns their paths.
 ///
 /// Errors: a file cannot be written (named).
@@ -362,32 +411,9 @@ pub fn write_outputs(
         &format!("{header}{text}"),
     )?);
 
-    let mut flight = toml::Table::new();
-    for (k, v) in &vehicle.tables {
-        flight.insert(k.clone(), v.clone());
+    if report.certificate.paper_certified {
+        files.push(write_flight_file(dir, report, vehicle, &table)?);
     }
-    for key in ["limits", "gains", "trajectory"] {
-        if let Some(v) = table.get(key) {
-            flight.insert(key.into(), v.clone());
-        }
-    }
-    let mut design = toml::Table::new();
-    design.insert("seed".into(), report.seed.to_string().into());
-    design.insert(
-        "objective".into(),
-        report.objective.definition.clone().into(),
-    );
-    design.insert("margin".into(), report.box_fit.requested_margin.into());
-    flight.insert("design".into(), toml::Value::Table(design));
-    let text = ordered_toml(&flight)?;
-    let header = format!(
-        "# Flight file for the firmware build (FIRMWARE_FLIGHT_FILE), written by `host-sim design` for {}.\n\n",
-        report.vehicle
-    );
-    files.push(write_text(
-        &dir.join("firmware.toml"),
-        &format!("{header}{text}"),
-    )?);
 
     let e = &best.evaluation;
     let plots = [
@@ -470,14 +496,34 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
         r.box_fit.fits_with_margin,
         100.0 * r.box_fit.margin
     );
-    let _ = writeln!(
-        s,
-        "| condition | holds | lhs | rhs | slack |\n|---|---|---|---|---|"
-    );
-    for c in &r.certificate.conditions {
+    if r.certificate.bounds == super::tight::BoundsKind::Tight {
         let _ = writeln!(
             s,
-            "| `{}` | {} | {:.6} | {:.6} | {:.3e} |",
+            "Certified with the **tight** a-priori bounds (`--bounds tight`, docs/tight-bounds.md): \
+             Theorem 2's torque conditions and the box fit use them; the paper's bound is beside. \
+             With the paper's bounds every condition holds and the box fits with the margin (the \
+             firmware's gate): **{}**{}.\n",
+            r.certificate.paper_certified,
+            if r.certificate.paper_certified {
+                ""
+            } else {
+                " (the firmware re-checks the paper's certificate on board and would refuse to arm \
+                 this design, so no `firmware.toml` is written: fly `scenario.toml` in simulation)"
+            }
+        );
+    }
+    let _ = writeln!(
+        s,
+        "| condition | holds | lhs | rhs | slack | paper's rhs (holds) |\n|---|---|---|---|---|---|"
+    );
+    for c in &r.certificate.conditions {
+        let paper = c.paper.map_or_else(
+            || "–".to_owned(),
+            |(rhs, holds)| format!("{rhs:.6} ({holds})"),
+        );
+        let _ = writeln!(
+            s,
+            "| `{}` | {} | {:.6} | {:.6} | {:.3e} | {paper} |",
             c.name, c.holds, c.lhs, c.rhs, c.slack
         );
     }

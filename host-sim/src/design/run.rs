@@ -7,12 +7,13 @@ use anyhow::{bail, Context as _, Result};
 use controller_core::Gains;
 
 use super::authority::RotorSet;
-use super::certificate::{certify_design, Certified};
+use super::certificate::{certify_design_with, Certified};
 use super::evaluate::{evaluate, largest_converging_lag, Evaluation, PENALTY};
 use super::flight::{scenarios, FlightSettings};
 use super::optimise::minimise;
 use super::reference::{largest_certifiable_scale, Reference};
 use super::report::{write_outputs, Report};
+use super::tight::{tight_torque_box, BoundsKind, SEARCH_BOXES};
 use super::variables::{map, AttitudeLaw, Choices, Context, Mapped};
 use super::vehicle::DesignVehicle;
 use crate::scenario::Scenario;
@@ -46,6 +47,8 @@ pub struct DesignOptions {
     pub duration_s: f64,
     /// The attitude feedback searched: the paper's law or tilt priority (per-axis levels).
     pub law: AttitudeLaw,
+    /// The bounds that certify Theorem 2's torque condition and the box fit.
+    pub bounds: BoundsKind,
     /// Output directory.
     pub out: PathBuf,
 }
@@ -81,29 +84,59 @@ pub const AUTHORITY_SHARE: f64 = 0.75;
 fn iota_floor(
     vehicle: &DesignVehicle,
     set: &RotorSet,
-    margin: f64,
+    (margin, bounds): (f64, BoundsKind),
     constants: &controller_core::TrajectoryConstants<f64>,
 ) -> f64 {
-    super::authority::iota_max_at(&vehicle.body, constants, set, margin, (1e-6, 0.3, 0.45))
+    super::authority::envelope_with(bounds, &vehicle.body, constants, (1e-6, 0.3, 0.45))
+        .map_or(f64::NEG_INFINITY, |env| {
+            super::authority::iota_max(set, &env, margin)
+        })
+}
+
+/// Certifies `mapped` with the bounds of `kind` (the tight ones with `boxes` per search).
+fn certify_mapped(
+    vehicle: &DesignVehicle,
+    constants: &controller_core::TrajectoryConstants<f64>,
+    mapped: &Mapped,
+    (margin, kind, boxes): (f64, BoundsKind, usize),
+) -> Result<Certified> {
+    let tight = match kind {
+        BoundsKind::Paper => None,
+        BoundsKind::Tight => Some(tight_torque_box(
+            &vehicle.body,
+            &mapped.gains,
+            constants,
+            boxes,
+        )?),
+    };
+    certify_design_with(
+        &vehicle.body,
+        &vehicle.rotors,
+        &mapped.gains,
+        constants,
+        margin,
+        tight,
+    )
 }
 
 /// Why a reference cannot be used (the binding condition with its numbers), or `None`.
 fn binding_condition(
     vehicle: &DesignVehicle,
     set: &RotorSet,
-    (margin, law): (f64, AttitudeLaw),
+    (margin, law, bounds): (f64, AttitudeLaw, BoundsKind),
     r: &Reference,
 ) -> Option<String> {
     let constants = r.constants();
     let hover = iota_floor(
         vehicle,
         set,
-        margin,
+        (margin, bounds),
         &controller_core::TrajectoryConstants::zero(),
     );
-    let floor = iota_floor(vehicle, set, margin, &constants);
+    let floor = iota_floor(vehicle, set, (margin, bounds), &constants);
     if floor < AUTHORITY_SHARE * hover {
-        let env = super::authority::envelope(&vehicle.body, &constants, 1e-6, 0.3, 0.45);
+        let env =
+            super::authority::envelope_with(bounds, &vehicle.body, &constants, (1e-6, 0.3, 0.45));
         let detail = env.map_or_else(String::new, |env| {
             format!(
                 " (thrust interval [{:.4}, {:.4}] N; reference feedforward torque bound \
@@ -135,13 +168,14 @@ fn binding_condition(
         constants: &constants,
         rotors: set,
         margin,
+        bounds,
     };
     let Some(m) = map(&ctx, &probe) else {
         return Some(
             "theorem2 + box fit: no M_p > 0 leaves a positive feedback torque level".to_owned(),
         );
     };
-    match certify_design(&vehicle.body, &vehicle.rotors, &m.gains, &constants, margin) {
+    match certify_mapped(vehicle, &constants, &m, (margin, bounds, SEARCH_BOXES)) {
         Err(e) => Some(format!("{e:#}")),
         Ok(c) if c.ok() => None,
         Ok(c) => {
@@ -202,7 +236,7 @@ fn refuse_impossible(vehicle: &DesignVehicle) -> Result<RotorSet> {
     let hover = iota_floor(
         vehicle,
         &set,
-        0.0,
+        (0.0, BoundsKind::Paper),
         &controller_core::TrajectoryConstants::zero(),
     );
     if hover <= 0.0 {
@@ -240,22 +274,22 @@ pub struct Scored {
     pub evaluation: Evaluation,
 }
 
-/// Maps, certifies and flies one point of the unit box. `Err` carries the cost of a refusal.
+/// Maps, certifies and flies one point of the unit box; the tight bounds (when certifying with
+/// them) take `boxes` per search. `Err` carries the cost of a refusal.
 fn score(
     vehicle: &DesignVehicle,
     ctx: &Context<'_>,
     reference: &Reference,
-    settings: FlightSettings,
+    (settings, boxes): (FlightSettings, usize),
     x: &[f64],
     trace: bool,
 ) -> std::result::Result<Scored, f64> {
     let mapped = map(ctx, &Choices::from_unit(x)).ok_or(10.0 * PENALTY)?;
-    let certified = certify_design(
-        ctx.vehicle,
-        &vehicle.rotors,
-        &mapped.gains,
+    let certified = certify_mapped(
+        vehicle,
         ctx.constants,
-        ctx.margin,
+        &mapped,
+        (ctx.margin, ctx.bounds, boxes),
     )
     .map_err(|_| 10.0 * PENALTY)?;
     if !certified.ok() {
@@ -297,7 +331,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
     let vehicle = DesignVehicle::load(&o.vehicle)?;
     let set = refuse_impossible(&vehicle)?;
     let (requested, period) = load_reference(o.reference.as_ref())?;
-    let binding = binding_condition(&vehicle, &set, (o.margin, o.law), &requested);
+    let binding = binding_condition(&vehicle, &set, (o.margin, o.law, o.bounds), &requested);
     let (reference, scale) = match &binding {
         None => (requested.clone(), 1.0),
         Some(why) => {
@@ -306,7 +340,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
                 vehicle.name
             );
             let s = largest_certifiable_scale(&requested, |r| {
-                binding_condition(&vehicle, &set, (o.margin, o.law), r).is_none()
+                binding_condition(&vehicle, &set, (o.margin, o.law, o.bounds), r).is_none()
             })
             .with_context(|| {
                 format!(
@@ -325,20 +359,36 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         constants: &constants,
         rotors: &set,
         margin: o.margin,
+        bounds: o.bounds,
     };
     let settings = FlightSettings {
         duration_s: o.duration_s,
         controller_period_s: period,
     };
-    let cost = |x: &[f64]| match score(&vehicle, &ctx, &reference, settings, x, false) {
+    let cost = |x: &[f64]| match score(
+        &vehicle,
+        &ctx,
+        &reference,
+        (settings, SEARCH_BOXES),
+        x,
+        false,
+    ) {
         Ok(s) => s.evaluation.cost,
         Err(c) => c,
     };
     let guess = Choices::initial_guess(o.law).to_unit();
     let optimum = minimise(&cost, &guess, o.evaluations, o.seed)?;
-    let best = score(&vehicle, &ctx, &reference, settings, &optimum.x, true).map_err(|_| {
-        anyhow::anyhow!("the best design found could not be certified and flown (bug)")
-    })?;
+    // The final design's tight bounds with the default budget: never looser than the search's.
+    let final_boxes = crate::tight_bounds::TightOptions::default().max_boxes;
+    let best = score(
+        &vehicle,
+        &ctx,
+        &reference,
+        (settings, final_boxes),
+        &optimum.x,
+        true,
+    )
+    .map_err(|_| anyhow::anyhow!("the best design found could not be certified and flown (bug)"))?;
     let (scenario, _) = scenarios(
         &vehicle,
         &best.certified.limits,

@@ -43,7 +43,8 @@ use controller_core::{Gains, TiltPriorityGains, TrajectoryConstants, Vehicle};
 use nalgebra::Vector3;
 
 use super::authority::{
-    envelope, iota_max_along, mrp_factor, probe_gains, saturation_max, RotorSet, ALPHA, DELTA,
+    envelope_with, iota_max_along, mrp_factor, probe_gains, saturation_max_with, RotorSet, ALPHA,
+    DELTA,
 };
 
 /// Number of decision variables of the paper's attitude law.
@@ -234,6 +235,8 @@ pub struct Context<'a> {
     pub rotors: &'a RotorSet,
     /// Box-fit margin (fraction of the rotor range).
     pub margin: f64,
+    /// The bounds that certify the torque condition and the box fit.
+    pub bounds: super::tight::BoundsKind,
 }
 
 /// The gains of `choices`, with `M_p,max` and `ι_max` they were scaled from.
@@ -291,16 +294,15 @@ fn tilt_gains(
 /// Maps `choices` to gains. `None` when no positive `ι` exists for `(k_f, k_s)` (the reference
 /// is not certifiable on this vehicle).
 pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
-    let mp_max = saturation_max(
+    let mp_max = saturation_max_with(
+        ctx.bounds,
         ctx.vehicle,
         ctx.constants,
-        ctx.rotors,
-        ctx.margin,
-        c.kf,
-        c.ks,
+        (ctx.rotors, ctx.margin),
+        (c.kf, c.ks),
     )?;
     let mp = mp_max * c.saturation_fraction;
-    let env = envelope(ctx.vehicle, ctx.constants, mp, c.kf, c.ks)?;
+    let env = envelope_with(ctx.bounds, ctx.vehicle, ctx.constants, (mp, c.kf, c.ks))?;
     let direction = Vector3::new(1.0, 1.0, c.tilt.map_or(1.0, |t| t.yaw_share));
     let i_max = iota_max_along(ctx.rotors, &env, ctx.margin, &direction);
     if i_max <= 0.0 {
@@ -358,30 +360,49 @@ mod tests {
         assert!(Choices::from_unit(&paper.to_unit()).tilt.is_none());
     }
 
+    /// A uniform point of the unit box of `law`.
+    fn random_point(rng: &mut impl rand::Rng, law: AttitudeLaw) -> Vec<f64> {
+        use rand::RngExt;
+        (0..law.dimension())
+            .map(|_| rng.random_range(0.0..=1.0))
+            .collect()
+    }
+
+    /// The Crazyflie preset, its rotor set and the paper helix's constants.
+    fn crazyflie_on_the_paper_helix() -> (
+        crate::design::vehicle::DesignVehicle,
+        RotorSet,
+        TrajectoryConstants<f64>,
+    ) {
+        use controller_core::Trajectory;
+        let v = crate::design::vehicle::DesignVehicle::load(&crate::vehicle::preset_path(
+            "crazyflie-2.1",
+        ))
+        .unwrap();
+        let set = RotorSet::new(&v.rotors).unwrap();
+        let constants = crate::scenario::Scenario::paper()
+            .trajectory::<f64>()
+            .constants();
+        (v, set, constants)
+    }
+
     /// Certified by construction: points all over the unit box map to gains that pass
     /// `certify` and `box_fit` with the margin.
     #[test]
     fn every_point_of_the_box_is_certified() {
         use crate::design::certificate::certify_design;
-        use crate::design::vehicle::DesignVehicle;
-        use crate::scenario::Scenario;
-        use controller_core::Trajectory;
-        let v = DesignVehicle::load(&crate::vehicle::preset_path("crazyflie-2.1")).unwrap();
-        let set = RotorSet::new(&v.rotors).unwrap();
-        let constants = Scenario::paper().trajectory::<f64>().constants();
+        let (v, set, constants) = crazyflie_on_the_paper_helix();
         let ctx = Context {
             vehicle: &v.body,
             constants: &constants,
             rotors: &set,
             margin: 0.05,
+            bounds: Default::default(),
         };
         let mut rng = crate::campaign::sampler::seeded_rng(11);
         for law in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority] {
             for _ in 0..200 {
-                use rand::RngExt;
-                let x: Vec<f64> = (0..law.dimension())
-                    .map(|_| rng.random_range(0.0..=1.0))
-                    .collect();
+                let x = random_point(&mut rng, law);
                 let choices = Choices::from_unit(&x);
                 let m = map(&ctx, &choices).expect("the paper helix is usable on the Crazyflie");
                 assert_eq!(
@@ -412,6 +433,42 @@ mod tests {
                     let g = m.gains.tilt_priority.unwrap().trace_weights;
                     assert!(g.z >= g.x && g.x == g.y, "{g:?}");
                 }
+            }
+        }
+    }
+
+    /// Certified by construction with the tight bounds too: random points of the unit box, both
+    /// laws, mapped with the tight feedforward, pass `certify_design_with` on the tight torque
+    /// box (Theorem 2's torque conditions judged with it, the box fit with the margin).
+    #[test]
+    fn every_point_is_certified_with_the_tight_bounds() {
+        use crate::design::certificate::certify_design_with;
+        use crate::design::tight::{tight_torque_box, BoundsKind, SEARCH_BOXES};
+        let (v, set, constants) = crazyflie_on_the_paper_helix();
+        let ctx = Context {
+            vehicle: &v.body,
+            constants: &constants,
+            rotors: &set,
+            margin: 0.05,
+            bounds: BoundsKind::Tight,
+        };
+        let mut rng = crate::campaign::sampler::seeded_rng(12);
+        for law in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority] {
+            for _ in 0..6 {
+                let x = random_point(&mut rng, law);
+                let m = map(&ctx, &Choices::from_unit(&x)).expect("usable on the Crazyflie");
+                let tight = tight_torque_box(&v.body, &m.gains, &constants, SEARCH_BOXES).unwrap();
+                let c = certify_design_with(
+                    &v.body,
+                    &v.rotors,
+                    &m.gains,
+                    &constants,
+                    0.05,
+                    Some(tight),
+                )
+                .unwrap();
+                assert!(c.ok(), "{law:?} {x:?}: {:?} margin {}", c.tight, c.margin);
+                assert!(c.margin >= 0.05 - 1e-6, "{}", c.margin);
             }
         }
     }

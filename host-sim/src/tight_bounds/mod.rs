@@ -147,6 +147,39 @@ pub struct TightBounds {
     pub boxes: usize,
 }
 
+/// The tight `sup |ω_d|` [rad/s] and `sup |ω̇_d|` [rad/s²] alone (two of [`tight_bounds`]'s
+/// searches, the same values it returns for them without the correlated searches), for callers
+/// that need only the desired rates (`design --bounds tight`, per candidate).
+///
+/// Errors: as [`tight_bounds`].
+pub fn tight_rates(
+    vehicle: &Vehicle<f64>,
+    gains: &Gains<f64>,
+    constants: &TrajectoryConstants<f64>,
+    filter_start: FilterStart,
+    options: &TightOptions,
+) -> Result<(f64, f64), ParameterError> {
+    let set = ConfiningSet::new(vehicle, gains, constants, filter_start)?;
+    let run = |q| maximise(&set, q, options.relative_gap, options.max_boxes);
+    let (w, (a, (h12, h3))) = rayon::join(
+        || run(Quantity::AngularVelocity),
+        || {
+            rayon::join(
+                || run(Quantity::AngularAcceleration),
+                || {
+                    rayon::join(
+                        || run(Quantity::HorizontalAcceleration),
+                        || run(Quantity::YawAcceleration),
+                    )
+                },
+            )
+        },
+    );
+    let p = interval::Interval::point;
+    let composed = (p(h12.upper).sqr() + p(h3.upper).sqr()).sqrt().hi;
+    Ok((w.upper, a.upper.min(composed)))
+}
+
 /// Tight bounds for one set-up: vehicle (`J`, `g`), gains (Table I), trajectory constants
 /// (Assumption 1) and the filters' start.
 ///
