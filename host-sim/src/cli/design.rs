@@ -41,7 +41,8 @@ pub struct DesignArgs {
     pub law: AttitudeLaw,
     /// Bounds that certify Theorem 2's torque condition and the box fit: `paper` (Lemma 1 and
     /// Theorem 2 as written; the firmware re-checks them on board) or `tight` (the tight
-    /// a-priori bounds, docs/tight-bounds.md; no firmware file unless the paper's also hold).
+    /// a-priori bounds, docs/tight-bounds.md; no firmware file unless the paper's certificate
+    /// and box fit, which the firmware re-checks, pass too).
     #[arg(long, value_enum, default_value_t = BoundsKind::Paper)]
     pub bounds: BoundsKind,
     /// Output directory.

@@ -507,8 +507,9 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             if r.certificate.paper_certified {
                 ""
             } else {
-                " (the firmware re-checks the paper's certificate on board and would refuse to arm \
-                 this design, so no `firmware.toml` is written: fly `scenario.toml` in simulation)"
+                " (the firmware's gate re-checks the paper's certificate and box fit on board and \
+                 would refuse to arm this design, so no `firmware.toml` is written: fly \
+                 `scenario.toml` in simulation)"
             }
         );
     }
