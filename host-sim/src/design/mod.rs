@@ -15,6 +15,7 @@ pub mod authority;
 pub mod certificate;
 pub mod evaluate;
 pub mod flight;
+pub mod markdown;
 pub mod optimise;
 pub mod reference;
 pub mod report;

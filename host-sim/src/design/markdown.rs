@@ -1,0 +1,210 @@
+//! `design.md`: the report rendered for a reader (binding conditions, certificate, gains,
+//! objective, margins, plots), from the same [`Report`] as `design.json`.
+
+use std::fmt::Write as _;
+
+use super::report::Report;
+
+fn opt(v: Option<f64>, unit: &str) -> String {
+    v.map_or_else(|| "not settled".to_owned(), |v| format!("{v:.3} {unit}"))
+}
+
+/// `design.md`.
+pub fn markdown(r: &Report, plots: &[&str]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# Certified design: {}\n", r.vehicle);
+    let _ = writeln!(
+        s,
+        "Vehicle file `{}` ({}).\n",
+        r.vehicle_file, r.vehicle_source
+    );
+    let _ = writeln!(
+        s,
+        "Seed {}, {} evaluations, {:.1} s wall time. Runs of {} s (`--duration-s`): a run \
+         converges when it has settled 5 s before its end.\n",
+        r.seed, r.evaluations, r.wall_time_s, r.duration_s
+    );
+    if r.reference.scaled {
+        let _ = writeln!(
+            s,
+            "**THE REQUESTED REFERENCE CANNOT BE CERTIFIED ON THIS VEHICLE.** Binding: {}.\n\n\
+             **This design is certified for the same reference slowed down: every frequency x {:.4}.**\n",
+            r.reference.binding.as_deref().unwrap_or("?"),
+            r.reference.scale
+        );
+    } else {
+        let _ = writeln!(s, "The requested reference is certified as is.\n");
+    }
+    let _ = writeln!(
+        s,
+        "## Certificate\n\nEvery condition holds: **{}**. Box fit: **{}** (with the {:.0} % margin: **{}**; \
+         smallest headroom {:.2} % of the rotor range).\n",
+        r.certificate.all_hold,
+        r.box_fit.fits,
+        100.0 * r.box_fit.requested_margin,
+        r.box_fit.fits_with_margin,
+        100.0 * r.box_fit.margin
+    );
+    if r.certificate.bounds == super::tight::BoundsKind::Tight {
+        let _ = writeln!(
+            s,
+            "Certified with the **tight** a-priori bounds (`--bounds tight`, docs/tight-bounds.md): \
+             Theorem 2's torque conditions and the box fit use them; the paper's bound is beside. \
+             With the paper's bounds every condition holds and the box fits with the margin (the \
+             firmware's gate): **{}**{}.\n",
+            r.certificate.paper_certified,
+            if r.certificate.paper_certified {
+                ""
+            } else {
+                " (the firmware's gate re-checks the paper's certificate and box fit on board and \
+                 would refuse to arm this design, so no `firmware.toml` is written: fly \
+                 `scenario.toml` in simulation)"
+            }
+        );
+    }
+    let _ = writeln!(
+        s,
+        "| condition | holds | lhs | rhs | slack | paper's rhs (holds) |\n|---|---|---|---|---|---|"
+    );
+    for c in &r.certificate.conditions {
+        let paper = c.paper.map_or_else(
+            || "–".to_owned(),
+            |(rhs, holds)| format!("{rhs:.6} ({holds})"),
+        );
+        let _ = writeln!(
+            s,
+            "| `{}` | {} | {:.6} | {:.6} | {:.3e} | {paper} |",
+            c.name, c.holds, c.lhs, c.rhs, c.slack
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nTightest condition: `{}` (relative slack {:.3}).\n\nA-priori bounds: T in [{:.4}, {:.4}] N, \
+         |tau| <= [{:.4e}, {:.4e}, {:.4e}] N m. Rotor capacity over that interval (the limits): \
+         T_max = {:.4} N, tau_max = [{:.4e}, {:.4e}, {:.4e}] N m.\n",
+        r.margins.tightest_condition.0,
+        r.margins.tightest_condition.1,
+        r.a_priori.0,
+        r.a_priori.1,
+        r.a_priori.2[0],
+        r.a_priori.2[1],
+        r.a_priori.2[2],
+        r.limits.thrust_max_N,
+        r.limits.torque_max_Nm[0],
+        r.limits.torque_max_Nm[1],
+        r.limits.torque_max_Nm[2],
+    );
+    let g = &r.gains;
+    let _ = writeln!(
+        s,
+        "## Gains\n\n| k_p | k_v | k_f | k_s | M_p | k_theta | k_omega | M_theta | M_omega | delta | alpha |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n| {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4e} | {:.4e} | {:.4e} | {:.4e} | {} | {} |\n",
+        g.kp, g.kv, g.kf, g.ks, g.M_p, g.k_theta, g.k_omega, g.M_theta, g.M_omega, g.delta, g.alpha
+    );
+    if let Some(t) = &g.tilt_priority {
+        let _ = writeln!(
+            s,
+            "Tilt priority (`[gains.tilt_priority]`, docs/tilt-priority.md; `k_omega`, `M_omega` above \
+             are unused): trace weights G = diag({:.4e}, {:.4e}, {:.4e}) N m, per-axis damping gains \
+             [{:.4e}, {:.4e}, {:.4e}] N m s/rad, levels [{:.4e}, {:.4e}, {:.4e}] N m; feedback levels \
+             iota_i = [{:.4e}, {:.4e}, {:.4e}] N m (roll and pitch first: the body z axis turns to the \
+             thrust direction, the heading after).\n",
+            t.trace_weights_Nm[0],
+            t.trace_weights_Nm[1],
+            t.trace_weights_Nm[2],
+            t.omega_gains_Nm_s[0],
+            t.omega_gains_Nm_s[1],
+            t.omega_gains_Nm_s[2],
+            t.omega_levels_Nm[0],
+            t.omega_levels_Nm[1],
+            t.omega_levels_Nm[2],
+            r.feedback_torque_axes_Nm[0],
+            r.feedback_torque_axes_Nm[1],
+            r.feedback_torque_axes_Nm[2],
+        );
+    }
+    let c = &r.choices;
+    let _ = writeln!(
+        s,
+        "Chosen: M_p = {:.3} of its largest certifiable value {:.4} m/s^2; iota = {:.4e} N m = {:.3} of \
+         iota_max = {:.4e} N m; attitude natural frequency {:.2} rad/s (smallest-inertia axis), damping {:.2}; \
+         position natural frequency {:.2} rad/s, damping {:.2}.\n",
+        c.saturation_fraction,
+        r.saturation_max_m_s2,
+        r.feedback_torque_Nm.1,
+        c.iota_fraction,
+        r.feedback_torque_Nm.0,
+        c.attitude_frequency_rad_s,
+        c.attitude_damping,
+        c.position_frequency_rad_s,
+        c.position_damping
+    );
+    let o = &r.objective;
+    let a = &o.authority;
+    if !o.constraints_met {
+        let _ = writeln!(
+            s,
+            "**NO DESIGN WITHIN THE BUDGET MET THE CONVERGENCE CONSTRAINTS** (every 180 degree start and \
+             the upside-down start settled by {:.0} s, also with the motor time constant doubled). The \
+             certificate holds, but the certified authority is small: thrust interval [{:.3}, {:.3}] x \
+             the weight, feedback angular acceleration iota/J = [{:.2}, {:.2}, {:.2}] rad/s^2. The \
+             design below is the best found on the graded penalty.\n",
+            r.duration_s - super::evaluate::TAIL_S,
+            a.thrust_interval_over_weight[0],
+            a.thrust_interval_over_weight[1],
+            a.feedback_angular_acceleration_rad_s2[0],
+            a.feedback_angular_acceleration_rad_s2[1],
+            a.feedback_angular_acceleration_rad_s2[2]
+        );
+    }
+    let _ = writeln!(
+        s,
+        "Certified authority: thrust interval [{:.3}, {:.3}] x the weight; feedback angular acceleration \
+         iota/J = [{:.2}, {:.2}, {:.2}] rad/s^2.\n",
+        a.thrust_interval_over_weight[0],
+        a.thrust_interval_over_weight[1],
+        a.feedback_angular_acceleration_rad_s2[0],
+        a.feedback_angular_acceleration_rad_s2[1],
+        a.feedback_angular_acceleration_rad_s2[2]
+    );
+    let _ = writeln!(
+        s,
+        "## Objective\n\n{}.\n\nValue {:.3}; constraints met: **{}**. Worst settling from 180 degrees: **{}**; \
+         altitude lost from upside down at hover: **{:.3} m**.\n",
+        o.definition,
+        o.value,
+        o.constraints_met,
+        opt(o.worst_settling_180_s, "s"),
+        o.altitude_loss_upside_down_m
+    );
+    let _ = writeln!(
+        s,
+        "| start | settling (nominal) | settling (motor lag doubled) |\n|---|---|---|"
+    );
+    for (i, (name, t)) in o.settling_180_s.iter().enumerate() {
+        let d = r
+            .margins
+            .doubled_lag_settling_180_s
+            .get(i)
+            .and_then(|x| x.1);
+        let _ = writeln!(s, "| {name} | {} | {} |", opt(*t, "s"), opt(d, "s"));
+    }
+    let m = &r.margins;
+    let _ = writeln!(
+        s,
+        "\n## Margins\n\n- box fit: {:.2} % of the rotor range (requested {:.0} %)\n- motor time constant: {} s; \
+         doubled converges: {}; largest that still converges (seven 180 degree starts, bisection): {}\n",
+        100.0 * m.box_fit,
+        100.0 * r.box_fit.requested_margin,
+        m.motor_time_constant_s,
+        m.doubled_lag_converges,
+        opt(m.motor_time_constant_max_converging_s, "s")
+    );
+    if !plots.is_empty() {
+        let _ = writeln!(s, "## Plots\n");
+        for p in plots {
+            let _ = writeln!(s, "![{p}]({p})\n");
+        }
+    }
+    s
+}
