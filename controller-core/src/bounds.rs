@@ -107,10 +107,12 @@ pub struct Bounds<T: Scalar> {
     pub thrust_max: T,
     /// `U_l` of Lemma 1 (dimensionless).
     pub filter_overshoot: T,
-    /// `U_u̇ = 2√3 k_f U_l M_p + K_j` [m/s³]; with the integral action `+ 2 k_η |M_i|`.
+    /// `U_u̇ = 2√3 k_f U_l M_p + K_j` [m/s³]; with the integral action `+ |b|`, `b_i =
+    /// min(2 k_η M_i,i, c R_i,i)` the reachable-set bound on `|η̇_f,i|`
+    /// (`IntegralGains::filtered_rate_bound`).
     pub u_rate: T,
     /// `U_ü = 2√3 k_f M_p (k_f U_l + k_s) + K_s` [m/s⁴]; with the integral action
-    /// `+ k_η (2 k_η |M_i| + |R_i|)`.
+    /// `+ k_η |b + R_i|` (`IntegralGains::filtered_acceleration_bound`).
     pub u_acceleration: T,
     /// `U_ρ̇ = m U_u̇ / T_min` [1/s].
     pub thrust_direction_rate: T,
@@ -307,11 +309,13 @@ pub fn certify<T: Scalar>(
     };
     let mut u_rate = two * sqrt3 * kf * filter_overshoot * mp + k.jerk;
     let mut u_acceleration = two * sqrt3 * kf * mp * (kf * filter_overshoot + ks) + k.snap;
-    // |η̇_f,i| ≤ 2 k_η M_i,i and |η̈_f,i| ≤ k_η (2 k_η M_i,i + R_i,i) (crate::integral).
+    // |η̇_f| and |η̈_f| over the states reachable from arming (crate::integral's reachable-set
+    // bound, never above the whole box's 2 k_η M_i and k_η (2 k_η M_i + R_i)).
     let integral_terms = gains.integral.map(|i| {
-        let rate_term = two * i.bandwidth * i.level.norm();
-        let acceleration_term = i.bandwidth * (two * i.bandwidth * i.level.norm() + i.rate.norm());
-        (rate_term, acceleration_term)
+        (
+            i.filtered_rate_bound().norm(),
+            i.filtered_acceleration_bound().norm(),
+        )
     });
     if let Some((rate_term, acceleration_term)) = integral_terms {
         u_rate += rate_term;

@@ -49,12 +49,29 @@ fn extended_bounds_match_a_hand_evaluation() {
     let (lx, ly, lz) = (2.5f64, 2.6f64, 3.5f64);
     let tmin = m * (g - ka3 - lz);
     let tmax = m * (((lx * lx + ly * ly).sqrt() + ka12).powi(2) + (g + ka3 + lz).powi(2)).sqrt();
-    let ke = 5.0;
-    let mi = (0.25f64 + 0.36 + 2.25).sqrt();
-    let ri = (0.09f64 + 0.16 + 1.44).sqrt();
+    let ke: f64 = 5.0;
+    // Reachable-set bound per axis: min(2 k_η M_i, c (R_i + 16 ε M_i / h)), c = x/(1 − e^−x),
+    // x = k_η h, h = 0.01 s; here every axis takes the reachable one (0.3 < 2·5·0.5, ...).
+    let x: f64 = ke * 0.01;
+    let c = x / (1.0 - (-x).exp());
+    let levels = [0.5, 0.6, 1.5];
+    let rates = [0.3, 0.4, 1.2];
+    let rate_bound: Vec<f64> = (0..3)
+        .map(|i| {
+            let reachable = c * (rates[i] + 16.0 * f64::EPSILON * levels[i] / 0.01);
+            assert!(reachable < 2.0 * ke * levels[i]);
+            reachable
+        })
+        .collect();
+    let rate_term = rate_bound.iter().map(|b| b * b).sum::<f64>().sqrt();
+    let acceleration_term = ke
+        * (0..3)
+            .map(|i| (rate_bound[i] + rates[i]).powi(2))
+            .sum::<f64>()
+            .sqrt();
     let ul = (kf / ks).powf(kf / (ks - kf));
-    let uud = 2.0 * 3f64.sqrt() * kf * ul * mp + kj + 2.0 * ke * mi;
-    let uudd = 2.0 * 3f64.sqrt() * kf * mp * (kf * ul + ks) + kss + ke * (2.0 * ke * mi + ri);
+    let uud = 2.0 * 3f64.sqrt() * kf * ul * mp + kj + rate_term;
+    let uudd = 2.0 * 3f64.sqrt() * kf * mp * (kf * ul + ks) + kss + acceleration_term;
     let a = tmin / m;
     let lxy = (lx * lx + ly * ly).sqrt();
     let lw = a / (a * a + (lxy + ka12).powi(2)).sqrt();
@@ -71,7 +88,7 @@ fn extended_bounds_match_a_hand_evaluation() {
         max_relative = 1e-14
     );
     let i = c.integral.unwrap();
-    assert_relative_eq!(i.u_rate_term, 2.0 * ke * mi, max_relative = 1e-14);
+    assert_relative_eq!(i.u_rate_term, rate_term, max_relative = 1e-14);
     assert_eq!(c.conditions[5].rhs, lz);
 }
 

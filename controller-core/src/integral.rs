@@ -12,8 +12,18 @@
 //!   combination, so `|η_f,i| ≤ M_i,i` too;
 //! * the derivatives the attitude reference needs are in closed form (never differenced):
 //!   `η̇_f = −k_η (η_f − η)` and `η̈_f = −k_η (η̇_f − η̇)`, with `η̇` the clamped rate used over the
-//!   coming sample. Hence `|η̇_f,i| ≤ 2 k_η M_i,i` and `|η̈_f,i| ≤ k_η (2 k_η M_i,i + R_i)`, the
-//!   terms [`crate::certify`] adds to Lemma 1.
+//!   coming sample. Hence `|η̇_f,i| ≤ 2 k_η M_i,i` and `|η̈_f,i| ≤ k_η (|η̇_f,i| + R_i)`;
+//! * **reachable-set bound** on `η̇_f` ([`IntegralGains::filtered_rate_bound`]): the state starts
+//!   at `η = η_f = 0` ([`IntegralState::zero`], at arming) and is only ever changed by
+//!   [`IntegralGains::advance`], whose estimate step is at most `R_i min(h, h_max)`
+//!   ([`MAX_ESTIMATE_STEP_S`]: a late sample moves the estimate no further than an on-time one).
+//!   With `e = η − η_f` at a sample, one advance gives `e' = Δη + e^{−k_η h} e`, so
+//!   `|e'| ≤ R_i s + e^{−k_η s} |e|` (`s = min(h, h_max)`), and `|e| ≤ (R_i/k_η) c` with
+//!   `c = x/(1 − e^{−x})`, `x = k_η h_max`, is invariant (the right side of the step grows with
+//!   `s`). Hence `|η̇_f,i| = k_η |e_i| ≤ c R_i`, however long the estimate has been driven, which
+//!   is far below `2 k_η M_i,i` when the estimate's rate is limited (`R_i ≪ 2 k_η M_i,i`); a few
+//!   units of rounding of the scalar type are added. These are the terms [`crate::certify`]
+//!   adds to Lemma 1.
 //!
 //! The position law with the integral on is `u = u_f + η_f + g e₃ + p̈_d`; in equilibrium under a
 //! constant acceleration disturbance `d`, `η_f = η = −d` and `z₁ = z₂ = 0`, `p̃ = 0`.
@@ -22,7 +32,12 @@ use nalgebra::Vector3;
 
 use crate::disturbance_observer::ObserverGains;
 use crate::params::{positive, ParameterError};
-use crate::scalar::Scalar;
+use crate::scalar::{lit, Scalar};
+
+/// Longest sample over which the estimate moves \[s\] (the slowest control rate, 100 Hz): a
+/// longer sample advances it by at most `R_i` times this, which keeps the reachable-set bound
+/// ([`IntegralGains::filtered_rate_bound`]) independent of timing jitter.
+pub const MAX_ESTIMATE_STEP_S: f64 = 0.01;
 
 /// Gains and levels of the integral action (extension, docs/integral-action.md).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -92,6 +107,38 @@ impl<T: Scalar> IntegralGains<T> {
         })
     }
 
+    /// `c = x/(1 − e^{−x})` with `x = k_η h_max` (dimensionless, `≥ 1`): the factor of the
+    /// reachable-set bound (module docs).
+    pub fn sample_factor(&self) -> T {
+        let x = self.bandwidth * lit::<T>(MAX_ESTIMATE_STEP_S);
+        x / (T::one() - (-x).exp())
+    }
+
+    /// Per-axis bound on `|η̇_f,i|` [m/s³] at every sample reachable from
+    /// [`IntegralState::zero`]: `min(2 k_η M_i,i, c (R_i,i + 16 ε M_i,i / h_max))`, the second
+    /// the reachable-set bound of the module docs with the scalar type's rounding (`ε` its
+    /// machine epsilon) of the filter's propagation added. Source: extension,
+    /// docs/integral-action.md.
+    pub fn filtered_rate_bound(&self) -> Vector3<T> {
+        let c = self.sample_factor();
+        let rounding = lit::<T>(16.0) * T::default_epsilon() / lit::<T>(MAX_ESTIMATE_STEP_S);
+        Vector3::from_fn(|i, _| {
+            let reachable = c * (self.rate[i] + rounding * self.level[i]);
+            let anywhere = lit::<T>(2.0) * self.bandwidth * self.level[i];
+            if reachable < anywhere {
+                reachable
+            } else {
+                anywhere
+            }
+        })
+    }
+
+    /// Per-axis bound on `|η̈_f,i|` [m/s⁴]: `k_η (|η̇_f,i| + R_i,i)` with
+    /// [`Self::filtered_rate_bound`]. Source: extension, docs/integral-action.md.
+    pub fn filtered_acceleration_bound(&self) -> Vector3<T> {
+        (self.filtered_rate_bound() + self.rate) * self.bandwidth
+    }
+
     /// `η_f` [m/s²] and its closed-form derivatives [m/s³], [m/s⁴] at the sample, given the
     /// rate `η̇` from [`Self::rate_of`]. All inertial.
     pub fn output(&self, state: &IntegralState<T>, rate: &Vector3<T>) -> IntegralOutput<T> {
@@ -106,13 +153,17 @@ impl<T: Scalar> IntegralGains<T> {
 
     /// Advances the state over a sample of length `h` \[s\] with the rate `η̇` [m/s³] (from
     /// [`Self::rate_of`]): the filter by its exact solution with the current estimate held, then
-    /// the estimate by one clamped Euler step. Both stay in `[−M_i, M_i]` per axis if they start
-    /// there (the filter output is a convex combination of two values in the box).
+    /// the estimate by one clamped Euler step of length `min(h, h_max)`
+    /// ([`MAX_ESTIMATE_STEP_S`]; the reachable-set bound needs it). Both stay in `[−M_i, M_i]`
+    /// per axis if they start there (the filter output is a convex combination of two values in
+    /// the box).
     pub fn advance(&self, state: &IntegralState<T>, rate: &Vector3<T>, h: T) -> IntegralState<T> {
         let decay = (-self.bandwidth * h).exp();
         let filtered = state.estimate + (state.filtered - state.estimate) * decay;
+        let h_max = lit::<T>(MAX_ESTIMATE_STEP_S);
+        let step = if h > h_max { h_max } else { h };
         let estimate = Vector3::from_fn(|i, _| {
-            (state.estimate[i] + h * rate[i]).clamp(-self.level[i], self.level[i])
+            (state.estimate[i] + step * rate[i]).clamp(-self.level[i], self.level[i])
         });
         IntegralState {
             estimate,
@@ -192,12 +243,18 @@ mod tests {
                 for i in 0..3 {
                     prop_assert!(next.estimate[i].abs() <= g.level[i]);
                     prop_assert!(next.filtered[i].abs() <= g.level[i]);
-                    prop_assert!((next.estimate[i] - s.estimate[i]).abs() <= g.rate[i] * h * (1.0 + 1e-12));
+                    let step = h.min(MAX_ESTIMATE_STEP_S);
+                    prop_assert!((next.estimate[i] - s.estimate[i]).abs() <= g.rate[i] * step * (1.0 + 1e-12));
                     prop_assert!(rate[i].abs() <= g.rate[i]);
-                    // The a-priori bounds certify adds to Lemma 1.
-                    prop_assert!(out.filtered_dot[i].abs() <= 2.0 * g.bandwidth * g.level[i] * (1.0 + 1e-12));
-                    prop_assert!(out.filtered_ddot[i].abs()
-                        <= g.bandwidth * (2.0 * g.bandwidth * g.level[i] + g.rate[i]) * (1.0 + 1e-12));
+                    // The a-priori bounds certify adds to Lemma 1: the reachable-set ones, and
+                    // the whole-box ones they never exceed.
+                    let (rate_bound, acceleration_bound) =
+                        (g.filtered_rate_bound()[i], g.filtered_acceleration_bound()[i]);
+                    prop_assert!(out.filtered_dot[i].abs() <= rate_bound,
+                        "|eta_f dot| {} > {rate_bound}", out.filtered_dot[i].abs());
+                    prop_assert!(out.filtered_ddot[i].abs() <= acceleration_bound,
+                        "|eta_f ddot| {} > {acceleration_bound}", out.filtered_ddot[i].abs());
+                    prop_assert!(rate_bound <= 2.0 * g.bandwidth * g.level[i]);
                     if frozen {
                         prop_assert_eq!(next.estimate[i], s.estimate[i]);
                     }

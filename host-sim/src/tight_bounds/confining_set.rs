@@ -14,8 +14,9 @@
 //!
 //! **Integral action** (extension, docs/integral-action.md; `controller_core::integral`): with
 //! it on, `u = u_f + η_f + g e₃ + p̈_d` with, per component, `|η_f,i| ≤ M_i,i`,
-//! `|η̇_f,i| ≤ 2 k_η M_i,i` and `|η̈_f,i| ≤ k_η (2 k_η M_i,i + R_i,i)` (the clamps hold them
-//! there by construction, whatever the estimate's input). Each box above widens by these terms
+//! `|η̇_f,i| ≤ b_i = min(2 k_η M_i,i, c R_i,i)` and `|η̈_f,i| ≤ k_η (b_i + R_i,i)` (the clamps
+//! and the rate limit hold them there by construction over every state reachable from arming,
+//! whatever the estimate's input: `controller_core::integral`'s reachable-set bound). Each box above widens by these terms
 //! (a sum of independent boxes: sound), and `u₃ ≥ g − M_p − M_i,z − K_a3` must stay positive.
 //! The two horizontal components take the larger of their terms, so that the boxes keep the
 //! symmetries below (a superset: sound), and every `ü_i` the largest of the three, as without
@@ -38,9 +39,10 @@ use super::interval::{next_up, Interval};
 pub(super) struct IntegralTerms {
     /// `M_i,i` [m/s²].
     pub(super) level: [f64; 3],
-    /// `2 k_η M_i,i` [m/s³].
+    /// `b_i = min(2 k_η M_i,i, c R_i,i)` [m/s³], the reachable-set bound on `|η̇_f,i|`
+    /// (`controller_core::IntegralGains::filtered_rate_bound`).
     pub(super) rate: [f64; 3],
-    /// `k_η (2 k_η M_i,i + R_i,i)` [m/s⁴].
+    /// `k_η (b_i + R_i,i)` [m/s⁴].
     pub(super) acceleration: [f64; 3],
 }
 
@@ -55,7 +57,10 @@ impl IntegralTerms {
             };
         };
         let p = Interval::point;
-        let rate = |c: usize| (p(2.0) * p(i.bandwidth) * p(i.level[c])).hi;
+        // The reachable-set bound of controller_core::integral (never above 2 k_η M_i),
+        // evaluated in floating point; 4 ulps cover its own rounding.
+        let reachable = i.filtered_rate_bound();
+        let rate = |c: usize| reachable[c] * (1.0 + 4.0 * f64::EPSILON);
         Self {
             level: core::array::from_fn(|c| i.level[c]),
             rate: core::array::from_fn(rate),

@@ -6,10 +6,10 @@
 //! `η_f,i`:
 //! - `u_i = u_f + g_i + (a + η_f,i)` and `u̇_i = k_f d + (j + η̇_f,i)`;
 //! - `ü_i = −k_f(k_f + k_s) d − k_f k_s u_f + e_i` with the residual
-//!   `e_i = k_f k_s ubar_i + s + η̈_f,i`, `|e_i| ≤ E_i = k_f k_s M_p + K_s + k_η(2k_η M_i,i + R_i,i)`.
+//!   `e_i = k_f k_s ubar_i + s + η̈_f,i`, `|e_i| ≤ E_i = k_f k_s M_p + K_s + k_η(b_i + R_i,i)`.
 //!
 //! **`ü` tied to the filter states** (proven, an identity). The other terms of `u_i` and `u̇_i`
-//! range over `|a + η_f,i| ≤ A_i = K_a + M_i,i` and `|j + η̇_f,i| ≤ B_i = K_j + 2k_η M_i,i`
+//! range over `|a + η_f,i| ≤ A_i = K_a + M_i,i` and `|j + η̇_f,i| ≤ B_i = K_j + b_i` (`b_i = min(2k_η M_i,i, c R_i,i)`, the integral action's reachable-set bound)
 //! (`K_a = K_a12` horizontally, `K_a3` vertically; each component of a vector is at most its
 //! norm; the integral terms are zero with it off), and they do not enter `ü` except through
 //! `e_i`. `ω̇_d` is affine in `ü` for fixed `(u, u̇, ψ, ψ̇)`, hence in `e`: its squared norm is
@@ -145,7 +145,7 @@ pub struct FilterPolygon {
     pub residual: [f64; 3],
     /// `A_i = K_a + M_i,i`: half-width of the other terms of `u_i` [m/s²].
     pub value_range: [f64; 3],
-    /// `B_i = K_j + 2k_η M_i,i`: half-width of the other terms of `u̇_i` [m/s³].
+    /// `B_i = K_j + b_i`: half-width of the other terms of `u̇_i` [m/s³].
     pub rate_range: [f64; 3],
     /// Half-widths of the boxes of `u_f` and `d` [m/s²] (the supports along the axes).
     pub state_box: [f64; 2],

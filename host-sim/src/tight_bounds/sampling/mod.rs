@@ -265,8 +265,13 @@ impl AdmissibleState {
         let (integral, integral_rate) = match &setup.gains.integral {
             None => (IntegralState::zero(), Vector3::zeros()),
             Some(i) => {
+                // The states reachable from arming: |η − η_f| ≤ b/k_η per axis
+                // (controller_core::integral's reachable-set bound).
                 let estimate = Vector3::from_fn(|c, _| r.unit() * i.level[c]);
-                let filtered = Vector3::from_fn(|c, _| r.unit() * i.level[c]);
+                let gap = i.filtered_rate_bound() / i.bandwidth;
+                let filtered = Vector3::from_fn(|c, _| {
+                    (estimate[c] - r.unit() * gap[c]).clamp(-i.level[c], i.level[c])
+                });
                 let rate = Vector3::from_fn(|c, _| r.unit() * i.rate[c]);
                 (IntegralState { estimate, filtered }, rate)
             }
