@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 use host_sim::design::{
+    integral::IntegralSpec,
     run::{DEFAULT_DURATION_S, DEFAULT_EVALUATIONS},
     run_design,
     tight::BoundsKind,
@@ -45,6 +46,28 @@ pub struct DesignArgs {
     /// and box fit, which the firmware re-checks, pass too).
     #[arg(long, value_enum, default_value_t = BoundsKind::Paper)]
     pub bounds: BoundsKind,
+    /// Carry the bounded integral action (docs/integral-action.md), sized to cover
+    /// `--integral-mass-error` and `--integral-force-fraction`; every bound is then the extended
+    /// one, and the flight file switches it on.
+    #[arg(long)]
+    pub integral: bool,
+    /// With `--integral`: largest plant mass error covered, fraction of the vehicle's mass.
+    #[arg(
+        long,
+        value_name = "FRACTION",
+        default_value_t = 0.2,
+        requires = "integral"
+    )]
+    pub integral_mass_error: f64,
+    /// With `--integral`: largest constant force covered (any direction), fraction of the
+    /// plant's weight.
+    #[arg(
+        long,
+        value_name = "FRACTION",
+        default_value_t = 0.1,
+        requires = "integral"
+    )]
+    pub integral_force_fraction: f64,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/design")]
     pub out: PathBuf,
@@ -52,6 +75,21 @@ pub struct DesignArgs {
 
 /// Runs the design and prints where its files went.
 pub fn run(args: &DesignArgs) -> Result<()> {
+    let integral = if args.integral {
+        let gravity = host_sim::design::vehicle::DesignVehicle::load(&args.vehicle)?
+            .body
+            .gravity;
+        Some(
+            IntegralSpec::covering(
+                gravity,
+                args.integral_mass_error,
+                args.integral_force_fraction,
+            )
+            .map_err(anyhow::Error::msg)?,
+        )
+    } else {
+        None
+    };
     let outcome = run_design(&DesignOptions {
         vehicle: args.vehicle.clone(),
         reference: args.reference.clone(),
@@ -61,6 +99,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         duration_s: args.duration_s,
         law: args.law,
         bounds: args.bounds,
+        integral,
         out: args.out.clone(),
     })?;
     let r = &outcome.report;

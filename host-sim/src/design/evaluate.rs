@@ -6,7 +6,10 @@
 //!   settling as in [`crate::campaign::metrics`] (5 cm and 2°, staying below until the end);
 //! - recovery from upside down at hover: a hover at `p_d(0)` with heading `ψ_d(0)`, started
 //!   rotated 180° about body x with zero velocity; the altitude lost is `z(0) − min z`;
-//! - robustness: the seven starts again with the motor time constant doubled.
+//! - robustness: the seven starts again with the motor time constant doubled;
+//! - with the integral action (`design --integral`): the disturbance it covers, at hover from
+//!   rest, upright: the plant's mass raised by the covered fraction `e` and a constant force of
+//!   the covered fraction `f` of the plant's weight pushing down ([`disturbed_hover`]).
 //!
 //! A run *converges* when it has settled by `duration − 5 s` and the attitude error stays below
 //! 1° over the last 5 s (no limit cycle).
@@ -143,6 +146,41 @@ pub fn upside_down(hover: &Scenario, trace: bool) -> Result<Trial> {
     fly_trial(hover, "upside_down_hover", &initial, trace)
 }
 
+/// The hover scenario with the worst disturbance `spec` covers: plant mass `× (1 + e)` and a
+/// constant force `f (1 + e) m g` straight down (inertial), so the vertical estimate must reach
+/// its whole level `M_i,z`.
+pub fn disturbed(hover: &Scenario, spec: &super::integral::IntegralSpec) -> Scenario {
+    let mut s = hover.clone();
+    let v = &s.vehicle;
+    let weight = (1.0 + spec.mass_error_fraction) * v.mass_kg * v.gravity_m_s2;
+    s.perturbations.mass_error_fraction = spec.mass_error_fraction;
+    s.perturbations.force_disturbance_N = [0.0, 0.0, -spec.force_fraction * weight];
+    s
+}
+
+/// The disturbed hover ([`disturbed`]) from rest at the hover point, upright with heading
+/// `ψ_d(0)`.
+pub fn disturbed_hover(
+    hover: &Scenario,
+    spec: &super::integral::IntegralSpec,
+    trace: bool,
+) -> Result<Trial> {
+    let s = disturbed(hover, spec);
+    let zero = SamplerRadii {
+        position_m: 0.0,
+        velocity_m_s: 0.0,
+        angular_velocity_rad_s: 0.0,
+    };
+    let rd = Rotation3::from_matrix_unchecked(Sampler::new(&s, zero)?.desired_rotation0());
+    let initial = RigidBodyState {
+        position: controller_core::Trajectory::sample(&s.trajectory::<f64>(), 0.0).position,
+        velocity: Vector3::zeros(),
+        attitude: UnitQuaternion::from_rotation_matrix(&rd),
+        angular_velocity: Vector3::zeros(),
+    };
+    fly_trial(&s, "disturbed_hover", &initial, trace)
+}
+
 /// A design's score.
 #[derive(Clone, Debug, Serialize)]
 pub struct Evaluation {
@@ -162,17 +200,20 @@ pub struct Evaluation {
     pub doubled_lag: Vec<Trial>,
     /// The upside-down recovery.
     pub upside_down: Trial,
+    /// With the integral action: the disturbed hover ([`disturbed_hover`]).
+    pub disturbed_hover: Option<Trial>,
 }
 
 /// Scores a design: `worst settling [s] + 0.5 × worst settling with the motor time constant
-/// doubled [s] + 1 s/m × altitude lost [m]` when every run
+/// doubled [s] + 1 s/m × altitude lost [m]` (`+` the disturbed hover's settling time \[s\] with
+/// `integral`) when every run
 /// converges, else `PENALTY + 100 × (runs not converged) + 10 ln(1 + altitude lost [m]) +
-/// Σ ln(1 + final position error [m])` over the nominal 180° starts. `scenario` and `hover` fly the
-/// vehicle's motor time constant `tau_m` \[s\].
+/// Σ ln(1 + final position error [m])` over the nominal 180° starts (and the disturbed hover).
+/// `scenario` and `hover` fly the vehicle's motor time constant `tau_m` \[s\].
 pub fn evaluate(
     scenario: &Scenario,
     hover: &Scenario,
-    tau_m: f64,
+    (tau_m, integral): (f64, Option<&super::integral::IntegralSpec>),
     trace: bool,
 ) -> Result<Evaluation> {
     let (nominal, upside) = rayon::join(
@@ -185,6 +226,16 @@ pub fn evaluate(
         || upside_down(&super::flight::with_motor_lag(hover, tau_m, tau_m), trace),
     );
     let (nominal, upside) = (nominal?, upside?);
+    let disturbed = integral
+        .map(|spec| {
+            disturbed_hover(
+                &super::flight::with_motor_lag(hover, tau_m, tau_m),
+                spec,
+                trace,
+            )
+        })
+        .transpose()?;
+    let disturbed_failures = usize::from(disturbed.as_ref().is_some_and(|t| !t.converged));
     let nominal_failures = nominal.iter().filter(|t| !t.converged).count();
     let doubled = if nominal_failures == 0 {
         half_turns(
@@ -199,7 +250,8 @@ pub fn evaluate(
     } else {
         doubled.iter().filter(|t| !t.converged).count()
     };
-    let failures = nominal_failures + doubled_failures + usize::from(!upside.converged);
+    let failures =
+        nominal_failures + doubled_failures + usize::from(!upside.converged) + disturbed_failures;
     let worst = nominal
         .iter()
         .map(|t| t.settling_time_s)
@@ -213,12 +265,17 @@ pub fn evaluate(
                 .fold(0.0f64, f64::max);
             w + DOUBLED_LAG_WEIGHT * doubled_worst
                 + ALTITUDE_WEIGHT_S_PER_M * upside.altitude_loss_m
+                + disturbed
+                    .as_ref()
+                    .and_then(|t| t.settling_time_s)
+                    .unwrap_or(0.0)
         }
         // Graded, so the optimiser can climb towards feasibility: fewer failures first, then
         // less altitude lost and smaller final errors.
         _ => {
             let misses: f64 = nominal
                 .iter()
+                .chain(disturbed.as_ref())
                 .map(|t| t.final_position_error_m.min(1e6).ln_1p())
                 .sum();
             PENALTY
@@ -236,6 +293,7 @@ pub fn evaluate(
         nominal,
         doubled_lag: doubled,
         upside_down: upside,
+        disturbed_hover: disturbed,
     })
 }
 

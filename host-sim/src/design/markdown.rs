@@ -62,6 +62,30 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             }
         );
     }
+    if let (Some(spec), Some(i)) = (&r.integral, &r.gains.integral) {
+        let _ = writeln!(
+            s,
+            "With the **bounded integral action** (`--integral`, docs/integral-action.md), sized to \
+             cover a plant mass error of {:.0} % and a constant force of {:.0} % of the weight: \
+             level `M_i` = ({:.3}, {:.3}, {:.3}) m/s², rate limit `R_i` = ({:.3}, {:.3}, {:.3}) m/s³, \
+             output filter `k_η` = {:.3} 1/s, `k_i` = {:.4} 1/s³, observer `L_v` = {:.3} 1/s, \
+             `L_d` = {:.3} 1/s². Every bound below is the extended one (Theorem 1's interval and \
+             Lemma 1 with the estimate's terms), and the loop's local stability conditions are in \
+             the table.\n",
+            100.0 * spec.mass_error_fraction,
+            100.0 * spec.force_fraction,
+            i.M_i_m_s2[0],
+            i.M_i_m_s2[1],
+            i.M_i_m_s2[2],
+            i.rate_m_s3[0],
+            i.rate_m_s3[1],
+            i.rate_m_s3[2],
+            i.k_eta,
+            i.k_i,
+            i.observer.as_ref().map_or(f64::NAN, |o| o.velocity_gain_1_s),
+            i.observer.as_ref().map_or(f64::NAN, |o| o.disturbance_gain_1_s2),
+        );
+    }
     let _ = writeln!(
         s,
         "| condition | holds | lhs | rhs | slack | paper's rhs (holds) |\n|---|---|---|---|---|---|"
@@ -188,6 +212,16 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             .get(i)
             .and_then(|x| x.1);
         let _ = writeln!(s, "| {name} | {} | {} |", opt(*t, "s"), opt(d, "s"));
+    }
+    if let Some(d) = &o.disturbed_hover {
+        let _ = writeln!(
+            s,
+            "\nDisturbed hover (the integral action's covered disturbance: plant mass and a \
+             downward force, from rest): settling **{}**, altitude lost {:.3} m, final error {:.2e} m.",
+            opt(d.settling_s, "s"),
+            d.altitude_loss_m,
+            d.final_position_error_m
+        );
     }
     let m = &r.margins;
     let _ = writeln!(

@@ -9,12 +9,14 @@
 //! 180° starts, upside down at hover, the doubled motor time constant); [`optimise`] runs
 //! argmin's particle swarm; [`mod@reference`] scales the reference down when it cannot be
 //! certified; [`report`] writes `design.json`, `design.md`, the plots, `scenario.toml` and
-//! `firmware.toml`. [`vehicle`] reads the vehicle file, [`flight`] builds the scenarios.
+//! `firmware.toml`. [`vehicle`] reads the vehicle file, [`flight`] builds the scenarios;
+//! [`integral`] sizes the bounded integral action of `design --integral`.
 
 pub mod authority;
 pub mod certificate;
 pub mod evaluate;
 pub mod flight;
+pub mod integral;
 pub mod markdown;
 pub mod optimise;
 pub mod reference;

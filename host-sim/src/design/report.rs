@@ -103,11 +103,27 @@ pub struct ObjectiveEntry {
     pub worst_settling_180_s: Option<f64>,
     /// Settling time per 180° start \[s\].
     pub settling_180_s: Vec<(String, Option<f64>)>,
-    /// Every constraint met (all runs converge, nominal and doubled motor lag).
+    /// With `--integral`: the disturbed hover (plant mass `× (1 + e)`, force `f` of its weight
+    /// down, from rest; `design::evaluate::disturbed_hover`): settling time \[s\] (`null`: not
+    /// settled) and the altitude lost \[m\]. `null` without the integral action.
+    pub disturbed_hover: Option<DisturbedEntry>,
+    /// Every constraint met (all runs converge, nominal and doubled motor lag, and the disturbed
+    /// hover with the integral action).
     pub constraints_met: bool,
     /// The certified authority in flight terms: `[T_min, T_max] / (m g)` and the feedback
     /// angular acceleration `ι / J_ii` [rad/s²] per axis.
     pub authority: AuthorityEntry,
+}
+
+/// `objective.disturbed_hover`.
+#[derive(Clone, Debug, Serialize)]
+pub struct DisturbedEntry {
+    /// Settling time (5 cm, 2°, until the end) \[s\]; `None`: not settled.
+    pub settling_s: Option<f64>,
+    /// `z(0) − min z` \[m\].
+    pub altitude_loss_m: f64,
+    /// `|p − p_d|` at the end \[m\].
+    pub final_position_error_m: f64,
 }
 
 /// The certified authority in flight terms.
@@ -164,6 +180,9 @@ pub struct Report {
     pub limits: LimitsConfig,
     /// The attitude feedback searched (`paper` or `tilt-priority`).
     pub law: super::variables::AttitudeLaw,
+    /// With `--integral`: the disturbance the bounded integral action covers and its level
+    /// `M_i` [m/s²] (its gains are in `gains.integral`); `null` without.
+    pub integral: Option<super::integral::IntegralSpec>,
     /// The physical choices behind the gains.
     pub choices: Choices,
     /// `M_p,max(k_f, k_s)` [m/s²].
@@ -260,6 +279,7 @@ impl Report {
             gains: gains_config(g),
             limits: limits_config(&c.limits),
             law: o.law,
+            integral: o.integral,
             choices,
             saturation_max_m_s2: best.mapped.saturation_max,
             feedback_torque_Nm: (best.mapped.iota_max, b.feedback_torque),
@@ -269,7 +289,8 @@ impl Report {
                 definition: format!(
                     "worst settling time over the seven 180 degree starts [s] + {DOUBLED_LAG_WEIGHT} x the same \
                      with the motor time constant doubled [s] + {ALTITUDE_WEIGHT_S_PER_M} s/m x \
-                     altitude lost recovering from upside down at hover [m], on the scenario's plant \
+                     altitude lost recovering from upside down at hover [m] (+ the disturbed hover's \
+                     settling time [s] with --integral), on the scenario's plant \
                      with the vehicle's motor time constant and the controller's sample-and-hold; \
                      settled: |p - p_d| < 5 cm and attitude error < 2 deg until the end; constraint: \
                      every run (also with the motor time constant doubled) settles by the end - {TAIL_S} s \
@@ -279,6 +300,11 @@ impl Report {
                 altitude_loss_upside_down_m: e.altitude_loss_upside_down_m,
                 worst_settling_180_s: e.worst_settling_180_s,
                 settling_180_s: settling(&e.nominal),
+                disturbed_hover: e.disturbed_hover.as_ref().map(|t| DisturbedEntry {
+                    settling_s: t.settling_time_s,
+                    altitude_loss_m: t.altitude_loss_m,
+                    final_position_error_m: t.final_position_error_m,
+                }),
                 constraints_met: e.feasible,
                 authority: AuthorityEntry {
                     thrust_interval_over_weight: [b.thrust_min, b.thrust_max]

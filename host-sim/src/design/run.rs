@@ -10,6 +10,7 @@ use super::authority::RotorSet;
 use super::certificate::{certify_design_with, Certified};
 use super::evaluate::{evaluate, largest_converging_lag, Evaluation, PENALTY};
 use super::flight::{scenarios, FlightSettings};
+use super::integral::IntegralSpec;
 use super::optimise::minimise;
 use super::reference::{largest_certifiable_scale, Reference};
 use super::report::{write_outputs, Report};
@@ -49,6 +50,9 @@ pub struct DesignOptions {
     pub law: AttitudeLaw,
     /// The bounds that certify Theorem 2's torque condition and the box fit.
     pub bounds: BoundsKind,
+    /// `Some`: the design carries the bounded integral action sized to cover this disturbance,
+    /// certified with the extended bounds (`--integral`, [`super::integral`]).
+    pub integral: Option<IntegralSpec>,
     /// Output directory.
     pub out: PathBuf,
 }
@@ -84,13 +88,19 @@ pub const AUTHORITY_SHARE: f64 = 0.75;
 fn iota_floor(
     vehicle: &DesignVehicle,
     set: &RotorSet,
-    (margin, bounds): (f64, BoundsKind),
+    (margin, bounds, integral): (f64, BoundsKind, Option<&IntegralSpec>),
     constants: &controller_core::TrajectoryConstants<f64>,
 ) -> f64 {
-    super::authority::envelope_with(bounds, &vehicle.body, constants, (1e-6, 0.3, 0.45))
-        .map_or(f64::NEG_INFINITY, |env| {
-            super::authority::iota_max(set, &env, margin)
-        })
+    super::authority::envelope_with(
+        bounds,
+        &vehicle.body,
+        constants,
+        (1e-6, 0.3, 0.45),
+        integral,
+    )
+    .map_or(f64::NEG_INFINITY, |env| {
+        super::authority::iota_max(set, &env, margin)
+    })
 }
 
 /// Certifies `mapped` with the bounds of `kind` (the tight ones with `boxes` per search).
@@ -124,19 +134,25 @@ fn binding_condition(
     vehicle: &DesignVehicle,
     set: &RotorSet,
     (margin, law, bounds): (f64, AttitudeLaw, BoundsKind),
+    integral: Option<&IntegralSpec>,
     r: &Reference,
 ) -> Option<String> {
     let constants = r.constants();
     let hover = iota_floor(
         vehicle,
         set,
-        (margin, bounds),
+        (margin, bounds, integral),
         &controller_core::TrajectoryConstants::zero(),
     );
-    let floor = iota_floor(vehicle, set, (margin, bounds), &constants);
+    let floor = iota_floor(vehicle, set, (margin, bounds, integral), &constants);
     if floor < AUTHORITY_SHARE * hover {
-        let env =
-            super::authority::envelope_with(bounds, &vehicle.body, &constants, (1e-6, 0.3, 0.45));
+        let env = super::authority::envelope_with(
+            bounds,
+            &vehicle.body,
+            &constants,
+            (1e-6, 0.3, 0.45),
+            integral,
+        );
         let detail = env.map_or_else(String::new, |env| {
             format!(
                 " (thrust interval [{:.4}, {:.4}] N; reference feedforward torque bound \
@@ -169,6 +185,7 @@ fn binding_condition(
         rotors: set,
         margin,
         bounds,
+        integral,
     };
     let Some(m) = map(&ctx, &probe) else {
         return Some(
@@ -236,7 +253,7 @@ fn refuse_impossible(vehicle: &DesignVehicle) -> Result<RotorSet> {
     let hover = iota_floor(
         vehicle,
         &set,
-        (0.0, BoundsKind::Paper),
+        (0.0, BoundsKind::Paper, None),
         &controller_core::TrajectoryConstants::zero(),
     );
     if hover <= 0.0 {
@@ -247,6 +264,35 @@ fn refuse_impossible(vehicle: &DesignVehicle) -> Result<RotorSet> {
         );
     }
     Ok(set)
+}
+
+/// Refuses an integral action the vehicle cannot carry, with the numbers: the extended
+/// Theorem 1 needs `T_min = m(g − K_a3 − M_p − M_i,z) > 0`, and the rotors must at least hold
+/// the covered plant, `m(g + M_i,z)`.
+fn refuse_uncoverable(vehicle: &DesignVehicle, set: &RotorSet, spec: &IntegralSpec) -> Result<()> {
+    let (m, g) = (vehicle.body.mass, vehicle.body.gravity);
+    let level = spec.level_m_s2[2];
+    if level >= g {
+        bail!(
+            "--integral: covering a mass error of {} and a force of {} of the weight needs a vertical \
+             level M_i,z = {level:.4} m/s^2 >= g = {g} m/s^2, which leaves the extended Theorem 1 no \
+             thrust floor T_min = m(g - K_a3 - M_p - M_i,z) > 0",
+            spec.mass_error_fraction,
+            spec.force_fraction
+        );
+    }
+    let needed = m * (g + level);
+    if set.thrust_total_max() <= needed {
+        bail!(
+            "--integral: {}: the rotors' 4 x thrust_max_N = {:.4} N cannot hold the covered plant \
+             (mass error {}, force {} of the weight): m (g + M_i,z) = {needed:.4} N",
+            vehicle.origin,
+            set.thrust_total_max(),
+            spec.mass_error_fraction,
+            spec.force_fraction
+        );
+    }
+    Ok(())
 }
 
 /// Loads the requested reference and its controller period \[s\].
@@ -303,8 +349,13 @@ fn score(
         settings,
     )
     .map_err(|_| 10.0 * PENALTY)?;
-    let evaluation = evaluate(&scenario, &hover, vehicle.motor_time_constant_s, trace)
-        .map_err(|_| 10.0 * PENALTY)?;
+    let evaluation = evaluate(
+        &scenario,
+        &hover,
+        (vehicle.motor_time_constant_s, ctx.integral),
+        trace,
+    )
+    .map_err(|_| 10.0 * PENALTY)?;
     Ok(Scored {
         mapped,
         certified,
@@ -331,7 +382,17 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
     let vehicle = DesignVehicle::load(&o.vehicle)?;
     let set = refuse_impossible(&vehicle)?;
     let (requested, period) = load_reference(o.reference.as_ref())?;
-    let binding = binding_condition(&vehicle, &set, (o.margin, o.law, o.bounds), &requested);
+    let integral = o.integral.as_ref();
+    if let Some(spec) = integral {
+        refuse_uncoverable(&vehicle, &set, spec)?;
+    }
+    let binding = binding_condition(
+        &vehicle,
+        &set,
+        (o.margin, o.law, o.bounds),
+        integral,
+        &requested,
+    );
     let (reference, scale) = match &binding {
         None => (requested.clone(), 1.0),
         Some(why) => {
@@ -340,7 +401,8 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
                 vehicle.name
             );
             let s = largest_certifiable_scale(&requested, |r| {
-                binding_condition(&vehicle, &set, (o.margin, o.law, o.bounds), r).is_none()
+                binding_condition(&vehicle, &set, (o.margin, o.law, o.bounds), integral, r)
+                    .is_none()
             })
             .with_context(|| {
                 format!(
@@ -360,6 +422,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         rotors: &set,
         margin: o.margin,
         bounds: o.bounds,
+        integral,
     };
     let settings = FlightSettings {
         duration_s: o.duration_s,

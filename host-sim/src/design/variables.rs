@@ -46,6 +46,7 @@ use super::authority::{
     envelope_with, iota_max_along, mrp_factor, probe_gains, saturation_max_with, RotorSet, ALPHA,
     DELTA,
 };
+use super::integral::IntegralSpec;
 
 /// Number of decision variables of the paper's attitude law.
 pub const DIMENSION: usize = 9;
@@ -237,6 +238,9 @@ pub struct Context<'a> {
     pub margin: f64,
     /// The bounds that certify the torque condition and the box fit.
     pub bounds: super::tight::BoundsKind,
+    /// `Some`: the design carries the bounded integral action sized by this spec, and every
+    /// bound is the extended one ([`super::integral`]).
+    pub integral: Option<&'a IntegralSpec>,
 }
 
 /// The gains of `choices`, with `M_p,max` and `ι_max` they were scaled from.
@@ -292,7 +296,8 @@ fn tilt_gains(
 }
 
 /// Maps `choices` to gains. `None` when no positive `ι` exists for `(k_f, k_s)` (the reference
-/// is not certifiable on this vehicle).
+/// is not certifiable on this vehicle), or when with the integral action no `k_i` makes the
+/// linearised loop stable ([`IntegralSpec::gains`]).
 pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     let mp_max = saturation_max_with(
         ctx.bounds,
@@ -300,9 +305,16 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
         ctx.constants,
         (ctx.rotors, ctx.margin),
         (c.kf, c.ks),
+        ctx.integral,
     )?;
     let mp = mp_max * c.saturation_fraction;
-    let env = envelope_with(ctx.bounds, ctx.vehicle, ctx.constants, (mp, c.kf, c.ks))?;
+    let env = envelope_with(
+        ctx.bounds,
+        ctx.vehicle,
+        ctx.constants,
+        (mp, c.kf, c.ks),
+        ctx.integral,
+    )?;
     let direction = Vector3::new(1.0, 1.0, c.tilt.map_or(1.0, |t| t.yaw_share));
     let i_max = iota_max_along(ctx.rotors, &env, ctx.margin, &direction);
     if i_max <= 0.0 {
@@ -312,9 +324,12 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     let j = ctx.vehicle.inertia.min();
     let w = c.attitude_frequency_rad_s;
     let wp = c.position_frequency_rad_s;
-    let mut g = probe_gains(mp, c.kf, c.ks);
+    let mut g = probe_gains(mp, c.kf, c.ks, ctx.integral);
     g.position.kp = wp * wp;
     g.position.kv = 2.0 * c.position_damping * wp;
+    if let Some(spec) = ctx.integral {
+        g.integral = Some(spec.gains(&g.position)?);
+    }
     g.attitude.k_mrp = 16.0 * j * w * w;
     g.attitude.k_omega = 2.0 * c.attitude_damping * w * j;
     g.attitude.mrp_saturation = c.mrp_share * iota / mrp_factor();
@@ -398,6 +413,7 @@ mod tests {
             rotors: &set,
             margin: 0.05,
             bounds: Default::default(),
+            integral: None,
         };
         let mut rng = crate::campaign::sampler::seeded_rng(11);
         for law in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority] {
@@ -451,6 +467,7 @@ mod tests {
             rotors: &set,
             margin: 0.05,
             bounds: BoundsKind::Tight,
+            integral: None,
         };
         let mut rng = crate::campaign::sampler::seeded_rng(12);
         for law in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority] {
