@@ -256,7 +256,7 @@ pub struct IntegralRow {
     pub runs: usize,
     /// Runs the law refused (a non-finite sample); counted as not converged.
     pub refused: usize,
-    /// Runs converged ([`Convergence::default`]).
+    /// Runs converged ([`convergence_of`] the scenario).
     pub converged: usize,
     /// `100 converged / runs`.
     pub converged_percent: f64,
@@ -309,6 +309,20 @@ pub struct IntegralReport {
     pub rows: Vec<IntegralRow>,
 }
 
+/// Convergence judged as `campaign` does by default: settled [`Convergence::default`]'s 25 s
+/// into the paper's 30 s runs, i.e. 5 s before the end of the scenario's runs, so a design
+/// written for longer runs (`design --duration-s`) is judged on its own horizon.
+pub fn convergence_of(scenario: &Scenario) -> Convergence {
+    let d = Convergence::default();
+    Convergence {
+        after_s: scenario.simulation.duration_s - (PAPER_DURATION_S - d.after_s),
+        ..d
+    }
+}
+
+/// The paper's run length \[s\] (Section VI), which [`Convergence::default`] is set for.
+const PAPER_DURATION_S: f64 = 30.0;
+
 /// Flies `runs` runs of `case` on `base` (`integral` on or off) and summarises them.
 #[allow(clippy::too_many_arguments)]
 fn cell(
@@ -321,7 +335,7 @@ fn cell(
     runs: u64,
 ) -> Result<IntegralRow> {
     let plant = case.plant_scenario(base);
-    let convergence = Convergence::default();
+    let convergence = convergence_of(base);
     let sim = &base.simulation;
     // Built once to refuse bad gains before the runs; each run builds its own.
     law(base, integral)?;
@@ -415,7 +429,7 @@ pub fn run_integral(
              180-deg starts, time to attitude error < 90 deg and settling. Plant mass cases \
              scale the plant's mass only (the law keeps the model's). Forces are fractions of \
              the nominal weight; gusts with tau = {GUST_TIME_CONSTANT_S} s. {}",
-            Convergence::default().describe()
+            convergence_of(scenario).describe()
         ),
         gains: IntegralGainsReport {
             k_i: gains.gain,
@@ -541,6 +555,16 @@ mod tests {
         assert_eq!(unlimited.filtered_rate_bound(), unlimited.rate);
         let fast = extended_certificate(&s, &unlimited).unwrap();
         assert!(fast.violations().any(|c| c.name.starts_with("theorem2")));
+    }
+
+    /// Runs are judged 5 s before their end: the paper's 30 s runs from 25 s as before, a
+    /// 60 s design's from 55 s.
+    #[test]
+    fn convergence_is_judged_on_the_scenarios_horizon() {
+        let mut s = Scenario::paper();
+        assert_eq!(convergence_of(&s), Convergence::default());
+        s.simulation.duration_s = 60.0;
+        assert_eq!(convergence_of(&s).after_s, 55.0);
     }
 
     /// The case table builds the perturbations it names.
