@@ -50,15 +50,16 @@ fn extended_bounds_match_a_hand_evaluation() {
     let tmin = m * (g - ka3 - lz);
     let tmax = m * (((lx * lx + ly * ly).sqrt() + ka12).powi(2) + (g + ka3 + lz).powi(2)).sqrt();
     let ke: f64 = 5.0;
-    // Reachable-set bound per axis: min(2 k_η M_i, c (R_i + 16 ε M_i / h)), c = x/(1 − e^−x),
-    // x = k_η h, h = 0.01 s; here every axis takes the reachable one (0.3 < 2·5·0.5, ...).
+    // Reachable-set bound per axis: min(2 k_η M_i, c (R_i + 16 ε M_i / 0.001 s)),
+    // c = x/(1 − e^−x), x = k_η · 0.01 s; here every axis takes the reachable one (0.3 < 2·5·0.5,
+    // ...).
     let x: f64 = ke * 0.01;
     let c = x / (1.0 - (-x).exp());
     let levels = [0.5, 0.6, 1.5];
     let rates = [0.3, 0.4, 1.2];
     let rate_bound: Vec<f64> = (0..3)
         .map(|i| {
-            let reachable = c * (rates[i] + 16.0 * f64::EPSILON * levels[i] / 0.01);
+            let reachable = c * (rates[i] + 16.0 * f64::EPSILON * levels[i] / 0.001);
             assert!(reachable < 2.0 * ke * levels[i]);
             reachable
         })

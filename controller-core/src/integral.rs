@@ -39,6 +39,11 @@ use crate::scalar::{lit, Scalar};
 /// ([`IntegralGains::filtered_rate_bound`]) independent of timing jitter.
 pub const MAX_ESTIMATE_STEP_S: f64 = 0.01;
 
+/// Shortest control period the reachable-set bound's rounding term covers \[s\] (the fastest
+/// control rate, 1 kHz): the scalar type's rounding of the filter's propagation accumulates
+/// over about `1/(k_η h)` samples, so shorter samples accumulate more of it.
+pub const MIN_CONTROL_PERIOD_S: f64 = 0.001;
+
 /// Gains and levels of the integral action (extension, docs/integral-action.md).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct IntegralGains<T: Scalar> {
@@ -115,13 +120,14 @@ impl<T: Scalar> IntegralGains<T> {
     }
 
     /// Per-axis bound on `|η̇_f,i|` [m/s³] at every sample reachable from
-    /// [`IntegralState::zero`]: `min(2 k_η M_i,i, c (R_i,i + 16 ε M_i,i / h_max))`, the second
+    /// [`IntegralState::zero`]: `min(2 k_η M_i,i, c (R_i,i + 16 ε M_i,i / h_min))`, the second
     /// the reachable-set bound of the module docs with the scalar type's rounding (`ε` its
-    /// machine epsilon) of the filter's propagation added. Source: extension,
-    /// docs/integral-action.md.
+    /// machine epsilon; about `4 ε M_i` per sample, accumulated over `1/(k_η h)` samples, four
+    /// times over for samples down to [`MIN_CONTROL_PERIOD_S`]) of the filter's propagation
+    /// added. Source: extension, docs/integral-action.md.
     pub fn filtered_rate_bound(&self) -> Vector3<T> {
         let c = self.sample_factor();
-        let rounding = lit::<T>(16.0) * T::default_epsilon() / lit::<T>(MAX_ESTIMATE_STEP_S);
+        let rounding = lit::<T>(16.0) * T::default_epsilon() / lit::<T>(MIN_CONTROL_PERIOD_S);
         Vector3::from_fn(|i, _| {
             let reachable = c * (self.rate[i] + rounding * self.level[i]);
             let anywhere = lit::<T>(2.0) * self.bandwidth * self.level[i];

@@ -165,32 +165,22 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
     );
     let o = &r.objective;
     let a = &o.authority;
+    let [t_lo, t_hi] = a.thrust_interval_over_weight;
+    let interval = format!("thrust interval [{t_lo:.3}, {t_hi:.3}] x the weight");
+    let [x, y, z] = a.feedback_angular_acceleration_rad_s2;
+    let acceleration =
+        format!("feedback angular acceleration iota/J = [{x:.2}, {y:.2}, {z:.2}] rad/s^2");
     if !o.constraints_met {
         let _ = writeln!(
             s,
             "**NO DESIGN WITHIN THE BUDGET MET THE CONVERGENCE CONSTRAINTS** (every 180 degree start and \
              the upside-down start settled by {:.0} s, also with the motor time constant doubled). The \
-             certificate holds, but the certified authority is small: thrust interval [{:.3}, {:.3}] x \
-             the weight, feedback angular acceleration iota/J = [{:.2}, {:.2}, {:.2}] rad/s^2. The \
+             certificate holds, but the certified authority is small: {interval}, {acceleration}. The \
              design below is the best found on the graded penalty.\n",
             r.duration_s - super::evaluate::TAIL_S,
-            a.thrust_interval_over_weight[0],
-            a.thrust_interval_over_weight[1],
-            a.feedback_angular_acceleration_rad_s2[0],
-            a.feedback_angular_acceleration_rad_s2[1],
-            a.feedback_angular_acceleration_rad_s2[2]
         );
     }
-    let _ = writeln!(
-        s,
-        "Certified authority: thrust interval [{:.3}, {:.3}] x the weight; feedback angular acceleration \
-         iota/J = [{:.2}, {:.2}, {:.2}] rad/s^2.\n",
-        a.thrust_interval_over_weight[0],
-        a.thrust_interval_over_weight[1],
-        a.feedback_angular_acceleration_rad_s2[0],
-        a.feedback_angular_acceleration_rad_s2[1],
-        a.feedback_angular_acceleration_rad_s2[2]
-    );
+    let _ = writeln!(s, "Certified authority: {interval}; {acceleration}.\n");
     let _ = writeln!(
         s,
         "## Objective\n\n{}.\n\nValue {:.3}; constraints met: **{}**. Worst settling from 180 degrees: **{}**; \
