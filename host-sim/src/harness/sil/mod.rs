@@ -289,7 +289,7 @@ pub fn fly(
     let cfg = setup.flight;
     let b = *effectiveness;
     let body = RigidBody {
-        mass: f64::from(cfg.vehicle.mass),
+        mass: f64::from(cfg.vehicle.mass) * setup.plant_mass_factor,
         inertia: cfg.vehicle.inertia.cast::<f64>(),
         gravity: f64::from(cfg.vehicle.gravity),
     };

@@ -11,7 +11,8 @@
 //! - `pose_message = "odometry" | "att_pos_mocap"`: the MAVLink message carrying the poses;
 //! - optional `control_rate_hz` (the law's rate: 100, 250, 500 or 1000; default: the flight's,
 //!   100 Hz unless the firmware was built with another), `motor_time_constant_s` (the lag of
-//!   each rotor's speed; default: the flight's airframe's), `hold_s` (held still before the release), `duration_s` (after it), optional `ground_z_m` (flat ground, z up; none if absent) and `pose_outage_s =
+//!   each rotor's speed; default: the flight's airframe's), `plant_mass_factor` (the simulated
+//!   body's mass over the flight's, default 1: a payload the firmware does not know of), `hold_s` (held still before the release), `duration_s` (after it), optional `ground_z_m` (flat ground, z up; none if absent) and `pose_outage_s =
 //!   [start, end)` (no pose sent; `inf` allowed);
 //! - `[initial]`: either `scenario = "paper"`, the `[initial]` state of the paper's scenario
 //!   (`host-sim/scenarios/paper.toml`; a file read from disk may also name another scenario
@@ -60,6 +61,8 @@ struct ScenarioFile {
     control_rate_hz: Option<f64>,
     #[serde(default)]
     motor_time_constant_s: Option<f64>,
+    #[serde(default = "unit")]
+    plant_mass_factor: f64,
     hold_s: f64,
     duration_s: f64,
     #[serde(default)]
@@ -173,6 +176,10 @@ fn check(ok: bool, key: &str, reason: &str, value: impl std::fmt::Debug) -> Resu
     } else {
         Err(format!("{key}: {reason}, got {value:?}"))
     }
+}
+
+fn unit() -> f64 {
+    1.0
 }
 
 fn positive(key: &str, v: f64) -> Result<(), String> {
@@ -401,6 +408,7 @@ fn build(
         .motor_time_constant_s
         .unwrap_or(f64::from(airframe.motor_time_constant_s));
     positive("motor_time_constant_s", motor_time_constant_s)?;
+    positive("plant_mass_factor", file.plant_mass_factor)?;
     non_negative("hold_s", file.hold_s)?;
     positive("duration_s", file.duration_s)?;
     if let Some(z) = file.ground_z_m {
@@ -427,6 +435,7 @@ fn build(
         imu,
         mocap,
         motor_time_constant_s,
+        plant_mass_factor: file.plant_mass_factor,
         initial,
         hold_s: file.hold_s,
         duration_s: file.duration_s,
@@ -579,5 +588,29 @@ mod tests {
                 .motor_time_constant_s,
             0.05
         );
+    }
+
+    /// `plant_mass_factor` defaults to 1 (the plant is the flight's); a given one reaches the
+    /// set-up, and a non-positive or non-finite one is refused with the key.
+    #[test]
+    fn plant_mass_factor_defaults_to_the_flight_and_is_checked() {
+        assert_eq!(
+            parse(TAKEOFF_LAND, "t.toml", None, "t", 1)
+                .unwrap()
+                .plant_mass_factor,
+            1.0
+        );
+        let with = |v: &str| {
+            let text = TAKEOFF_LAND.replace(
+                "flight = \"built\"",
+                &format!("flight = \"built\"\nplant_mass_factor = {v}"),
+            );
+            parse(&text, "t.toml", None, "t", 1)
+        };
+        assert_eq!(with("1.2").unwrap().plant_mass_factor, 1.2);
+        for bad in ["0.0", "-1.0", "inf", "nan"] {
+            let e = with(bad).unwrap_err().to_string();
+            assert!(e.contains("plant_mass_factor"), "{bad}: {e}");
+        }
     }
 }

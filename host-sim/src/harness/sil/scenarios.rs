@@ -222,6 +222,7 @@ mod tests {
             imu: imu(),
             mocap: mocap(PoseMessage::Odometry),
             motor_time_constant_s: built_tau(),
+            plant_mass_factor: 1.0,
             initial: at_rest(
                 Vector3::new(3.0, 2.0, 6.0),
                 UnitQuaternion::from_euler_angles(
@@ -246,6 +247,7 @@ mod tests {
             imu: imu(),
             mocap: mocap(PoseMessage::Odometry),
             motor_time_constant_s: built_tau(),
+            plant_mass_factor: 1.0,
             initial: at_rest(
                 Vector3::new(3.0, 2.0, 6.0),
                 UnitQuaternion::from_euler_angles(0.0, 0.0, 100.0f64.to_radians()),
@@ -266,6 +268,7 @@ mod tests {
             imu: imu(),
             mocap: mocap(PoseMessage::AttPosMocap),
             motor_time_constant_s: built_tau(),
+            plant_mass_factor: 1.0,
             initial: at_rest(Vector3::new(0.0, 0.0, 2.0), UnitQuaternion::identity()),
             hold_s: 1.5,
             duration_s: 10.0,
@@ -283,6 +286,7 @@ mod tests {
             imu: imu(),
             mocap: mocap(PoseMessage::AttPosMocap),
             motor_time_constant_s: built_tau(),
+            plant_mass_factor: 1.0,
             initial: at_rest(
                 Vector3::zeros(),
                 UnitQuaternion::from_euler_angles(0.0, 0.0, 0.5),

@@ -23,6 +23,10 @@ pub struct SilSetup {
     pub mocap: MocapModel,
     /// Motor time constant \[s\] (first-order lag of each rotor's thrust).
     pub motor_time_constant_s: f64,
+    /// The plant's mass over the flight configuration's (dimensionless; 1: the firmware's model
+    /// is exact): a payload, another battery, a thrust coefficient known only roughly. Only the
+    /// simulated body changes; the firmware flies its configured mass.
+    pub plant_mass_factor: f64,
     /// The body's state while held and at release.
     pub initial: RigidBodyState,
     /// Time held still (on a stand, in a hand, on the ground) before release \[s\]; the gyro
