@@ -12,10 +12,11 @@
 //! - [`ThrustMode::AlignmentPower`]: `T = max(m|u| max(cos θ̃, 0)^k, T_floor)`, a smooth factor
 //!   of the thrust-direction error (`k = 1`: the projection).
 //! - [`ThrustMode::VerticalPriority`]: with `b₃ = e₃ᵀb`, `T = min(m u₃/b₃, T_cap·min(1, b₃/b₀))`
-//!   while `b₃ > 0`, else 0: the vertical thrust `u` asks for while the body z axis is above the
-//!   horizon (tilt compensation, as PX4's multicopter position control applies it), capped at
-//!   `T_cap` (Theorem 1's `T_max`) and ramped to 0 as `b` reaches the horizon, so `T` is
-//!   continuous in `R` and `u`. The first two *lower* the vertical thrust while the vehicle is
+//!   while `b₃ > 0`, else 0, then raised to `T_floor` if below it: the vertical thrust `u` asks
+//!   for while the body z axis is above the horizon (tilt compensation, as PX4's multicopter
+//!   position control applies it), capped at `T_cap` (Theorem 1's `T_max`) and ramped to 0 as
+//!   `b` reaches the horizon, so `T` is continuous in `R` and `u`. The floor keeps the rotors
+//!   above what the certified torque box needs at its lower end. The first two *lower* the vertical thrust while the vehicle is
 //!   tilted (by `cos θ̃` or a power of it) and so lose altitude while it turns back; this one
 //!   holds it, which is what makes the flip cheap (`docs/no-dive-thrust.md` has the figures).
 //!
@@ -26,7 +27,8 @@
 //!
 //! A-priori intervals ([`ThrustMode::interval`]): `m uᵀb ≤ m|u| ≤ T_max` (Theorem 1), so the
 //! projection and the power law stay in `[T_floor, T_max]` (a floor at most `T_min` never
-//! raises the thrust above the paper's); vertical priority stays in `[0, T_cap]` by its cap.
+//! raises the thrust above the paper's); vertical priority stays in `[T_floor, T_cap]` by its
+//! cap and floor.
 
 use nalgebra::Vector3;
 
@@ -63,10 +65,14 @@ pub enum ThrustMode<T: Scalar> {
     /// does) while the body z axis is above the horizon, capped at `T_cap` and ramped to 0 as
     /// the body z axis reaches the horizon (continuous in `R`); 0 while it is below.
     VerticalPriority {
-        /// `T_cap` \[N\]: Theorem 1's `T_max`, so the thrust stays in `[0, T_max]`.
+        /// `T_cap` \[N\]: Theorem 1's `T_max`, so the thrust stays in `[T_floor, T_max]`.
         cap: T,
         /// `b₀ ∈ (0, 1]`: the ramp's width in `e₃ᵀRe₃` (dimensionless).
         ramp: T,
+        /// `T_floor` \[N\], `0 ≤ T_floor ≤ T_min` as for [`ThrustMode::BodyAxisProjection`]; 0 =
+        /// the rotors idle while the body z axis is below the horizon. A floor the rotors can
+        /// hold the certified torques at is what puts this mode inside a certified `(T, τ)` box.
+        floor: T,
     },
 }
 
@@ -90,12 +96,18 @@ impl<T: Scalar> ThrustMode<T> {
                 let cos = (u.dot(body_z) / n).max(T::zero());
                 (mass * n * cos.powf(exponent)).max(floor)
             }
-            Self::VerticalPriority { cap, ramp } => {
+            Self::VerticalPriority { cap, ramp, floor } => {
                 let b3 = body_z.z;
-                if b3 > T::zero() {
+                let t = if b3 > T::zero() {
                     (mass * u.z / b3).min(cap * (b3 / ramp).min(T::one()))
                 } else {
                     T::zero()
+                };
+                // Not `max`: with no floor the thrust stays the value computed, bit for bit.
+                if t < floor {
+                    floor
+                } else {
+                    t
                 }
             }
         }
@@ -111,36 +123,25 @@ impl<T: Scalar> ThrustMode<T> {
     pub fn validate(&self, vehicle: &Vehicle<T>, saturation: T) -> Result<(), ParameterError> {
         match *self {
             Self::Norm => Ok(()),
-            Self::VerticalPriority { cap, ramp } => {
+            Self::VerticalPriority { cap, ramp, floor } => {
                 if !(cap.is_finite() && cap > T::zero()) {
                     return Err(ParameterError::NotPositive {
                         name: "thrust_cap",
                         value: to_f64(cap),
                     });
                 }
-                if ramp > T::zero() && ramp <= T::one() {
-                    Ok(())
-                } else {
-                    Err(ParameterError::OutOfRange {
+                if !(ramp > T::zero() && ramp <= T::one()) {
+                    return Err(ParameterError::OutOfRange {
                         name: "thrust_ramp",
                         value: to_f64(ramp),
                         low: 0.0,
                         high: 1.0,
-                    })
+                    });
                 }
+                validate_floor(floor, vehicle, saturation)
             }
             Self::BodyAxisProjection { floor } | Self::AlignmentPower { floor, .. } => {
-                let high = vehicle.mass * (vehicle.gravity - saturation);
-                if floor.is_finite() && floor >= T::zero() && floor < high {
-                    Ok(())
-                } else {
-                    Err(ParameterError::OutOfRange {
-                        name: "thrust_floor",
-                        value: to_f64(floor),
-                        low: 0.0,
-                        high: to_f64(high),
-                    })
-                }
+                validate_floor(floor, vehicle, saturation)
             }
         }
     }
@@ -148,8 +149,8 @@ impl<T: Scalar> ThrustMode<T> {
     /// The a-priori interval `[low, high]` \[N\] of the thrust this mode applies, from the
     /// paper's bounds: `[T_min, T_max]` for [`ThrustMode::Norm`] (Theorem 1, eq:BoundsT);
     /// `[T_floor, T_max]` for the projection and the power law (because
-    /// `m uᵀRe₃ ≤ m|u| ≤ T_max`, and the floor is at most `T_min`); `[0, T_cap]` for vertical
-    /// priority (by its cap, which must be at most `T_max`).
+    /// `m uᵀRe₃ ≤ m|u| ≤ T_max`, and the floor is at most `T_min`); `[T_floor, T_cap]` for
+    /// vertical priority (by its cap, which must be at most `T_max`, and its floor).
     ///
     /// Errors: [`ParameterError::OutOfRange`] naming `"thrust_floor"` if the floor is not in
     /// `[0, T_min]` (a larger floor would raise the thrust above the paper's), or
@@ -157,31 +158,56 @@ impl<T: Scalar> ThrustMode<T> {
     pub fn interval(&self, bounds: &Bounds<T>) -> Result<(T, T), ParameterError> {
         match *self {
             Self::Norm => Ok((bounds.thrust_min, bounds.thrust_max)),
-            Self::VerticalPriority { cap, .. } => {
-                if cap <= bounds.thrust_max {
-                    Ok((T::zero(), cap))
-                } else {
-                    Err(ParameterError::OutOfRange {
+            Self::VerticalPriority { cap, floor, .. } => {
+                if cap > bounds.thrust_max {
+                    return Err(ParameterError::OutOfRange {
                         name: "thrust_cap",
                         value: to_f64(cap),
                         low: 0.0,
                         high: to_f64(bounds.thrust_max),
-                    })
+                    });
                 }
+                Ok((floor_in_interval(floor, bounds)?, cap))
             }
             Self::BodyAxisProjection { floor } | Self::AlignmentPower { floor, .. } => {
-                if floor.is_finite() && floor >= T::zero() && floor <= bounds.thrust_min {
-                    Ok((floor, bounds.thrust_max))
-                } else {
-                    Err(ParameterError::OutOfRange {
-                        name: "thrust_floor",
-                        value: to_f64(floor),
-                        low: 0.0,
-                        high: to_f64(bounds.thrust_min),
-                    })
-                }
+                Ok((floor_in_interval(floor, bounds)?, bounds.thrust_max))
             }
         }
+    }
+}
+
+/// A floor must be finite, `≥ 0` and `< m(g − M_p)` (`saturation` = `M_p`, plus `M_i,z` with the
+/// integral action). Errors: [`ParameterError::OutOfRange`] naming `"thrust_floor"`.
+fn validate_floor<T: Scalar>(
+    floor: T,
+    vehicle: &Vehicle<T>,
+    saturation: T,
+) -> Result<(), ParameterError> {
+    let high = vehicle.mass * (vehicle.gravity - saturation);
+    if floor.is_finite() && floor >= T::zero() && floor < high {
+        Ok(())
+    } else {
+        Err(ParameterError::OutOfRange {
+            name: "thrust_floor",
+            value: to_f64(floor),
+            low: 0.0,
+            high: to_f64(high),
+        })
+    }
+}
+
+/// The floor itself when it lies in `[0, T_min]` (Theorem 1's), the low end of the mode's
+/// interval. Errors: [`ParameterError::OutOfRange`] naming `"thrust_floor"`.
+fn floor_in_interval<T: Scalar>(floor: T, bounds: &Bounds<T>) -> Result<T, ParameterError> {
+    if floor.is_finite() && floor >= T::zero() && floor <= bounds.thrust_min {
+        Ok(floor)
+    } else {
+        Err(ParameterError::OutOfRange {
+            name: "thrust_floor",
+            value: to_f64(floor),
+            low: 0.0,
+            high: to_f64(bounds.thrust_min),
+        })
     }
 }
 
@@ -249,7 +275,11 @@ mod tests {
     #[test]
     fn vertical_priority_matches_the_vertical_demand() {
         let (m, cap, ramp) = (0.46f64, 6.1875f64, 0.2f64);
-        let mode = ThrustMode::VerticalPriority { cap, ramp };
+        let mode = ThrustMode::VerticalPriority {
+            cap,
+            ramp,
+            floor: 0.0,
+        };
         let u = Vector3::new(1.0f64, -2.0, 9.0);
         let aligned = mode.thrust(m, &u, &u.normalize());
         assert!((aligned - m * u.norm()).abs() < 1e-12 * aligned);
@@ -303,13 +333,68 @@ mod tests {
         let vp = ThrustMode::VerticalPriority {
             cap: b.thrust_max,
             ramp: 0.2,
+            floor: 0.0,
         };
         assert_eq!(vp.interval(b), Ok((0.0, b.thrust_max)));
-        let too_high = ThrustMode::VerticalPriority {
-            cap: b.thrust_max * 1.01,
+        let vp_with = |cap: f64, floor: f64| ThrustMode::VerticalPriority {
+            cap,
             ramp: 0.2,
+            floor,
         };
-        assert!(too_high.interval(b).is_err());
+        let floor = 0.5 * b.thrust_min;
+        assert_eq!(
+            vp_with(b.thrust_max, floor).interval(b),
+            Ok((floor, b.thrust_max))
+        );
+        assert!(vp_with(b.thrust_max * 1.01, 0.0).interval(b).is_err());
+        let floor_too_high = vp_with(b.thrust_max, b.thrust_min * 1.01);
+        assert!(matches!(
+            floor_too_high.interval(b),
+            Err(ParameterError::OutOfRange {
+                name: "thrust_floor",
+                ..
+            })
+        ));
+    }
+
+    /// Vertical priority with a floor: below the horizon and along the ramp the thrust is the
+    /// floor wherever the floorless mode gives less, and exactly the floorless thrust elsewhere.
+    #[test]
+    fn vertical_priority_floor_only_raises_what_is_below_it() {
+        let (m, cap, ramp, floor) = (0.46f64, 6.1875f64, 0.2f64, 1.5f64);
+        let bare = ThrustMode::VerticalPriority {
+            cap,
+            ramp,
+            floor: 0.0,
+        };
+        let floored = ThrustMode::VerticalPriority { cap, ramp, floor };
+        let u = Vector3::new(1.0f64, -2.0, 9.0);
+        for z in [-1.0, -0.3, 0.0, 0.01, 0.05, 0.1, 0.3, 0.6, 1.0] {
+            let b = unit([1.0, 0.3, z]);
+            let (t0, t) = (bare.thrust(m, &u, &b), floored.thrust(m, &u, &b));
+            if t0 < floor {
+                assert_eq!(t, floor, "z {z}");
+            } else {
+                assert_eq!(t.to_bits(), t0.to_bits(), "z {z}");
+            }
+        }
+        assert_eq!(floored.thrust(m, &u, &unit([0.0, 0.0, -1.0])), floor);
+        let v = Vehicle::<f64>::paper();
+        assert!(floored.validate(&v, 2.0).is_ok());
+        let e = ThrustMode::VerticalPriority {
+            cap,
+            ramp,
+            floor: -0.1,
+        }
+        .validate(&v, 2.0)
+        .unwrap_err();
+        assert!(matches!(
+            e,
+            ParameterError::OutOfRange {
+                name: "thrust_floor",
+                ..
+            }
+        ));
     }
 
     #[test]

@@ -3,7 +3,9 @@
 //! the shared `vehicle_file` module) plus `[limits]`, `[gains]`, `[trajectory]` (the certified
 //! demo mission; the scenario files' tables, from the shared `flight_tables` module) and
 //! `[design]` (free-text fields, the box-fit `margin`, `smoothing_rate_per_s` and
-//! `control_rate_hz`, which env `FIRMWARE_CONTROL_RATE_HZ` overrides).
+//! `control_rate_hz`, which env `FIRMWARE_CONTROL_RATE_HZ` overrides) and an optional
+//! `[controller]` (the thrust: `thrust = "norm"`, the default, or `"vertical-priority"` with
+//! `thrust_ramp` and `thrust_floor_N`; docs/no-dive-thrust.md).
 //! Written to `OUT_DIR/flight.rs` as Rust source, which `src/built_flight.rs` includes.
 //!
 //! Every error panics with the file, the key and the reason: a build must not quietly fly
@@ -37,6 +39,71 @@ struct FlightTables {
     trajectory: TrajectoryTable,
     #[serde(default)]
     design: BTreeMap<String, toml::Value>,
+    #[serde(default)]
+    controller: Option<ControllerTable>,
+}
+
+/// `[controller]`: how the thrust is computed from `u` (the scenario files' keys).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+struct ControllerTable {
+    thrust: String,
+    #[serde(default)]
+    thrust_ramp: Option<f64>,
+    #[serde(default)]
+    thrust_floor_N: Option<f64>,
+}
+
+/// Vertical priority's ramp `b₀` when `[controller]` gives none (the scenario files' default).
+const DEFAULT_THRUST_RAMP: f64 = 0.2;
+
+/// The `crate::config::ThrustChoice` expression of `[controller]` (absent: `Norm`). The floor's
+/// bound by Theorem 1's `T_min` needs the certificate and is the gate's, at boot.
+fn thrust_source(file: &str, c: Option<&ControllerTable>) -> String {
+    let Some(c) = c else {
+        return "crate::config::ThrustChoice::Norm".to_string();
+    };
+    match c.thrust.as_str() {
+        "norm" => {
+            if c.thrust_ramp.is_some() || c.thrust_floor_N.is_some() {
+                fail(
+                    file,
+                    "controller",
+                    "thrust_ramp and thrust_floor_N are only used with thrust = \"vertical-priority\"".to_string(),
+                );
+            }
+            "crate::config::ThrustChoice::Norm".to_string()
+        }
+        "vertical-priority" => {
+            let ramp = c.thrust_ramp.unwrap_or(DEFAULT_THRUST_RAMP);
+            if !(ramp > 0.0 && ramp <= 1.0) {
+                fail(
+                    file,
+                    "controller.thrust_ramp",
+                    format!("{ramp} is not in (0, 1]"),
+                );
+            }
+            let floor = c.thrust_floor_N.unwrap_or(0.0);
+            if !(floor.is_finite() && floor >= 0.0) {
+                fail(
+                    file,
+                    "controller.thrust_floor_N",
+                    format!("{floor} is not a finite thrust >= 0 [N]"),
+                );
+            }
+            format!(
+                "crate::config::ThrustChoice::VerticalPriority {{ ramp: {}, floor: {} }}",
+                lit(ramp),
+                lit(floor)
+            )
+        }
+        other => fail(
+            file,
+            "controller.thrust",
+            format!("{other:?} is not \"norm\" or \"vertical-priority\" (the firmware's thrusts)"),
+        ),
+    }
 }
 
 /// The box-fit margin when `[design]` has none: 5 % of each rotor's thrust range.
@@ -243,7 +310,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
 
     // The vehicle file tables, checked by the shared parser (which skips the flight file's own
     // tables and refuses any other); then the flight file's own tables.
-    const OWN: [&str; 4] = ["limits", "gains", "trajectory", "design"];
+    const OWN: [&str; 5] = ["limits", "gains", "trajectory", "design", "controller"];
     let vehicle = VehicleFile::parse_embedded(&text, file, &OWN).unwrap_or_else(|e| panic!("{e}"));
     let mut own = toml::Table::new();
     for key in OWN {
@@ -252,7 +319,11 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         }
     }
     let tables: FlightTables = own.try_into().unwrap_or_else(|e: toml::de::Error| {
-        fail(file, "[limits]/[gains]/[trajectory]/[design]", e.message())
+        fail(
+            file,
+            "[limits]/[gains]/[trajectory]/[design]/[controller]",
+            e.message(),
+        )
     });
 
     let uncertified_feature = env::var_os("CARGO_FEATURE_UNCERTIFIED_PAPER").is_some();
@@ -397,6 +468,11 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         "/// `[design] control_rate_hz` or `{RATE_ENV}`: the control law's rate.\n\
          pub(crate) const CONTROL_RATE: crate::control_rate::ControlRate = \
          crate::control_rate::ControlRate::{rate:?};"
+    ));
+    put(format!(
+        "/// `[controller]`: the thrust.\n\
+         pub(crate) const THRUST: crate::config::ThrustChoice = {};",
+        thrust_source(file, tables.controller.as_ref())
     ));
     put(format!(
         "/// The other `[design]` fields, in key order.\n\

@@ -110,6 +110,7 @@ impl FlightConfig {
             rotors: a.rotors,
             limits: generated::limits(),
             gains: generated::gains(),
+            thrust: generated::THRUST,
             control_rate: generated::CONTROL_RATE,
             reference: ReferenceConfig {
                 smoothing_rate: generated::SMOOTHING_RATE,

@@ -5,7 +5,9 @@
 //! z up), inertial NWU (z up); see [`crate::frames`].
 
 use controller_core::scalar::sqrt_f32;
-use controller_core::{Gains, Limits, ReferenceTrajectory, Vehicle};
+use controller_core::{
+    Bounds, Gains, Limits, ParameterError, ReferenceTrajectory, ThrustMode, Vehicle,
+};
 
 use crate::airframe::Airframe;
 use crate::control_rate::ControlRate;
@@ -176,6 +178,48 @@ pub struct TelemetryConfig {
     pub state_period_us: u64,
 }
 
+/// How the collective thrust is computed from the control vector `u` (the flight file's
+/// `[controller]` table; docs/no-dive-thrust.md). Whatever the choice, the gate certifies the
+/// box `[low, high] × Π[−τ_i, τ_i]` with the choice's thrust interval ([`ThrustChoice::interval`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ThrustChoice {
+    /// `T = m|u|`: the paper's law (Theorem 1's `[T_min, T_max]`). The default.
+    Norm,
+    /// The no-dive thrust [`ThrustMode::VerticalPriority`]: tilt-compensated vertical thrust
+    /// while the body z axis is above the horizon, ramped down over `e₃ᵀRe₃ ∈ [0, ramp]`, never
+    /// below `floor`, capped at each accepted reference's Theorem 1 `T_max`; interval
+    /// `[floor, T_max]`.
+    VerticalPriority {
+        /// `b₀ ∈ (0, 1]` (dimensionless).
+        ramp: f32,
+        /// `T_floor` \[N\], in `[0, T_min]`: what the rotors keep while the vehicle is upside
+        /// down; the certified box must hold the torques there.
+        floor: f32,
+    },
+}
+
+impl ThrustChoice {
+    /// The core's thrust mode for a reference whose certificate has `bounds` (the cap of
+    /// vertical priority is its Theorem 1 `T_max` \[N\]).
+    pub fn mode(&self, bounds: &Bounds<f32>) -> ThrustMode<f32> {
+        match *self {
+            Self::Norm => ThrustMode::Norm,
+            Self::VerticalPriority { ramp, floor } => ThrustMode::VerticalPriority {
+                cap: bounds.thrust_max,
+                ramp,
+                floor,
+            },
+        }
+    }
+
+    /// The thrust interval `[low, high]` \[N\] certified for `bounds` ([`ThrustMode::interval`]).
+    /// Errors: [`ParameterError::OutOfRange`] naming `"thrust_floor"` when the floor is above
+    /// Theorem 1's `T_min`.
+    pub fn interval(&self, bounds: &Bounds<f32>) -> Result<(f32, f32), ParameterError> {
+        self.mode(bounds).interval(bounds)
+    }
+}
+
 /// One free-text field of a flight file's `[design]` table (who designed the gains, with
 /// which seed and objective), shown in the boot banner.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -222,6 +266,9 @@ pub struct FlightConfig {
     pub limits: Limits<f32>,
     /// Controller gains (Table I).
     pub gains: Gains<f32>,
+    /// How the thrust is computed from `u` (the flight file's `[controller]`; `Norm` for
+    /// [`FlightConfig::paper`]).
+    pub thrust: ThrustChoice,
     /// Rotor geometry and model.
     pub rotors: RotorConfig,
     /// Safety timings.
@@ -298,6 +345,7 @@ impl FlightConfig {
             mission: ReferenceTrajectory::paper_helix(),
             box_margin: 0.05,
             allow_uncertified: false,
+            thrust: ThrustChoice::Norm,
             vehicle: airframe.vehicle,
             limits: Limits::paper(),
             gains: Gains::paper(),

@@ -55,6 +55,8 @@ r, r2 = c["results"], c2["results"]
 g, ref = design["gains"], design["reference"]
 obj, mar = design["objective"], design["margins"]
 t_lo, t_hi, tau = design["a_priori"]
+# The certified thrust interval: Theorem 1's, or [T_floor, T_max] with the no-dive thrust.
+t_lo, t_hi = design.get("thrust", {}).get("interval_N", [t_lo, t_hi])
 w = r["worst"]
 helix = ref["certified"]["frequency_rad_s"]
 fmt = lambda x, f="{:.2f}": "–" if x is None else f.format(x)
@@ -64,6 +66,7 @@ cells = [
     f'{design["box_fit"]["margin"] * 100:.1f} %',
     f'{g["M_p"]:.2f} m/s², ι = {design["feedback_torque_Nm"][1]:.3g} N m',
     f'{helix:.3f} rad/s' + (f' (× {ref["scale"]:.3f} of the request)' if ref["scaled"] else ""),
+    f'{design["thrust"]["mode"]}' + (f', floor {design["thrust"]["floor_N"]:.3g} N' if design["thrust"]["floor_N"] > 0 else ""),
     fmt(obj["altitude_loss_upside_down_m"], "{:.1f} m"),
     fmt(obj["worst_settling_180_s"], "{:.1f} s"),
     fmt(mar["motor_time_constant_max_converging_s"], "{:.3f} s") + f' (own {mar["motor_time_constant_s"]} s)',
@@ -80,6 +83,6 @@ PY
 )")
 done
 
-printf '\n| vehicle | certificate holds | box-fit margin | certified authority | fastest certified helix | altitude lost from upside down | settling from 180° (worst of 7) | largest converging motor time constant | run length (converged: settled 5 s before its end) | converged, 1000 runs | converged, 200 runs, lag doubled, < 1° | samples outside the a-priori bounds | samples the mixer gave up | a-priori bounds vs worst observed | design time |\n'
-printf '|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n'
+printf '\n| vehicle | certificate holds | box-fit margin | certified authority | fastest certified helix | thrust | altitude lost from upside down | settling from 180° (worst of 7) | largest converging motor time constant | run length (converged: settled 5 s before its end) | converged, 1000 runs | converged, 200 runs, lag doubled, < 1° | samples outside the a-priori bounds | samples the mixer gave up | a-priori bounds vs worst observed | design time |\n'
+printf '|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n'
 printf '%s\n' "${rows[@]}"

@@ -30,6 +30,7 @@ fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOptions 
         law: Default::default(),
         bounds: Default::default(),
         integral: None,
+        thrust: host_sim::scenario::ThrustKind::Norm,
         out,
     }
 }
@@ -431,5 +432,60 @@ fn integral_design_certifies_the_extended_bounds_and_removes_a_mass_error() {
         without.final_,
         with.final_
     );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// `--thrust vertical-priority`: the design flies and writes the no-dive thrust with the lowest
+/// floor its certified box allows. Read back, the scenario's thrust interval is
+/// `[T_floor, T_max]`; the firmware mixer's box margin at the floor is the requested one and 1 %
+/// below it is not; the flight file carries `[controller]`; and from upside down at hover the
+/// same gains lose less altitude with it than with the paper's thrust.
+#[test]
+fn vertical_priority_design_certifies_its_floor() {
+    use host_sim::design::evaluate::upside_down;
+    use host_sim::scenario::ThrustKind;
+    let out = out_dir("vertical-priority");
+    let mut o = options(preset_path("crazyflie-2.1"), out.clone(), 4);
+    o.thrust = ThrustKind::VerticalPriority;
+    let r = run_design(&o).unwrap().report;
+    assert!(r.certificate.all_hold && r.certificate.paper_certified);
+    let t = &r.thrust;
+    assert_eq!(t.mode, "vertical-priority");
+    assert!(t.floor_N > 0.0 && t.floor_N <= r.a_priori.0, "{t:?}");
+    assert_eq!(t.interval_N, [t.floor_N, r.a_priori.1]);
+
+    let text = std::fs::read_to_string(out.join("scenario.toml")).unwrap();
+    let s = Scenario::parse(&text, "scenario.toml").unwrap();
+    assert_eq!(s.controller.thrust, ThrustKind::VerticalPriority);
+    assert_eq!(s.controller.thrust_floor_N, t.floor_N);
+    let b = certified_read_back(&s).bounds;
+    assert_eq!(s.thrust_interval(&b).unwrap(), [t.floor_N, b.thrust_max]);
+    let mixer = Mixer::new(&rotors_of(&s)).unwrap();
+    let tau = b.torque_max.map(|x| x as f32);
+    let margin = |floor: f64| mixer.box_margin(floor as f32, b.thrust_max as f32, &tau);
+    assert!(margin(t.floor_N) >= 0.05, "{}", margin(t.floor_N));
+    assert!(
+        margin(0.99 * t.floor_N) < 0.05,
+        "{}",
+        margin(0.99 * t.floor_N)
+    );
+    let flight = std::fs::read_to_string(out.join("firmware.toml")).unwrap();
+    assert!(
+        flight.contains("[controller]") && flight.contains("thrust = \"vertical-priority\""),
+        "{flight}"
+    );
+
+    let mut table: toml::Table = text.parse().unwrap();
+    let hover: toml::Table =
+        toml::from_str("[trajectory]\nkind = \"hover\"\npoint_m = [0.0, 0.0, 2.0]\n").unwrap();
+    table.extend(hover);
+    let hover = Scenario::parse(&table.to_string(), "hover.toml").unwrap();
+    let mut paper = hover.clone();
+    paper.controller = Default::default();
+    let (with, without) = (
+        upside_down(&hover, false).unwrap().altitude_loss_m,
+        upside_down(&paper, false).unwrap().altitude_loss_m,
+    );
+    assert!(with < without, "{with} m with, {without} m without");
     let _ = std::fs::remove_dir_all(&out);
 }

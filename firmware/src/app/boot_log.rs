@@ -7,6 +7,7 @@
 use controller_core::{Certificate, ParameterError};
 use defmt::{error, info, warn};
 
+use crate::config::ThrustChoice;
 use crate::mixer::MixerError;
 use crate::pipeline::{BootError, BootReport};
 use crate::report::{self, Setup, Severity, Value};
@@ -87,6 +88,16 @@ pub fn log_certificate(certificate: &Result<Certificate<f32>, ParameterError>) {
 /// Logs the pipeline's boot report (certificate and mixer fit).
 pub fn log_boot_report(r: &BootReport) {
     log_certificate(&Ok(r.certificate));
+    match r.thrust {
+        ThrustChoice::Norm => {
+            info!("thrust: norm (T = m|u|): the box spans Theorem 1's [T_min, T_max]")
+        }
+        ThrustChoice::VerticalPriority { ramp, floor } => info!(
+            "thrust: vertical-priority (no-dive), floor {=f32} N, ramp {=f32}: the box spans \
+             [floor, T_max] = [{=f32}, {=f32}] N",
+            floor, ramp, floor, r.certificate.bounds.thrust_max
+        ),
+    }
     let f = &r.a_priori_fit;
     info!(
         "mixer fit: thrust needed [{=f32}, {=f32}] N, rotors give [{=f32}, {=f32}] N \

@@ -41,7 +41,8 @@ pub enum BootError {
 pub struct BootReport {
     /// The a-priori bound certificate for the demo mission.
     pub certificate: Certificate<f32>,
-    /// The certificate's box `[T_min, T_max] × Π[−τ_i, τ_i]` against the rotors.
+    /// The certified box `[T_lo, T_hi] × Π[−τ_i, τ_i]` against the rotors (`[T_lo, T_hi]` the
+    /// configured thrust's interval, [`crate::config::ThrustChoice::interval`]).
     pub a_priori_fit: BoxFit,
     /// The box's smallest headroom inside the rotors, a fraction of the rotor range
     /// ([`crate::mixer::Mixer::box_margin`]; negative: it does not fit).
@@ -54,6 +55,8 @@ pub struct BootReport {
     pub gate: Result<f32, GateFailure>,
     /// Total rotor thrust capacity `4 f_max` \[N\] (vs the configured `T_max`).
     pub thrust_capacity: f32,
+    /// The thrust the set-up flies (its interval is the box's thrust side).
+    pub thrust: crate::config::ThrustChoice,
 }
 
 /// The boot checks of set-up `cfg` on the rotors of `mixer`: the certificate of its demo mission
@@ -81,13 +84,17 @@ pub(super) fn certify_setup(
     // The controller must accept a hover (constants zero) too.
     Controller::new(cfg.vehicle, cfg.gains, &TrajectoryConstants::zero())?;
     let b = &certificate.bounds;
+    // A refused floor shows as the gate's failure; the fit is then reported for T_min's box.
+    let (lo, hi) =
+        gate::thrust_interval(&certificate, &cfg.thrust).unwrap_or((b.thrust_min, b.thrust_max));
     Ok(BootReport {
         certificate,
-        a_priori_fit: mixer.box_fit(b.thrust_min, b.thrust_max, &b.torque_max),
-        box_margin: gate::box_margin(&certificate, mixer),
+        a_priori_fit: mixer.box_fit(lo, hi, &b.torque_max),
+        box_margin: gate::box_margin(&certificate, &cfg.thrust, mixer),
         required_margin: cfg.box_margin,
-        gate: gate::check(&certificate, mixer, cfg.box_margin),
+        gate: gate::check(&certificate, &cfg.thrust, mixer, cfg.box_margin),
         thrust_capacity: 4.0 * cfg.rotors.thrust_max,
+        thrust: cfg.thrust,
     })
 }
 

@@ -215,7 +215,7 @@ impl FlightPipeline {
                 });
             }
         };
-        let warning = match super::gate::check(&cert, &self.mixer, c.box_margin) {
+        let warning = match super::gate::check(&cert, &c.thrust, &self.mixer, c.box_margin) {
             Ok(_) => None,
             Err(f) if c.allow_uncertified => Some(f),
             Err(f) => {
@@ -232,7 +232,12 @@ impl FlightPipeline {
             Some(ctl) => ctl,
             None => return Err(Self::simple("not armed")),
         };
-        if let Err(e) = controller.accept_reference(k) {
+        // Vertical priority's cap is this reference's T_max; a floor the gate let through is
+        // within T_min, so the mode is valid here (checked again by the controller).
+        if let Err(e) = controller
+            .accept_reference(k)
+            .and_then(|()| controller.set_thrust_mode(c.thrust.mode(&cert.bounds)))
+        {
             let r = crate::report::refusal(&e);
             return Err(Refusal {
                 reason: "reference refused by the controller",

@@ -1,12 +1,15 @@
 //! The certification gate: a set-up (vehicle, limits, gains, a reference's Assumption 1
 //! constants) is flown only if every condition of the a-priori bound certificate holds
 //! (Assumption 1, Theorem 1, Lemma 1 and Theorem 2) and the certified `(T, τ)` box
-//! `[T_min, T_max] × Π[−τ_i, τ_i]` fits inside the rotors with the configured margin
+//! `[T_lo, T_hi] × Π[−τ_i, τ_i]` fits inside the rotors with the configured margin, with
+//! `[T_lo, T_hi]` the configured thrust's interval (Theorem 1's `[T_min, T_max]` for the paper's
+//! `T = m|u|`, `[T_floor, T_max]` for the no-dive thrust; [`ThrustChoice::interval`])
 //! ([`crate::mixer::Mixer::box_margin`]). Pure functions, so the boot report, the arm check and
 //! every reference change apply the very same test.
 
 use controller_core::Certificate;
 
+use crate::config::ThrustChoice;
 use crate::mixer::Mixer;
 
 /// Name of the box-fit "condition" in refusals and events: `lhs` is the box's smallest
@@ -25,18 +28,44 @@ pub struct GateFailure {
     pub rhs: f32,
 }
 
-/// The smallest headroom of `certificate`'s `(T, τ)` box inside the rotors of `mixer`, as a
-/// fraction of the rotor range (negative: it does not fit).
-pub fn box_margin(certificate: &Certificate<f32>, mixer: &Mixer) -> f32 {
+/// Name of the thrust-floor "condition": `lhs` is the floor, `rhs` Theorem 1's `T_min` \[N\]
+/// (a floor above it would raise the thrust above the paper's).
+pub const THRUST_FLOOR: &str = "thrust_floor";
+
+/// The thrust interval `[T_lo, T_hi]` \[N\] of `thrust` for `certificate`'s bounds, or the
+/// failure [`THRUST_FLOOR`] when its floor is above `T_min`.
+pub fn thrust_interval(
+    certificate: &Certificate<f32>,
+    thrust: &ThrustChoice,
+) -> Result<(f32, f32), GateFailure> {
     let b = &certificate.bounds;
-    mixer.box_margin(b.thrust_min, b.thrust_max, &b.torque_max)
+    thrust.interval(b).map_err(|_| GateFailure {
+        condition: THRUST_FLOOR,
+        lhs: match *thrust {
+            ThrustChoice::VerticalPriority { floor, .. } => floor,
+            ThrustChoice::Norm => f32::NAN,
+        },
+        rhs: b.thrust_min,
+    })
 }
 
-/// `Ok(margin)` when every condition of `certificate` holds and its box leaves at least
-/// `required_margin` of every rotor's range free; otherwise the first violated condition, in
-/// the paper's order, then the box fit. A NaN margin fails.
+/// The smallest headroom of the certified `(T, τ)` box (`thrust`'s interval, `certificate`'s
+/// torque bounds) inside the rotors of `mixer`, as a fraction of the rotor range (negative:
+/// it does not fit; NaN when the interval itself is refused).
+pub fn box_margin(certificate: &Certificate<f32>, thrust: &ThrustChoice, mixer: &Mixer) -> f32 {
+    match thrust_interval(certificate, thrust) {
+        Ok((lo, hi)) => mixer.box_margin(lo, hi, &certificate.bounds.torque_max),
+        Err(_) => f32::NAN,
+    }
+}
+
+/// `Ok(margin)` when every condition of `certificate` holds, `thrust`'s interval exists and
+/// its box leaves at least `required_margin` of every rotor's range free; otherwise the first
+/// violated condition, in the paper's order, then the thrust floor, then the box fit. A NaN
+/// margin fails.
 pub fn check(
     certificate: &Certificate<f32>,
+    thrust: &ThrustChoice,
     mixer: &Mixer,
     required_margin: f32,
 ) -> Result<f32, GateFailure> {
@@ -47,7 +76,8 @@ pub fn check(
             rhs: c.rhs,
         });
     }
-    let margin = box_margin(certificate, mixer);
+    let (lo, hi) = thrust_interval(certificate, thrust)?;
+    let margin = mixer.box_margin(lo, hi, &certificate.bounds.torque_max);
     if margin >= required_margin {
         Ok(margin)
     } else {

@@ -12,6 +12,16 @@ use host_sim::design::{
     variables::AttitudeLaw,
     DesignOptions,
 };
+use host_sim::scenario::ThrustKind;
+
+/// The thrusts the firmware flies (so the ones `design` offers).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DesignThrust {
+    /// `T = m|u|`: the paper's law.
+    Norm,
+    /// The no-dive thrust with a certified floor.
+    VerticalPriority,
+}
 
 /// Options of `host-sim design`.
 #[derive(Debug, Args, Clone)]
@@ -68,6 +78,12 @@ pub struct DesignArgs {
         requires = "integral"
     )]
     pub integral_force_fraction: f64,
+    /// Thrust flown and written: `vertical-priority` (the no-dive thrust, docs/no-dive-thrust.md,
+    /// with the lowest floor at which the certified box `[T_floor, T_max] x torques` still fits
+    /// the rotors with the margin; the flight file carries it as `[controller]`) or `norm` (the
+    /// paper's `T = m|u|`, Theorem 1's `[T_min, T_max]`).
+    #[arg(long, value_enum, default_value_t = DesignThrust::VerticalPriority)]
+    pub thrust: DesignThrust,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/design")]
     pub out: PathBuf,
@@ -100,6 +116,10 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         law: args.law,
         bounds: args.bounds,
         integral,
+        thrust: match args.thrust {
+            DesignThrust::Norm => ThrustKind::Norm,
+            DesignThrust::VerticalPriority => ThrustKind::VerticalPriority,
+        },
         out: args.out.clone(),
     })?;
     let r = &outcome.report;

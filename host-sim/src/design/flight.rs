@@ -9,8 +9,8 @@ use serde::Serialize;
 use super::reference::Reference;
 use super::vehicle::DesignVehicle;
 use crate::scenario::{
-    GainsConfig, InitialConfig, LimitsConfig, PlantKind, Precision, Scenario, SimulationConfig,
-    TrajectoryConfig,
+    ControllerConfig, GainsConfig, InitialConfig, LimitsConfig, PlantKind, Precision, Scenario,
+    SimulationConfig, TrajectoryConfig,
 };
 
 /// Scenario `[gains]` of `gains`.
@@ -63,6 +63,8 @@ pub struct FlightSettings {
     pub duration_s: f64,
     /// Controller period \[s\] (sample and hold).
     pub controller_period_s: f64,
+    /// The scenario's `[controller]` (the thrust; written only when not the paper's).
+    pub controller: ControllerConfig,
 }
 
 fn table_of<T: Serialize>(value: &T) -> Result<toml::Value> {
@@ -86,6 +88,9 @@ pub fn scenario_table(
     t.insert("gains".into(), table_of(&gains_config(gains))?);
     t.insert("trajectory".into(), table_of(trajectory)?);
     t.insert("initial".into(), table_of(initial)?);
+    if !settings.controller.is_paper() {
+        t.insert("controller".into(), table_of(&settings.controller)?);
+    }
     let sim = SimulationConfig {
         duration_s: settings.duration_s,
         controller_period_s: settings.controller_period_s,
@@ -100,7 +105,7 @@ pub fn scenario_table(
 }
 
 /// The order tables are written in: the vehicle's first, as in the vehicle files.
-const TABLE_ORDER: [&str; 10] = [
+const TABLE_ORDER: [&str; 11] = [
     "vehicle",
     "rotors",
     "drag",
@@ -108,6 +113,7 @@ const TABLE_ORDER: [&str; 10] = [
     "gains",
     "trajectory",
     "initial",
+    "controller",
     "simulation",
     "perturbations",
     "design",

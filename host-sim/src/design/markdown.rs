@@ -181,6 +181,24 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
         );
     }
     let _ = writeln!(s, "Certified authority: {interval}; {acceleration}.\n");
+    let t = &r.thrust;
+    let _ = writeln!(
+        s,
+        "Thrust: `{}`{}; certified thrust interval [{:.4}, {:.4}] N (the box the firmware's gate \
+         checks against the rotors).\n",
+        t.mode,
+        if t.floor_N > 0.0 {
+            format!(
+                ", floor {:.4} N (the lowest at which the certified torques still fit the rotors \
+                 with the margin)",
+                t.floor_N
+            )
+        } else {
+            String::new()
+        },
+        t.interval_N[0],
+        t.interval_N[1]
+    );
     let _ = writeln!(
         s,
         "## Objective\n\n{}.\n\nValue {:.3}; constraints met: **{}**. Worst settling from 180 degrees: **{}**; \

@@ -10,7 +10,8 @@
 //! argmin's particle swarm; [`mod@reference`] scales the reference down when it cannot be
 //! certified; [`report`] writes `design.json`, `design.md`, the plots, `scenario.toml` and
 //! `firmware.toml`. [`vehicle`] reads the vehicle file, [`flight`] builds the scenarios;
-//! [`integral`] sizes the bounded integral action of `design --integral`.
+//! [`integral`] sizes the bounded integral action of `design --integral`; [`thrust`] puts the
+//! no-dive thrust of `design --thrust vertical-priority` inside the certified box.
 
 pub mod authority;
 pub mod certificate;
@@ -22,6 +23,7 @@ pub mod optimise;
 pub mod reference;
 pub mod report;
 pub mod run;
+pub mod thrust;
 pub mod tight;
 pub mod variables;
 pub mod vehicle;

@@ -183,6 +183,9 @@ pub struct Report {
     /// With `--integral`: the disturbance the bounded integral action covers and its level
     /// `M_i` [m/s²] (its gains are in `gains.integral`); `null` without.
     pub integral: Option<super::integral::IntegralSpec>,
+    /// The thrust flown and written (`--thrust`): its mode, vertical priority's floor and the
+    /// certified thrust interval `[T_lo, T_hi]` \[N\] of the box `[T_lo, T_hi] × Π[−τ_i, τ_i]`.
+    pub thrust: super::thrust::ThrustDesign,
     /// The physical choices behind the gains.
     pub choices: Choices,
     /// `M_p,max(k_f, k_s)` [m/s²].
@@ -280,6 +283,7 @@ impl Report {
             limits: limits_config(&c.limits),
             law: o.law,
             integral: o.integral,
+            thrust: best.thrust.clone(),
             choices,
             saturation_max_m_s2: best.mapped.saturation_max,
             feedback_torque_Nm: (best.mapped.iota_max, b.feedback_torque),
@@ -376,7 +380,7 @@ fn write_flight_file(
     for (k, v) in &vehicle.tables {
         flight.insert(k.clone(), v.clone());
     }
-    for key in ["limits", "gains", "trajectory"] {
+    for key in ["limits", "gains", "trajectory", "controller"] {
         if let Some(v) = table.get(key) {
             flight.insert(key.into(), v.clone());
         }
@@ -416,6 +420,7 @@ pub fn write_outputs(
     let settings = FlightSettings {
         duration_s: report.duration_s,
         controller_period_s,
+        controller: best.thrust.controller(),
     };
     let table = scenario_table(
         vehicle,

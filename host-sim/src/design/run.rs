@@ -14,10 +14,12 @@ use super::integral::IntegralSpec;
 use super::optimise::minimise;
 use super::reference::{largest_certifiable_scale, Reference};
 use super::report::{write_outputs, Report};
+use super::thrust::ThrustDesign;
 use super::tight::{tight_torque_box, BoundsKind, SEARCH_BOXES};
 use super::variables::{map, AttitudeLaw, Choices, Context, Mapped};
 use super::vehicle::DesignVehicle;
-use crate::scenario::Scenario;
+use crate::scenario::{ControllerConfig, Scenario, ThrustKind};
+use firmware::mixer::Mixer;
 
 /// Default length of each scoring run and of the written scenario \[s\]: the paper's 30 s (the
 /// last 5 s are the limit-cycle window; campaigns judge convergence 5 s before the end).
@@ -53,6 +55,9 @@ pub struct DesignOptions {
     /// `Some`: the design carries the bounded integral action sized to cover this disturbance,
     /// certified with the extended bounds (`--integral`, [`super::integral`]).
     pub integral: Option<IntegralSpec>,
+    /// The thrust flown and written: the paper's `norm`, or `vertical-priority` with the lowest
+    /// floor the certified box allows ([`super::thrust`]).
+    pub thrust: ThrustKind,
     /// Output directory.
     pub out: PathBuf,
 }
@@ -316,6 +321,8 @@ pub struct Scored {
     pub mapped: Mapped,
     /// Its certificate.
     pub certified: Certified,
+    /// Its thrust (the floor of vertical priority depends on its box).
+    pub thrust: ThrustDesign,
     /// Its simulations.
     pub evaluation: Evaluation,
 }
@@ -341,6 +348,12 @@ fn score(
     if !certified.ok() {
         return Err(10.0 * PENALTY);
     }
+    let thrust = thrust_of(vehicle, &certified, ctx.margin, settings.controller.thrust)
+        .map_err(|_| 10.0 * PENALTY)?;
+    let settings = FlightSettings {
+        controller: thrust.controller(),
+        ..settings
+    };
     let (scenario, hover) = scenarios(
         vehicle,
         &certified.limits,
@@ -359,8 +372,29 @@ fn score(
     Ok(Scored {
         mapped,
         certified,
+        thrust,
         evaluation,
     })
+}
+
+/// The thrust of a certified candidate: vertical priority's floor is the lowest at which the
+/// box the firmware's gate measures (Theorem 1's `T_max`, Theorem 2's torque bounds; the
+/// design's own box when that one does not fit) leaves the margin free.
+fn thrust_of(
+    vehicle: &DesignVehicle,
+    certified: &Certified,
+    margin: f64,
+    kind: ThrustKind,
+) -> Result<ThrustDesign> {
+    let mixer = Mixer::new(&vehicle.rotors)
+        .map_err(|e| anyhow::anyhow!("rotor set refused by the mixer: {e:?}"))?;
+    let b = &certified.certificate.bounds;
+    let gate_box = if certified.paper_fits_with_margin {
+        b.torque_max
+    } else {
+        certified.torque_box
+    };
+    ThrustDesign::new(kind, b, &mixer, &gate_box, margin).map_err(anyhow::Error::msg)
 }
 
 /// Runs `design`. Errors: unreadable or invalid inputs, an impossible vehicle (with the
@@ -424,9 +458,19 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         bounds: o.bounds,
         integral,
     };
+    if !matches!(o.thrust, ThrustKind::Norm | ThrustKind::VerticalPriority) {
+        bail!(
+            "--thrust: the firmware flies \"norm\" or \"vertical-priority\", not {:?}",
+            o.thrust.name()
+        );
+    }
     let settings = FlightSettings {
         duration_s: o.duration_s,
         controller_period_s: period,
+        controller: ControllerConfig {
+            thrust: o.thrust,
+            ..ControllerConfig::default()
+        },
     };
     let cost = |x: &[f64]| match score(
         &vehicle,
@@ -457,7 +501,10 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         &best.certified.limits,
         &best.mapped.gains,
         &reference,
-        settings,
+        FlightSettings {
+            controller: best.thrust.controller(),
+            ..settings
+        },
     )?;
     let lag_max = largest_converging_lag(&scenario, vehicle.motor_time_constant_s);
     let report = Report::new(

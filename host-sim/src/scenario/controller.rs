@@ -19,8 +19,8 @@ pub struct ControllerConfig {
     /// (see [`ThrustKind::VerticalPriority`]).
     #[serde(default)]
     pub thrust: ThrustKind,
-    /// `T_floor` \[N\] of `"body-axis-projection"`, in `[0, T_min]` (Theorem 1's `T_min`);
-    /// default 0. Refused with `thrust = "norm"` unless 0.
+    /// `T_floor` \[N\] of the no-dive thrusts, in `[0, T_min]` (Theorem 1's `T_min`); default 0.
+    /// Refused with `thrust = "norm"` unless 0.
     #[serde(default, skip_serializing_if = "is_zero_f64")]
     pub thrust_floor_N: f64,
     /// Exponent `k > 0` of `"alignment-power"`; default 1.
@@ -58,9 +58,10 @@ pub enum ThrustKind {
     BodyAxisProjection,
     /// `T = max(m|u| max(cos θ̃, 0)^k, T_floor)`.
     AlignmentPower,
-    /// `T = min(m u₃/b₃, T_max · min(1, b₃/b₀))` for `b₃ = e₃ᵀRe₃ > 0`, else 0: the vertical
-    /// thrust `u` asks for while the body z axis is above the horizon (tilt compensation),
-    /// capped at Theorem 1's `T_max` and ramped to 0 at the horizon.
+    /// `T = min(m u₃/b₃, T_max · min(1, b₃/b₀))` for `b₃ = e₃ᵀRe₃ > 0`, else 0, raised to
+    /// `thrust_floor_N` where below it: the vertical thrust `u` asks for while the body z axis
+    /// is above the horizon (tilt compensation), capped at Theorem 1's `T_max` and ramped to 0
+    /// (or the floor) at the horizon.
     VerticalPriority,
 }
 
@@ -108,6 +109,7 @@ impl ControllerConfig {
             ThrustKind::VerticalPriority => ThrustMode::VerticalPriority {
                 cap: lit(thrust_max_n),
                 ramp: lit(self.thrust_ramp),
+                floor: lit(self.thrust_floor_N),
             },
         }
     }
@@ -132,14 +134,14 @@ fn is_zero_f64(x: &f64) -> bool {
 }
 
 impl Scenario {
-    /// `[controller]`: the floor only with the projection, and within `[0, m(g − M_p))`
+    /// `[controller]`: the floor only with a no-dive thrust, and within `[0, m(g − M_p))`
     /// ([`ThrustMode::validate`]; the bound check against Theorem 1's `T_min` needs the
     /// reference and is [`Scenario::thrust_interval`]'s).
     pub(super) fn validate_controller(&self) -> std::result::Result<(), String> {
         let c = &self.controller;
         if c.thrust == ThrustKind::Norm && c.thrust_floor_N != 0.0 {
             return Err(format!(
-                "controller.thrust_floor_N: only used with thrust = \"body-axis-projection\", \
+                "controller.thrust_floor_N: only used with the no-dive thrusts, \
                  got {} N with thrust = \"norm\"",
                 c.thrust_floor_N
             ));

@@ -1,0 +1,158 @@
+//! `design --thrust vertical-priority`: the no-dive thrust inside the certified set.
+//!
+//! The paper's `T = m|u|` stays in Theorem 1's `[T_min, T_max]` whatever the attitude, so an
+//! upside-down vehicle is driven towards the ground at about `T_min/m + g` while it turns over.
+//! Vertical priority ([`controller_core::ThrustMode::VerticalPriority`], docs/no-dive-thrust.md)
+//! cuts the thrust while the body z axis points down, but not below a floor `T_floor`: the
+//! certified box is then `[T_floor, T_max] × Π[−τ_i, τ_i]`, and the rotors must realise every
+//! torque of the box at the floor too. The design takes the lowest floor for which that box
+//! still leaves the margin of every rotor's range free, measured with the firmware's own
+//! [`Mixer::box_margin`] (the function its boot gate uses), so the firmware certifies the flight
+//! file it writes. The torque levels are chosen first, for `[T_min, T_max]` as without the
+//! option; the floor then spends what headroom is left at the bottom of the rotors' range.
+
+use controller_core::Bounds;
+use firmware::mixer::Mixer;
+use nalgebra::Vector3;
+use serde::Serialize;
+
+use crate::scenario::{ControllerConfig, ThrustKind};
+
+/// Bisection steps on the floor: `T_min / 2^40`, far below an f32's resolution of it.
+const BISECTION_STEPS: usize = 40;
+
+/// The lowest thrust floor \[N\] in `[0, t_min]` at which the box `[floor, t_max] × Π[−τ_i, τ_i]`
+/// (`tau` [N m], body axes) leaves at least `margin` (fraction of the rotor range) of every
+/// rotor's range free on `mixer`; `None` when even `t_min` does not (the paper's box does not fit).
+/// The box's headroom only grows with the floor (its lower end rises), so the bisection keeps
+/// the certified end.
+pub fn lowest_floor(
+    mixer: &Mixer,
+    (t_min, t_max): (f32, f32),
+    tau: &Vector3<f32>,
+    margin: f32,
+) -> Option<f32> {
+    let fits = |floor: f32| mixer.box_margin(floor, t_max, tau) >= margin;
+    if !fits(t_min) {
+        return None;
+    }
+    if fits(0.0) {
+        return Some(0.0);
+    }
+    let (mut lo, mut hi) = (0.0f32, t_min);
+    for _ in 0..BISECTION_STEPS {
+        let mid = 0.5 * (lo + hi);
+        if fits(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Some(hi)
+}
+
+/// The thrust a design flies and writes (`design.json` `thrust`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[allow(non_snake_case)]
+pub struct ThrustDesign {
+    /// `"norm"` (the paper's `T = m|u|`) or `"vertical-priority"`.
+    pub mode: &'static str,
+    /// Vertical priority's floor \[N\] (0 for `norm`).
+    pub floor_N: f64,
+    /// The certified thrust interval \[N\]: Theorem 1's `[T_min, T_max]`, or `[T_floor, T_max]`.
+    pub interval_N: [f64; 2],
+    /// Vertical priority's ramp `b₀` (dimensionless; 0 for `norm`).
+    pub ramp: f64,
+}
+
+impl ThrustDesign {
+    /// The design's thrust for `kind` with the certificate's `bounds` and the torque box `tau`
+    /// [N m] the firmware's gate measures, on the vehicle's `mixer` with `margin`.
+    /// Errors: a thrust the firmware does not fly (only `norm` and `vertical-priority`), or no
+    /// floor fits (the box does not fit even at `T_min`; not expected for a certified design).
+    pub fn new(
+        kind: ThrustKind,
+        bounds: &Bounds<f64>,
+        mixer: &Mixer,
+        tau: &Vector3<f64>,
+        margin: f64,
+    ) -> Result<Self, String> {
+        let (t_min, t_max) = (bounds.thrust_min, bounds.thrust_max);
+        match kind {
+            ThrustKind::Norm => Ok(Self {
+                mode: kind.name(),
+                floor_N: 0.0,
+                interval_N: [t_min, t_max],
+                ramp: 0.0,
+            }),
+            ThrustKind::VerticalPriority => {
+                let floor = lowest_floor(
+                    mixer,
+                    (t_min as f32, t_max as f32),
+                    &tau.map(|x| x as f32),
+                    margin as f32,
+                )
+                .ok_or_else(|| {
+                    format!("no thrust floor fits the rotors with margin {margin}: the box does not fit even at T_min = {t_min} N")
+                })?;
+                // The floor must stay within T_min in the scalar the scenario stores.
+                let floor = f64::from(floor).min(t_min);
+                Ok(Self {
+                    mode: kind.name(),
+                    floor_N: floor,
+                    interval_N: [floor, t_max],
+                    ramp: ControllerConfig::default().thrust_ramp,
+                })
+            }
+            other => Err(format!(
+                "--thrust: the firmware flies \"norm\" or \"vertical-priority\", not {:?}",
+                other.name()
+            )),
+        }
+    }
+
+    /// The scenario's `[controller]` for this thrust.
+    pub fn controller(&self) -> ControllerConfig {
+        if self.mode == ThrustKind::VerticalPriority.name() {
+            ControllerConfig {
+                thrust: ThrustKind::VerticalPriority,
+                thrust_floor_N: self.floor_N,
+                thrust_ramp: self.ramp,
+                ..ControllerConfig::default()
+            }
+        } else {
+            ControllerConfig::default()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use firmware::config::FlightConfig;
+
+    /// The floor is where the box's headroom crosses the margin: the box fits with the margin at
+    /// the floor and not 1 % below it; a margin the box cannot leave even at `T_min` gives none;
+    /// with nothing to hold the floor is the rotors' idle.
+    #[test]
+    fn the_floor_is_where_the_margin_binds() {
+        let c = FlightConfig::built();
+        let mixer = Mixer::new(&c.rotors).unwrap();
+        let (t_min, t_max) = (18.0f32, 24.0f32);
+        let tau = Vector3::new(0.1f32, 0.1, 0.1);
+        let floor = lowest_floor(&mixer, (t_min, t_max), &tau, 0.05).unwrap();
+        assert!(floor > 0.0 && floor < t_min);
+        assert!(mixer.box_margin(floor, t_max, &tau) >= 0.05);
+        assert!(mixer.box_margin(0.99 * floor, t_max, &tau) < 0.05);
+        assert_eq!(lowest_floor(&mixer, (t_min, t_max), &tau, 0.6), None);
+        // With (almost) no torque to hold and no margin, the floor is the rotors' idle: four
+        // times each rotor's least thrust.
+        let tiny = Vector3::repeat(1e-6f32);
+        let idle = 4.0 * c.rotors.thrust_min;
+        let floor = lowest_floor(&mixer, (t_min, t_max), &tiny, 0.0).unwrap();
+        assert!(
+            (floor - idle).abs() < 1e-3 * idle,
+            "{floor} N against {idle} N"
+        );
+    }
+}
