@@ -239,22 +239,14 @@ pub fn saturation_max_with(
         super::tight::BoundsKind::Paper => 60,
         super::tight::BoundsKind::Tight => 12,
     };
-    let (mut lo, mut hi) = (top * 1e-6, top * (1.0 - 1e-9));
+    let (lo, hi) = (top * 1e-6, top * (1.0 - 1e-9));
     if !positive(lo) {
         return None;
     }
     if positive(hi) {
         return Some(hi);
     }
-    for _ in 0..steps {
-        let mid = 0.5 * (lo + hi);
-        if positive(mid) {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    Some(lo)
+    Some(super::bisect::bisect(lo, hi, steps, positive))
 }
 
 /// Smallest headroom over rotors and the 16 corners of the box `T ∈ {t_lo, t_hi}`,

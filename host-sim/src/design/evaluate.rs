@@ -324,13 +324,5 @@ pub fn largest_converging_lag(scenario: &Scenario, known_good: f64) -> Option<f6
             return Some(lo);
         }
     }
-    for _ in 0..6 {
-        let mid = 0.5 * (lo + hi);
-        if passes(mid) {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    Some(lo)
+    Some(super::bisect::bisect(lo, hi, 6, passes))
 }

@@ -14,6 +14,7 @@
 //! no-dive thrust of `design --thrust vertical-priority` inside the certified box.
 
 pub mod authority;
+pub mod bisect;
 pub mod certificate;
 pub mod evaluate;
 pub mod flight;

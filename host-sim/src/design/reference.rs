@@ -89,21 +89,13 @@ pub fn largest_certifiable_scale(
     if certifiable(reference) {
         return Some(1.0);
     }
-    let (mut lo, mut hi) = (0.0f64, 1.0f64);
     let tiny = 2f64.powi(-30);
     if !certifiable(&reference.scaled(tiny)) {
         return None;
     }
-    lo = lo.max(tiny);
-    for _ in 0..30 {
-        let mid = 0.5 * (lo + hi);
-        if certifiable(&reference.scaled(mid)) {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    Some(lo)
+    Some(super::bisect::bisect(tiny, 1.0, 30, |s| {
+        certifiable(&reference.scaled(s))
+    }))
 }
 
 #[cfg(test)]

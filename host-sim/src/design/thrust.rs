@@ -39,16 +39,7 @@ pub fn lowest_floor(
     if fits(0.0) {
         return Some(0.0);
     }
-    let (mut lo, mut hi) = (0.0f32, t_min);
-    for _ in 0..BISECTION_STEPS {
-        let mid = 0.5 * (lo + hi);
-        if fits(mid) {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    Some(hi)
+    Some(super::bisect::bisect(t_min, 0.0, BISECTION_STEPS, fits))
 }
 
 /// The thrust a design flies and writes (`design.json` `thrust`).
