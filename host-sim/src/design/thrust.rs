@@ -21,6 +21,12 @@ use crate::scenario::{ControllerConfig, ThrustKind};
 /// Bisection steps on the floor: `T_min / 2^40`, far below an f32's resolution of it.
 const BISECTION_STEPS: usize = 40;
 
+/// Headroom the floor leaves above the requested margin \[fraction of the rotor range\]: the
+/// firmware recomputes the certificate in f32 from the flight file, and at a floor exactly on
+/// the margin its rounding can flip the gate's verdict (measured on the x500: a margin of
+/// 0.049999993 against 0.05). A ten-thousandth of the range costs nothing measurable.
+pub const GATE_SLACK: f64 = 1e-4;
+
 /// The lowest thrust floor \[N\] in `[0, t_min]` at which the box `[floor, t_max] × Π[−τ_i, τ_i]`
 /// (`tau` [N m], body axes) leaves at least `margin` (fraction of the rotor range) of every
 /// rotor's range free on `mixer`; `None` when even `t_min` does not (the paper's box does not fit).
@@ -58,7 +64,8 @@ pub struct ThrustDesign {
 
 impl ThrustDesign {
     /// The design's thrust for `kind` with the certificate's `bounds` and the torque box `tau`
-    /// [N m] the firmware's gate measures, on the vehicle's `mixer` with `margin`.
+    /// [N m] the firmware's gate measures, on the vehicle's `mixer` with `margin` (plus
+    /// [`GATE_SLACK`] for vertical priority's floor).
     /// Errors: a thrust the firmware does not fly (only `norm` and `vertical-priority`), or no
     /// floor fits (the box does not fit even at `T_min`; not expected for a certified design).
     pub fn new(
@@ -81,7 +88,7 @@ impl ThrustDesign {
                     mixer,
                     (t_min as f32, t_max as f32),
                     &tau.map(|x| x as f32),
-                    margin as f32,
+                    (margin + GATE_SLACK) as f32,
                 )
                 .ok_or_else(|| {
                     format!("no thrust floor fits the rotors with margin {margin}: the box does not fit even at T_min = {t_min} N")
