@@ -458,12 +458,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         bounds: o.bounds,
         integral,
     };
-    if !matches!(o.thrust, ThrustKind::Norm | ThrustKind::VerticalPriority) {
-        bail!(
-            "--thrust: the firmware flies \"norm\" or \"vertical-priority\", not {:?}",
-            o.thrust.name()
-        );
-    }
+    ThrustDesign::check_flown(o.thrust).map_err(anyhow::Error::msg)?;
     let settings = FlightSettings {
         duration_s: o.duration_s,
         controller_period_s: period,

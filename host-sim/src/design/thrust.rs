@@ -102,10 +102,16 @@ impl ThrustDesign {
                     ramp: ControllerConfig::default().thrust_ramp,
                 })
             }
-            other => Err(format!(
-                "--thrust: the firmware flies \"norm\" or \"vertical-priority\", not {:?}",
-                other.name()
-            )),
+            other => Err(not_flown(other)),
+        }
+    }
+
+    /// `Ok` for the thrusts the firmware flies (`norm`, `vertical-priority`), so the ones a
+    /// design may write. Errors: the refusal naming the other thrust.
+    pub fn check_flown(kind: ThrustKind) -> Result<(), String> {
+        match kind {
+            ThrustKind::Norm | ThrustKind::VerticalPriority => Ok(()),
+            other => Err(not_flown(other)),
         }
     }
 
@@ -122,6 +128,13 @@ impl ThrustDesign {
             ControllerConfig::default()
         }
     }
+}
+
+fn not_flown(kind: ThrustKind) -> String {
+    format!(
+        "--thrust: the firmware flies \"norm\" or \"vertical-priority\", not {:?}",
+        kind.name()
+    )
 }
 
 #[cfg(test)]
