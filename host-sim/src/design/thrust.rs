@@ -166,4 +166,13 @@ mod tests {
             "{floor} N against {idle} N"
         );
     }
+
+    /// Only the thrusts the firmware flies may be designed; another is refused by name.
+    #[test]
+    fn only_the_firmwares_thrusts_are_designed() {
+        assert!(ThrustDesign::check_flown(ThrustKind::Norm).is_ok());
+        assert!(ThrustDesign::check_flown(ThrustKind::VerticalPriority).is_ok());
+        let e = ThrustDesign::check_flown(ThrustKind::BodyAxisProjection).unwrap_err();
+        assert!(e.contains("body-axis-projection"), "{e}");
+    }
 }
