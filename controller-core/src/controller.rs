@@ -324,7 +324,8 @@ impl<T: Scalar> Controller<T> {
         }
 
         let g = &self.gains;
-        let mut position = g.position.evaluate(
+        let mut position = g.position.evaluate_limited(
+            g.velocity_limit.as_ref(),
             &(state.position - reference.position),
             &(state.velocity - reference.velocity),
             &self.filter,

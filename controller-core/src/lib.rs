@@ -15,7 +15,9 @@
 //! [`integral`] and [`integral_stability`] (bounded integral action, an extension:
 //! docs/integral-action.md),
 //! [`params`], [`thrust`] (the paper's `T = m|u|` or the no-dive projection),
-//! [`tilt_priority`] (per-axis attitude feedback levels, an extension: docs/tilt-priority.md), and
+//! [`tilt_priority`] (per-axis attitude feedback levels, an extension: docs/tilt-priority.md),
+//! [`velocity_limit`] (a braking profile in the position feedback, an extension:
+//! docs/velocity-limit.md), and
 //! [`controller`] which composes them.
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
@@ -37,6 +39,7 @@ pub mod scalar;
 pub mod thrust;
 pub mod tilt_priority;
 pub mod trig;
+pub mod velocity_limit;
 
 pub use bounds::{
     certify, Bounds, Certificate, Condition, FilterStart, IntegralCertificate, Violation,
@@ -52,3 +55,4 @@ pub use reference::{
 pub use scalar::Scalar;
 pub use thrust::ThrustMode;
 pub use tilt_priority::TiltPriorityGains;
+pub use velocity_limit::VelocityLimit;

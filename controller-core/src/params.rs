@@ -7,6 +7,7 @@ use crate::integral::IntegralGains;
 use crate::position::PositionGains;
 use crate::scalar::{lit, to_f64, Scalar};
 use crate::tilt_priority::TiltPriorityGains;
+use crate::velocity_limit::VelocityLimit;
 
 /// Rigid-body parameters of eq:FullDynamics.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -45,6 +46,9 @@ pub struct Gains<T: Scalar> {
     /// Per-axis attitude feedback with tilt priority (extension, docs/tilt-priority.md): `None`
     /// is the paper's radial feedback, bit for bit.
     pub tilt_priority: Option<TiltPriorityGains<T>>,
+    /// Velocity-limited position feedback (extension, docs/velocity-limit.md): `None` is the
+    /// paper's `ubar_p = −σ_p(k_p z₁ + k_v z₂)`, bit for bit.
+    pub velocity_limit: Option<VelocityLimit<T>>,
 }
 
 impl<T: Scalar> Vehicle<T> {
@@ -91,6 +95,7 @@ impl<T: Scalar> Gains<T> {
             reset_threshold: lit(0.25),
             integral: None,
             tilt_priority: None,
+            velocity_limit: None,
         }
     }
 }
@@ -195,13 +200,17 @@ impl<T: Scalar> Gains<T> {
     /// Errors: [`ParameterError::NotPositive`] or [`ParameterError::OutOfRange`].
     /// Source: Section IV (`k_p, k_v, k_f, k_s, M_p > 0`), Section V (`k_ϑ, k_ω, M_ϑ, M_ω > 0`),
     /// Appendix (`δ > 0`, `α ∈ (0, 1)`); with the integral action, [`IntegralGains::validate`]; with
-    /// tilt priority, [`TiltPriorityGains::validate`].
+    /// tilt priority, [`TiltPriorityGains::validate`]; with the velocity limit,
+    /// [`VelocityLimit::validate`].
     pub fn validate(&self) -> Result<(), ParameterError> {
         if let Some(i) = &self.integral {
             i.validate()?;
         }
         if let Some(t) = &self.tilt_priority {
             t.validate()?;
+        }
+        if let Some(v) = &self.velocity_limit {
+            v.validate(self.position.saturation)?;
         }
         let p = &self.position;
         let a = &self.attitude;

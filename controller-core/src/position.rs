@@ -14,6 +14,7 @@ use nalgebra::Vector3;
 
 use crate::saturation::tanh_saturation;
 use crate::scalar::Scalar;
+use crate::velocity_limit::VelocityLimit;
 
 /// Gains of the position loop (Table I names in brackets).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -100,8 +101,39 @@ impl<T: Scalar> PositionGains<T> {
         snap: &Vector3<T>,
         gravity: T,
     ) -> PositionOutput<T> {
+        self.evaluate_limited(
+            None,
+            position_error,
+            velocity_error,
+            filter,
+            acceleration,
+            jerk,
+            snap,
+            gravity,
+        )
+    }
+
+    /// [`Self::evaluate`] with the feedback shape chosen: `None` is the paper's
+    /// `ubar_p = −σ_p(k_p z₁ + k_v z₂)`, `Some(limit)` the velocity-limited feedback of
+    /// [`VelocityLimit::feedback`] (extension, docs/velocity-limit.md). Same inputs, units and
+    /// frames as [`Self::evaluate`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn evaluate_limited(
+        &self,
+        limit: Option<&VelocityLimit<T>>,
+        position_error: &Vector3<T>,
+        velocity_error: &Vector3<T>,
+        filter: &FilterState<T>,
+        acceleration: &Vector3<T>,
+        jerk: &Vector3<T>,
+        snap: &Vector3<T>,
+        gravity: T,
+    ) -> PositionOutput<T> {
         let (z1, z2) = self.z_coordinates(position_error, velocity_error, filter);
-        let ubar_p = -tanh_saturation(&(z1 * self.kp + z2 * self.kv), self.saturation);
+        let ubar_p = match limit {
+            None => -tanh_saturation(&(z1 * self.kp + z2 * self.kv), self.saturation),
+            Some(l) => l.feedback(self, &z1, &z2),
+        };
         let filter_gap = filter.u_f - filter.u_s;
         let u_f_dot = -filter_gap * self.kf;
         let u_s_dot = (filter.u_s - ubar_p) * (-self.ks);

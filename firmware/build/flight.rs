@@ -412,7 +412,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
          controller_core::Gains {{\n        \
          position: controller_core::position::PositionGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {} }},\n        \
          attitude: controller_core::attitude_control::AttitudeGains {{ k_mrp: {}, k_omega: {}, mrp_saturation: {}, omega_saturation: {} }},\n        \
-         hysteresis: {},\n        reset_threshold: {},\n        integral: {},\n        tilt_priority: {},\n    }}\n}}",
+         hysteresis: {},\n        reset_threshold: {},\n        integral: {},\n        tilt_priority: {},\n        velocity_limit: {},\n    }}\n}}",
         lit(g.kp),
         lit(g.kv),
         lit(g.kf),
@@ -447,6 +447,12 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
             vec3(t.trace_weights_Nm),
             vec3(t.omega_gains_Nm_s),
             vec3(t.omega_levels_Nm)
+        )),
+        // `[gains.velocity_limit]` (absent = None, the paper's position feedback).
+        g.velocity_limit.map_or("None".to_string(), |v| format!(
+            "Some(controller_core::VelocityLimit {{ speed: {}, braking: {} }})",
+            lit(v.speed_m_s),
+            lit(v.braking_m_s2)
         ))
     ));
     put(format!(

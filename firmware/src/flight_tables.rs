@@ -59,6 +59,22 @@ pub struct GainsTable {
     /// paper's radial feedback; extension, docs/tilt-priority.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tilt_priority: Option<TiltPriorityTable>,
+    /// `[gains.velocity_limit]`: the velocity-limited position feedback (absent = off, the
+    /// paper's `−σ_p(k_p z₁ + k_v z₂)`; extension, docs/velocity-limit.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity_limit: Option<VelocityLimitTable>,
+}
+
+/// `[gains.velocity_limit]`: the braking profile of the velocity-limited position feedback
+/// (extension, docs/velocity-limit.md, controller-core's `velocity_limit`).
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct VelocityLimitTable {
+    /// `V` [m/s]: speed limit of the desired velocity, per inertial axis (z-coordinates).
+    pub speed_m_s: f64,
+    /// `a` [m/s²]: braking acceleration of the profile, `0 < a < M_p`.
+    pub braking_m_s2: f64,
 }
 
 /// `[gains.tilt_priority]`: per-axis attitude feedback with tilt priority (extension,

@@ -31,6 +31,7 @@ fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOptions 
         bounds: Default::default(),
         integral: None,
         thrust: host_sim::scenario::ThrustKind::Norm,
+        speed_limit: None,
         out,
     }
 }
@@ -309,6 +310,42 @@ fn duration_sets_the_written_scenario_and_short_ones_are_refused() {
         o.duration_s = bad;
         let msg = format!("{:#}", run_design(&o).unwrap_err());
         assert!(msg.contains("--duration-s"), "{msg}");
+        assert!(!out.exists(), "{bad}: wrote {}", out.display());
+    }
+}
+
+/// `--speed-limit V`: the design flies and writes the velocity-limited feedback with braking at
+/// 0.7 of its `M_p`, in the scenario and the flight file, and the firmware's gains built from
+/// the flight file carry it; a limit that is not a positive speed is refused before anything is
+/// written.
+#[test]
+fn speed_limit_is_written_and_bad_ones_are_refused() {
+    let out = out_dir("speed-limit");
+    let mut o = options(preset_path("crazyflie-2.1"), out.clone(), 1);
+    o.speed_limit = Some(4.0);
+    let r = run_design(&o).unwrap().report;
+    let v = r
+        .gains
+        .velocity_limit
+        .expect("design.json carries the limit");
+    assert_eq!(v.speed_m_s, 4.0);
+    assert!((v.braking_m_s2 - 0.7 * r.gains.M_p).abs() < 1e-12, "{v:?}");
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    let g = s
+        .gains::<f64>()
+        .velocity_limit
+        .expect("scenario.toml carries it");
+    assert_eq!((g.speed, g.braking), (v.speed_m_s, v.braking_m_s2));
+    let flight = std::fs::read_to_string(out.join("firmware.toml")).unwrap();
+    assert!(flight.contains("[gains.velocity_limit]"), "{flight}");
+    let _ = std::fs::remove_dir_all(&out);
+
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let out = out_dir("speed-limit-bad");
+        let mut o = options(preset_path("crazyflie-2.1"), out.clone(), 1);
+        o.speed_limit = Some(bad);
+        let msg = format!("{:#}", run_design(&o).unwrap_err());
+        assert!(msg.contains("--speed-limit"), "{msg}");
         assert!(!out.exists(), "{bad}: wrote {}", out.display());
     }
 }

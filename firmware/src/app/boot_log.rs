@@ -157,6 +157,14 @@ pub fn log_identity(config: &crate::config::FlightConfig) {
         "flight: design margin = {=f32} (box-fit headroom required, fraction of the rotor range)",
         config.box_margin
     );
+    match &config.gains.velocity_limit {
+        None => info!("flight: position feedback: the paper's -sat(k_p z1 + k_v z2)"),
+        Some(v) => info!(
+            "flight: position feedback: velocity-limited, speed limit {=f32} m/s, braking \
+             {=f32} m/s^2 (the paper's law near the reference; the same certificate)",
+            v.speed, v.braking
+        ),
+    }
     if config.allow_uncertified {
         error!(
             "flight: UNCERTIFIED BUILD (feature uncertified-paper): this firmware arms set-ups \

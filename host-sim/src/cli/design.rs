@@ -84,6 +84,12 @@ pub struct DesignArgs {
     /// paper's `T = m|u|`, Theorem 1's `[T_min, T_max]`).
     #[arg(long, value_enum, default_value_t = DesignThrust::VerticalPriority)]
     pub thrust: DesignThrust,
+    /// Fly the velocity-limited position feedback (docs/velocity-limit.md) with this speed limit
+    /// [m/s] and braking at 0.7 of `M_p`: the same law near the reference, a braking profile
+    /// instead of the paper's overshoot far from it (the certificate is unchanged). Absent: the
+    /// paper's position feedback.
+    #[arg(long, value_name = "M_S")]
+    pub speed_limit: Option<f64>,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/design")]
     pub out: PathBuf,
@@ -120,6 +126,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
             DesignThrust::Norm => ThrustKind::Norm,
             DesignThrust::VerticalPriority => ThrustKind::VerticalPriority,
         },
+        speed_limit: args.speed_limit,
         out: args.out.clone(),
     })?;
     let r = &outcome.report;

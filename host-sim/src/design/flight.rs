@@ -45,6 +45,12 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
                 omega_gains_Nm_s: t.omega_gains.into(),
                 omega_levels_Nm: t.omega_levels.into(),
             }),
+        velocity_limit: g
+            .velocity_limit
+            .map(|v| firmware::flight_tables::VelocityLimitTable {
+                speed_m_s: v.speed,
+                braking_m_s2: v.braking,
+            }),
     }
 }
 

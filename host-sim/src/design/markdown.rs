@@ -147,6 +147,17 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             r.feedback_torque_axes_Nm[2],
         );
     }
+    if let Some(v) = &g.velocity_limit {
+        let _ = writeln!(
+            s,
+            "Velocity-limited position feedback (`[gains.velocity_limit]`, `--speed-limit`, \
+             docs/velocity-limit.md): speed limit {} m/s, braking {:.4} m/s^2 (0.7 of M_p); the \
+             paper's law within |z1| <= {:.4} m of the reference, the same certificate.\n",
+            v.speed_m_s,
+            v.braking_m_s2,
+            v.braking_m_s2 * (g.kv / g.kp).powi(2),
+        );
+    }
     let c = &r.choices;
     let _ = writeln!(
         s,

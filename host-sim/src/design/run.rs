@@ -58,6 +58,9 @@ pub struct DesignOptions {
     /// The thrust flown and written: the paper's `norm`, or `vertical-priority` with the lowest
     /// floor the certified box allows ([`super::thrust`]).
     pub thrust: ThrustKind,
+    /// `Some(V)`: the design flies the velocity-limited position feedback with speed limit `V`
+    /// [m/s] (`--speed-limit`, docs/velocity-limit.md); `None`: the paper's.
+    pub speed_limit: Option<f64>,
     /// Output directory.
     pub out: PathBuf,
 }
@@ -191,6 +194,7 @@ fn binding_condition(
         margin,
         bounds,
         integral,
+        speed_limit: None,
     };
     let Some(m) = map(&ctx, &probe) else {
         return Some(
@@ -413,6 +417,11 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
     if o.evaluations == 0 {
         bail!("--evaluations: must be > 0");
     }
+    if let Some(v) = o.speed_limit {
+        if !(v.is_finite() && v > 0.0) {
+            bail!("--speed-limit: must be finite and > 0 m/s, got {v}");
+        }
+    }
     let vehicle = DesignVehicle::load(&o.vehicle)?;
     let set = refuse_impossible(&vehicle)?;
     let (requested, period) = load_reference(o.reference.as_ref())?;
@@ -457,6 +466,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         margin: o.margin,
         bounds: o.bounds,
         integral,
+        speed_limit: o.speed_limit,
     };
     ThrustDesign::check_flown(o.thrust).map_err(anyhow::Error::msg)?;
     let settings = FlightSettings {

@@ -39,7 +39,7 @@
 //! `z̈₁ = ubar_p = −σ_p(k_p z₁ + k_v ż₁)`, so `k_p = ω_p²`, `k_v = 2 ζ_p ω_p` (Table I: `ω_p = 3`,
 //! `ζ_p = 1`).
 
-use controller_core::{Gains, TiltPriorityGains, TrajectoryConstants, Vehicle};
+use controller_core::{Gains, TiltPriorityGains, TrajectoryConstants, Vehicle, VelocityLimit};
 use nalgebra::Vector3;
 
 use super::authority::{
@@ -241,7 +241,14 @@ pub struct Context<'a> {
     /// `Some`: the design carries the bounded integral action sized by this spec, and every
     /// bound is the extended one ([`super::integral`]).
     pub integral: Option<&'a IntegralSpec>,
+    /// `Some(V)`: the velocity-limited position feedback with speed limit `V` [m/s] and braking
+    /// [`BRAKING_SHARE`] `× M_p` (`--speed-limit`, docs/velocity-limit.md).
+    pub speed_limit: Option<f64>,
 }
+
+/// Braking acceleration of the velocity-limited feedback, as a share of `M_p`: the profile
+/// asks for 70 % of the level, so the rest of it covers the filters' lag and disturbances.
+pub const BRAKING_SHARE: f64 = 0.7;
 
 /// The gains of `choices`, with `M_p,max` and `ι_max` they were scaled from.
 #[derive(Clone, Copy, Debug)]
@@ -348,6 +355,10 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
         g.attitude.k_omega = tilt.omega_gains.x;
         g.tilt_priority = Some(tilt);
     }
+    g.velocity_limit = ctx.speed_limit.map(|speed| VelocityLimit {
+        speed,
+        braking: BRAKING_SHARE * mp,
+    });
     g.hysteresis = DELTA;
     g.reset_threshold = ALPHA;
     Some(Mapped {
@@ -414,6 +425,7 @@ mod tests {
             margin: 0.05,
             bounds: Default::default(),
             integral: None,
+            speed_limit: None,
         };
         let mut rng = crate::campaign::sampler::seeded_rng(11);
         for law in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority] {
@@ -468,6 +480,7 @@ mod tests {
             margin: 0.05,
             bounds: BoundsKind::Tight,
             integral: None,
+            speed_limit: None,
         };
         let mut rng = crate::campaign::sampler::seeded_rng(12);
         for law in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority] {

@@ -15,8 +15,8 @@ use std::path::Path;
 use anyhow::{anyhow, Context, Result};
 use controller_core::scalar::{lit, Scalar};
 use controller_core::{
-    Gains, HeadingProfile, IntegralGains, Limits, ParameterError, ReferenceTrajectory,
-    TiltPriorityGains, Vehicle,
+    Gains, HeadingProfile, IntegralGains, Limits, ReferenceTrajectory, TiltPriorityGains, Vehicle,
+    VelocityLimit,
 };
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -26,7 +26,9 @@ use crate::rotor_plant::RotorParameters;
 use crate::vehicle::{DragTable, RotorsTable, VehicleFile, VehicleTable};
 
 mod controller;
+mod keys;
 pub use controller::{ControllerConfig, ControllerOverrides, ThrustKind};
+pub use keys::describe;
 use serde::{Deserialize, Serialize};
 
 /// The embedded Section VI scenario, as TOML text.
@@ -169,55 +171,6 @@ fn default_precision() -> Precision {
     Precision::F32
 }
 
-/// Maps the names used by the core's [`ParameterError`] to scenario keys.
-fn key_of(name: &str) -> &'static str {
-    match name {
-        "mass" => "vehicle.mass_kg",
-        "J_11" | "J_22" | "J_33" => "vehicle.inertia_kg_m2",
-        "gravity" => "vehicle.gravity_m_s2",
-        "thrust_max" => "limits.thrust_max_N",
-        "tau_max_1" | "tau_max_2" | "tau_max_3" => "limits.torque_max_Nm",
-        "k_p" => "gains.kp",
-        "k_v" => "gains.kv",
-        "k_f" => "gains.kf",
-        "k_s" => "gains.ks",
-        "M_p" => "gains.M_p",
-        "k_theta" => "gains.k_theta",
-        "k_omega" => "gains.k_omega",
-        "M_theta" => "gains.M_theta",
-        "M_omega" => "gains.M_omega",
-        "delta" => "gains.delta",
-        "alpha" => "gains.alpha",
-        "k_i" => "gains.integral.k_i",
-        "k_eta" => "gains.integral.k_eta",
-        "L_v" => "gains.integral.observer.velocity_gain_1_s",
-        "L_d" => "gains.integral.observer.disturbance_gain_1_s2",
-        "z_bar" => "gains.integral.observer.error_limit_m",
-        "M_i_x" | "M_i_y" | "M_i_z" => "gains.integral.M_i_m_s2",
-        "R_i_x" | "R_i_y" | "R_i_z" => "gains.integral.rate_m_s3",
-        n if n.starts_with("M_p + M_i_z") => "gains.integral.M_i_m_s2",
-        "g_1" | "g_2" | "g_3" => "gains.tilt_priority.trace_weights_Nm",
-        "k_omega_1" | "k_omega_2" | "k_omega_3" => "gains.tilt_priority.omega_gains_Nm_s",
-        "M_omega_1" | "M_omega_2" | "M_omega_3" => "gains.tilt_priority.omega_levels_Nm",
-        "thrust_floor" => "controller.thrust_floor_N",
-        "thrust_ramp" => "controller.thrust_ramp",
-        "thrust_cap" => "controller.thrust",
-        _ => "trajectory",
-    }
-}
-
-/// Describes a [`ParameterError`] with the scenario key it comes from.
-pub fn describe(e: &ParameterError) -> String {
-    let key = match e {
-        ParameterError::NotPositive { name, .. } | ParameterError::OutOfRange { name, .. } => {
-            key_of(name)
-        }
-        ParameterError::SaturationTooLarge { .. } => "gains.M_p",
-        ParameterError::BadTrajectoryConstant { .. } => "trajectory",
-    };
-    format!("{key}: {e}")
-}
-
 fn v3<T: Scalar>(a: &[f64; 3]) -> Vector3<T> {
     Vector3::new(lit(a[0]), lit(a[1]), lit(a[2]))
 }
@@ -338,6 +291,10 @@ impl Scenario {
             trace_weights: v3(&t.trace_weights_Nm),
             omega_gains: v3(&t.omega_gains_Nm_s),
             omega_levels: v3(&t.omega_levels_Nm),
+        });
+        out.velocity_limit = g.velocity_limit.map(|v| VelocityLimit {
+            speed: lit(v.speed_m_s),
+            braking: lit(v.braking_m_s2),
         });
         out.integral = g.integral.as_ref().map(|i| IntegralGains {
             gain: lit(i.k_i),
