@@ -324,7 +324,7 @@ impl<T: Scalar> Controller<T> {
         }
 
         let g = &self.gains;
-        let mut position = g.position.evaluate_limited(
+        let mut position = g.position.evaluate(
             g.velocity_limit.as_ref(),
             &(state.position - reference.position),
             &(state.velocity - reference.velocity),

@@ -86,39 +86,14 @@ impl<T: Scalar> PositionGains<T> {
 
     /// The position law at one sample.
     ///
-    /// Inputs: `p̃ = p − p_d` \[m\], `ṽ = v − ṗ_d` [m/s], filter states, the reference's `p̈_d`,
-    /// `p_d⁽³⁾`, `p_d⁽⁴⁾`, and gravity `g` [m/s²]; all inertial. Source: Section IV,
-    /// eq:PositionControlLaw, eq:FilterDynamics, eq:Zcoordinates; `σ_p = M tanh(·/M)` as in
-    /// Section VI.
+    /// Inputs: the feedback shape (`None`: the paper's `ubar_p = −σ_p(k_p z₁ + k_v z₂)`;
+    /// `Some(limit)`: the velocity-limited feedback of [`VelocityLimit::feedback`], an extension,
+    /// docs/velocity-limit.md), `p̃ = p − p_d` \[m\], `ṽ = v − ṗ_d` [m/s], filter states, the
+    /// reference's `p̈_d`, `p_d⁽³⁾`, `p_d⁽⁴⁾`, and gravity `g` [m/s²]; all inertial. Source:
+    /// Section IV, eq:PositionControlLaw, eq:FilterDynamics, eq:Zcoordinates;
+    /// `σ_p = M tanh(·/M)` as in Section VI.
     #[allow(clippy::too_many_arguments)]
     pub fn evaluate(
-        &self,
-        position_error: &Vector3<T>,
-        velocity_error: &Vector3<T>,
-        filter: &FilterState<T>,
-        acceleration: &Vector3<T>,
-        jerk: &Vector3<T>,
-        snap: &Vector3<T>,
-        gravity: T,
-    ) -> PositionOutput<T> {
-        self.evaluate_limited(
-            None,
-            position_error,
-            velocity_error,
-            filter,
-            acceleration,
-            jerk,
-            snap,
-            gravity,
-        )
-    }
-
-    /// [`Self::evaluate`] with the feedback shape chosen: `None` is the paper's
-    /// `ubar_p = −σ_p(k_p z₁ + k_v z₂)`, `Some(limit)` the velocity-limited feedback of
-    /// [`VelocityLimit::feedback`] (extension, docs/velocity-limit.md). Same inputs, units and
-    /// frames as [`Self::evaluate`].
-    #[allow(clippy::too_many_arguments)]
-    pub fn evaluate_limited(
         &self,
         limit: Option<&VelocityLimit<T>>,
         position_error: &Vector3<T>,
@@ -314,7 +289,7 @@ mod tests {
             let g = gains();
             let filt = FilterState { u_f: uf, u_s: us };
             let zero = Vector3::zeros();
-            let out = g.evaluate(&pe, &ve, &filt, &zero, &zero, &zero, 9.81);
+            let out = g.evaluate(None, &pe, &ve, &filt, &zero, &zero, &zero, 9.81);
             let at = |t: f64| g.propagate(&filt, &out.ubar_p, t).u_f;
             let (kf, ks) = (g.kf, g.ks);
             let e_s = us - out.ubar_p;
@@ -347,7 +322,16 @@ mod tests {
             let mut filt = FilterState::zero();
             let zero = Vector3::zeros();
             for _ in 0..500 {
-                let out = g.evaluate(&(pe * 10.0), &(ve * 3.0), &filt, &zero, &zero, &zero, 9.81);
+                let out = g.evaluate(
+                    None,
+                    &(pe * 10.0),
+                    &(ve * 3.0),
+                    &filt,
+                    &zero,
+                    &zero,
+                    &zero,
+                    9.81,
+                );
                 filt = g.propagate(&filt, &out.ubar_p, 0.01);
                 prop_assert!(filt.u_f.amax() <= g.saturation);
                 prop_assert!(filt.u_s.amax() <= g.saturation);

@@ -254,7 +254,7 @@ mod off_path {
                 let out = c.step(&state, &reference, DT).unwrap();
                 let zero = Vector3::zeros();
                 let law = gains.position.evaluate(
-                    &(p - reference.position), &(v - reference.velocity), &filter,
+                    None, &(p - reference.position), &(v - reference.velocity), &filter,
                     &zero, &zero, &zero, 9.81,
                 );
                 prop_assert_eq!(out.diagnostics.u, law.u);

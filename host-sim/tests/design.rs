@@ -32,6 +32,7 @@ fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOptions 
         integral: None,
         thrust: host_sim::scenario::ThrustKind::Norm,
         speed_limit: None,
+        fallback: host_sim::design::run::Fallback::Off,
         out,
     }
 }
@@ -348,6 +349,41 @@ fn speed_limit_is_written_and_bad_ones_are_refused() {
         assert!(msg.contains("--speed-limit"), "{msg}");
         assert!(!out.exists(), "{bad}: wrote {}", out.display());
     }
+}
+
+/// The CLI's default path: when no design meets the convergence constraints with the paper's
+/// feedback on 30 s runs (the x500 with a one-point budget), `design` designs again with the
+/// velocity-limited feedback on 300 s runs, writes that one and says why in the report; with
+/// the fallback off the first design is written as it is.
+#[test]
+fn unconverged_design_falls_back_to_the_velocity_limit() {
+    use host_sim::design::run::{Fallback, FALLBACK_DURATION_S, FALLBACK_SPEED_LIMIT_M_S};
+    let out = out_dir("fallback");
+    let mut o = options(preset_path("x500"), out.clone(), 1);
+    o.fallback = Fallback::VelocityLimited;
+    let r = run_design(&o).unwrap().report;
+    let why = r.fallback.as_deref().expect("the fallback was taken");
+    assert!(why.contains("no design met the convergence"), "{why}");
+    assert_eq!(r.duration_s, FALLBACK_DURATION_S);
+    let v = r
+        .gains
+        .velocity_limit
+        .expect("the fallback flies the velocity limit");
+    assert_eq!(v.speed_m_s, FALLBACK_SPEED_LIMIT_M_S);
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    assert_eq!(s.simulation.duration_s, FALLBACK_DURATION_S);
+    assert!(s.gains.velocity_limit.is_some());
+    let md = std::fs::read_to_string(out.join("design.md")).unwrap();
+    assert!(md.contains("**Fallback:**"), "{md}");
+    let _ = std::fs::remove_dir_all(&out);
+
+    let out = out_dir("no-fallback");
+    let r = run_design(&options(preset_path("x500"), out.clone(), 1))
+        .unwrap()
+        .report;
+    assert!(!r.objective.constraints_met && r.fallback.is_none());
+    assert!(r.gains.velocity_limit.is_none());
+    let _ = std::fs::remove_dir_all(&out);
 }
 
 /// A vehicle whose rotors cannot lift it is refused at once, naming the file, key and reason.

@@ -94,3 +94,20 @@ fn a_bad_velocity_limit_is_refused_by_key() {
     let e = with("nan", "0.5").unwrap_err().to_string();
     assert!(e.contains("gains.velocity_limit.speed_m_s"), "{e}");
 }
+
+/// Given the x500 design (which carries `[gains.velocity_limit]`), the ablated controllers,
+/// which fly the paper's position feedback only, refuse it by key instead of ignoring it; the
+/// paper's law flies it.
+#[test]
+fn ablations_refuse_the_velocity_limit_instead_of_ignoring_it() {
+    use host_sim::controllers::ControllerKind;
+    let s = design();
+    assert!(ControllerKind::Paper.build(&s).is_ok());
+    for kind in [
+        ControllerKind::PaperMemoryless,
+        ControllerKind::PaperNoFilter,
+    ] {
+        let e = format!("{:#}", kind.build(&s).err().expect("refused"));
+        assert!(e.contains("gains.velocity_limit"), "{kind:?}: {e}");
+    }
+}

@@ -6,7 +6,7 @@ use anyhow::Result;
 use clap::Args;
 use host_sim::design::{
     integral::IntegralSpec,
-    run::{DEFAULT_DURATION_S, DEFAULT_EVALUATIONS},
+    run::{Fallback, DEFAULT_DURATION_S, DEFAULT_EVALUATIONS},
     run_design,
     tight::BoundsKind,
     variables::AttitudeLaw,
@@ -44,8 +44,11 @@ pub struct DesignArgs {
     pub evaluations: usize,
     /// Length of the scoring runs and of the written scenario (s): a run must settle 5 s before
     /// its end. Slow certified designs (small authority) need longer than the paper's 30 s.
-    #[arg(long, default_value_t = DEFAULT_DURATION_S)]
-    pub duration_s: f64,
+    /// Default: 30 s, and when no design converges there (and `--speed-limit` is not given
+    /// either), `design` designs again with the velocity-limited feedback at 20 m/s on 300 s runs
+    /// and says so.
+    #[arg(long)]
+    pub duration_s: Option<f64>,
     /// Attitude feedback to search: `paper` (one feedback torque level on every axis) or
     /// `tilt-priority` (per-axis levels, yaw's small; docs/tilt-priority.md).
     #[arg(long, value_enum, default_value_t = AttitudeLaw::Paper)]
@@ -118,7 +121,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         seed: args.seed,
         margin: args.margin,
         evaluations: args.evaluations,
-        duration_s: args.duration_s,
+        duration_s: args.duration_s.unwrap_or(DEFAULT_DURATION_S),
         law: args.law,
         bounds: args.bounds,
         integral,
@@ -127,6 +130,11 @@ pub fn run(args: &DesignArgs) -> Result<()> {
             DesignThrust::VerticalPriority => ThrustKind::VerticalPriority,
         },
         speed_limit: args.speed_limit,
+        fallback: if args.duration_s.is_none() && args.speed_limit.is_none() {
+            Fallback::VelocityLimited
+        } else {
+            Fallback::Off
+        },
         out: args.out.clone(),
     })?;
     let r = &outcome.report;

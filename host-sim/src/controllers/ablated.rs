@@ -157,6 +157,12 @@ impl<T: Scalar> AblatedLaw<T> {
         let trajectory = scenario.trajectory::<T>();
         let vehicle = scenario.vehicle::<T>();
         let gains = scenario.gains::<T>();
+        if gains.velocity_limit.is_some() {
+            bail!(
+                "gains.velocity_limit: the ablated controllers fly the paper's position feedback \
+                 only; remove [gains.velocity_limit] to compare them (docs/velocity-limit.md)"
+            );
+        }
         // Same validation as the core (the constructed controller is then dropped).
         let thrust_mode = scenario.thrust_mode::<T>().map_err(|e| anyhow!("{e}"))?;
         Controller::new(vehicle, gains, &trajectory.constants())
@@ -193,6 +199,7 @@ impl<T: Scalar> AblatedLaw<T> {
         let velocity_error = state.velocity - reference.velocity;
         let (ubar_p, u, u_dot, u_ddot) = if self.ablation.filters {
             let p = g.position.evaluate(
+                None,
                 &position_error,
                 &velocity_error,
                 &self.filter,

@@ -24,6 +24,14 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
          converges when it has settled 5 s before its end.\n",
         r.seed, r.evaluations, r.wall_time_s, r.duration_s
     );
+    if let Some(why) = &r.fallback {
+        let _ = writeln!(
+            s,
+            "**Fallback:** {why}; this design flies the velocity-limited position feedback on \
+             {} s runs (docs/velocity-limit.md; the wall time above counts both attempts).\n",
+            r.duration_s
+        );
+    }
     if r.reference.scaled {
         let _ = writeln!(
             s,

@@ -168,8 +168,11 @@ pub struct Report {
     pub duration_s: f64,
     /// Evaluations spent.
     pub evaluations: usize,
-    /// Wall time of the design \[s\].
+    /// Wall time of the design \[s\] (with the fallback, both attempts).
     pub wall_time_s: f64,
+    /// Set when this design is `design`'s fallback (the velocity-limited feedback on longer
+    /// runs, [`super::run::Fallback`]): why the first attempt was set aside; `null` otherwise.
+    pub fallback: Option<String>,
     /// The certificate.
     pub certificate: CertificateEntry,
     /// The box fit.
@@ -263,6 +266,10 @@ impl Report {
             duration_s: o.duration_s,
             evaluations,
             wall_time_s,
+            fallback: match &o.fallback {
+                super::run::Fallback::Taken { why, .. } => Some(why.clone()),
+                _ => None,
+            },
             certificate: CertificateEntry {
                 bounds: o.bounds,
                 all_hold: c.all_hold(),

@@ -26,6 +26,31 @@ use firmware::mixer::Mixer;
 pub const DEFAULT_DURATION_S: f64 = 30.0;
 /// Shortest `--duration-s` \[s\]: twice the limit-cycle window.
 pub const MIN_DURATION_S: f64 = 2.0 * super::evaluate::TAIL_S;
+/// Speed limit [m/s] of the fallback design ([`Fallback::VelocityLimited`]).
+pub const FALLBACK_SPEED_LIMIT_M_S: f64 = 20.0;
+/// Run length \[s\] of the fallback design ([`Fallback::VelocityLimited`]).
+pub const FALLBACK_DURATION_S: f64 = 300.0;
+
+/// What `design` does when no design within the budget meets the convergence constraints.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Fallback {
+    /// Nothing: the best design is written and reported as not converging.
+    Off,
+    /// Design again, with the velocity-limited position feedback
+    /// ([`FALLBACK_SPEED_LIMIT_M_S`], docs/velocity-limit.md) on runs of
+    /// [`FALLBACK_DURATION_S`], and write that design (the CLI's default when neither
+    /// `--duration-s` nor `--speed-limit` is given): a certified design with a small `M_p`
+    /// overshoots a long fall with the paper's feedback and needs minutes to climb back.
+    VelocityLimited,
+    /// This design is that second attempt: why the first was set aside, and its wall time \[s\].
+    Taken {
+        /// The first attempt's outcome, for the report.
+        why: String,
+        /// The first attempt's wall time \[s\].
+        seconds: f64,
+    },
+}
+
 /// Default evaluation budget: sized so one preset finishes in well under 10 minutes on 2 cores
 /// (release build).
 pub const DEFAULT_EVALUATIONS: usize = 960;
@@ -61,6 +86,8 @@ pub struct DesignOptions {
     /// `Some(V)`: the design flies the velocity-limited position feedback with speed limit `V`
     /// [m/s] (`--speed-limit`, docs/velocity-limit.md); `None`: the paper's.
     pub speed_limit: Option<f64>,
+    /// What to do when no design meets the convergence constraints.
+    pub fallback: Fallback,
     /// Output directory.
     pub out: PathBuf,
 }
@@ -511,7 +538,35 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
             ..settings
         },
     )?;
+    if !best.evaluation.feasible && o.fallback == Fallback::VelocityLimited {
+        let why = format!(
+            "with the paper's position feedback on {} s runs no design met the convergence \
+             constraints (the best: worst settling from 180 degrees {}, {:.1} m lost upside down)",
+            o.duration_s,
+            best.evaluation
+                .worst_settling_180_s
+                .map_or("not settled".to_owned(), |t| format!("{t:.1} s")),
+            best.evaluation.altitude_loss_upside_down_m
+        );
+        eprintln!(
+            "design: {why}; designing again with the velocity-limited position feedback \
+             ({FALLBACK_SPEED_LIMIT_M_S} m/s) on {FALLBACK_DURATION_S} s runs"
+        );
+        return run_design(&DesignOptions {
+            speed_limit: Some(FALLBACK_SPEED_LIMIT_M_S),
+            duration_s: FALLBACK_DURATION_S,
+            fallback: Fallback::Taken {
+                why,
+                seconds: started.elapsed().as_secs_f64(),
+            },
+            ..o.clone()
+        });
+    }
     let lag_max = largest_converging_lag(&scenario, vehicle.motor_time_constant_s);
+    let earlier_s = match &o.fallback {
+        Fallback::Taken { seconds, .. } => *seconds,
+        _ => 0.0,
+    };
     let report = Report::new(
         &vehicle,
         o,
@@ -520,7 +575,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         &best,
         lag_max,
         optimum.evaluations,
-        started.elapsed().as_secs_f64(),
+        earlier_s + started.elapsed().as_secs_f64(),
     );
     let files = write_outputs(&o.out, &report, &vehicle, &best, &reference, period)?;
     Ok(DesignOutcome { report, files })

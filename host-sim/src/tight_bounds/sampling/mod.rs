@@ -448,7 +448,10 @@ impl AdmissibleState {
             -p.saturation * t
         });
         let position_error = (argument - z2 * p.kv) / p.kp - filter.u_f * (1.0 / (p.kf * p.ks));
+        // The paper's shape: only the value of ubar_p matters here, and the velocity-limited
+        // feedback reaches the same values (docs/velocity-limit.md).
         let mut out = p.evaluate(
+            None,
             &position_error,
             &zero,
             &filter,
