@@ -25,7 +25,8 @@ fn limit() -> VelocityLimit<f64> {
 #[test]
 fn inside_the_linear_zone_it_is_the_papers_law() {
     let g = gains();
-    let reach = limit().braking / (1.0f64).powi(2); // c = k_p/k_v = 1
+    let c = g.kp / g.kv;
+    let reach = limit().braking / (c * c);
     let z1 = Vector3::new(0.9 * reach, -0.3 * reach, 0.0);
     let z2 = Vector3::new(-0.2, 0.7, 1.5);
     let paper = -tanh_saturation(&(z1 * g.kp + z2 * g.kv), g.saturation);

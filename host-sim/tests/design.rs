@@ -37,6 +37,17 @@ fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOptions 
     }
 }
 
+/// The Crazyflie's design with one option set to `bad` by `set` is refused naming `flag`, and
+/// writes nothing.
+fn assert_refused_unwritten(flag: &str, bad: f64, set: impl Fn(&mut DesignOptions)) {
+    let out = out_dir(&format!("bad{flag}"));
+    let mut o = options(preset_path("crazyflie-2.1"), out.clone(), 1);
+    set(&mut o);
+    let msg = format!("{:#}", run_design(&o).unwrap_err());
+    assert!(msg.contains(flag), "{msg}");
+    assert!(!out.exists(), "{bad}: wrote {}", out.display());
+}
+
 /// The rotor set of a scenario file, through the firmware's own conversion.
 fn rotors_of(s: &Scenario) -> firmware::config::RotorConfig {
     let file = VehicleFile {
@@ -306,12 +317,7 @@ fn duration_sets_the_written_scenario_and_short_ones_are_refused() {
     let _ = std::fs::remove_dir_all(&out);
 
     for bad in [9.99, f64::NAN, f64::INFINITY] {
-        let out = out_dir("duration-bad");
-        let mut o = options(preset_path("crazyflie-2.1"), out.clone(), 1);
-        o.duration_s = bad;
-        let msg = format!("{:#}", run_design(&o).unwrap_err());
-        assert!(msg.contains("--duration-s"), "{msg}");
-        assert!(!out.exists(), "{bad}: wrote {}", out.display());
+        assert_refused_unwritten("--duration-s", bad, |o| o.duration_s = bad);
     }
 }
 
@@ -330,7 +336,11 @@ fn speed_limit_is_written_and_bad_ones_are_refused() {
         .velocity_limit
         .expect("design.json carries the limit");
     assert_eq!(v.speed_m_s, 4.0);
-    assert!((v.braking_m_s2 - 0.7 * r.gains.M_p).abs() < 1e-12, "{v:?}");
+    let share = host_sim::design::variables::BRAKING_SHARE;
+    assert!(
+        (v.braking_m_s2 - share * r.gains.M_p).abs() < 1e-12,
+        "{v:?}"
+    );
     let s = Scenario::load(&out.join("scenario.toml")).unwrap();
     let g = s
         .gains::<f64>()
@@ -342,12 +352,7 @@ fn speed_limit_is_written_and_bad_ones_are_refused() {
     let _ = std::fs::remove_dir_all(&out);
 
     for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-        let out = out_dir("speed-limit-bad");
-        let mut o = options(preset_path("crazyflie-2.1"), out.clone(), 1);
-        o.speed_limit = Some(bad);
-        let msg = format!("{:#}", run_design(&o).unwrap_err());
-        assert!(msg.contains("--speed-limit"), "{msg}");
-        assert!(!out.exists(), "{bad}: wrote {}", out.display());
+        assert_refused_unwritten("--speed-limit", bad, |o| o.speed_limit = Some(bad));
     }
 }
 

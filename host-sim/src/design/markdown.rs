@@ -159,10 +159,11 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
         let _ = writeln!(
             s,
             "Velocity-limited position feedback (`[gains.velocity_limit]`, `--speed-limit`, \
-             docs/velocity-limit.md): speed limit {} m/s, braking {:.4} m/s^2 (0.7 of M_p); the \
+             docs/velocity-limit.md): speed limit {} m/s, braking {:.4} m/s^2 ({:.1} of M_p); the \
              paper's law within |z1| <= {:.4} m of the reference, the same certificate.\n",
             v.speed_m_s,
             v.braking_m_s2,
+            v.braking_m_s2 / g.M_p,
             v.braking_m_s2 * (g.kv / g.kp).powi(2),
         );
     }

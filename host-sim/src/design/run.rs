@@ -528,16 +528,6 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         true,
     )
     .map_err(|_| anyhow::anyhow!("the best design found could not be certified and flown (bug)"))?;
-    let (scenario, _) = scenarios(
-        &vehicle,
-        &best.certified.limits,
-        &best.mapped.gains,
-        &reference,
-        FlightSettings {
-            controller: best.thrust.controller(),
-            ..settings
-        },
-    )?;
     if !best.evaluation.feasible && o.fallback == Fallback::VelocityLimited {
         let why = format!(
             "with the paper's position feedback on {} s runs no design met the convergence \
@@ -562,6 +552,16 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
             ..o.clone()
         });
     }
+    let (scenario, _) = scenarios(
+        &vehicle,
+        &best.certified.limits,
+        &best.mapped.gains,
+        &reference,
+        FlightSettings {
+            controller: best.thrust.controller(),
+            ..settings
+        },
+    )?;
     let lag_max = largest_converging_lag(&scenario, vehicle.motor_time_constant_s);
     let earlier_s = match &o.fallback {
         Fallback::Taken { seconds, .. } => *seconds,
