@@ -243,7 +243,8 @@ pub(crate) fn integral_margin_error<T: Scalar>(total: T, limit: T) -> ParameterE
 /// g − K_a3` is refused likewise ([`ParameterError::OutOfRange`] naming `"M_p + M_i_z"`).
 /// With the integral action the bounds are the extended ones ([`Bounds`],
 /// [`IntegralCertificate`]; extension, docs/integral-action.md); without it every number is the
-/// paper's. A violated *feasibility* condition is not an
+/// paper's; with its feedforward scale every bound is computed for the constants of the scaled
+/// feedforward ([`Gains::law_constants`]). A violated *feasibility* condition is not an
 /// error here: it is reported in the certificate ([`Certificate::require_feasible`]).
 /// Source: Assumption 1 (eq:ThrustConditions, eq:TorqueMaxCondition), Theorem 1
 /// (eq:BoundsT), Lemma 1, Theorem 2 (eq:TorqueMaxConditionsTheorem).
@@ -258,6 +259,8 @@ pub fn certify<T: Scalar>(
     limits.validate()?;
     gains.validate()?;
     constants.validate()?;
+    // The reference as the law applies it (the feedforward scale widens its constants).
+    let constants = &gains.law_constants(constants);
     let (m, g, inertia) = (vehicle.mass, vehicle.gravity, vehicle.inertia);
     let p = &gains.position;
     let (mp, kf, ks) = (p.saturation, p.kf, p.ks);

@@ -9,6 +9,7 @@ use approx::assert_relative_eq;
 
 fn integral_gains(level: f64) -> crate::integral::IntegralGains<f64> {
     crate::integral::IntegralGains {
+        feedforward_scale: None,
         gain: 2.0,
         level: Vector3::new(0.5, 0.6, 1.5) * level,
         rate: Vector3::new(0.3, 0.4, 1.2),

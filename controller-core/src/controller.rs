@@ -17,6 +17,7 @@ use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 use crate::attitude_control::attitude_torque;
 use crate::desired_attitude::{desired_attitude, DesiredAttitudeError};
+use crate::feedforward_scale::{modelled_compensation, FeedforwardScaleState};
 use crate::integral::{IntegralGains, IntegralState};
 use crate::mrp::rotation_from_quaternion;
 use crate::params::{Gains, ParameterError, Vehicle};
@@ -55,6 +56,9 @@ pub struct Diagnostics<T: Scalar> {
     /// Filtered integral estimate `η_f` applied at the sample [m/s²], inertial (zero when the
     /// integral action is off; extension, docs/integral-action.md).
     pub integral: Vector3<T>,
+    /// Filtered feedforward scale `μ_f` applied at the sample (dimensionless; zero when it is
+    /// off; extension, [`crate::feedforward_scale`]).
+    pub feedforward_scale: T,
     /// Control vector `u` [m/s²], inertial.
     pub u: Vector3<T>,
     /// Thrust direction `ρ = u/|u|`, inertial.
@@ -135,7 +139,9 @@ pub struct Controller<T: Scalar> {
     thrust_mode: ThrustMode<T>,
     /// `(η, η_f)` of the integral action; stays zero when it is off.
     integral: IntegralState<T>,
-    /// Failsafe: the estimate is held (still applied) while set.
+    /// `(μ, μ_f)` of the feedforward scale; stays zero when it is off.
+    feedforward_scale: FeedforwardScaleState<T>,
+    /// Failsafe: the estimates are held (still applied) while set.
     integral_frozen: bool,
     /// The disturbance observer's velocity `v̂` [m/s], inertial (`None`: it starts at the next
     /// measured velocity; extension, docs/integral-action.md).
@@ -173,6 +179,7 @@ impl<T: Scalar> Controller<T> {
             propagator: None,
             thrust_mode: ThrustMode::Norm,
             integral: IntegralState::zero(),
+            feedforward_scale: FeedforwardScaleState::zero(),
             integral_frozen: false,
             observed_velocity: None,
         };
@@ -195,6 +202,8 @@ impl<T: Scalar> Controller<T> {
                 value: to_f64(ka3),
             });
         }
+        // The vertical feedforward as applied: scaled by up to 1 + μ̄ with the feedforward scale.
+        let ka3 = self.gains.law_constants(constants).vertical_acceleration;
         let limit = self.vehicle.gravity - ka3;
         if !crate::bounds::strictly_less(self.gains.position.saturation, limit) {
             return Err(ParameterError::SaturationTooLarge {
@@ -248,14 +257,23 @@ impl<T: Scalar> Controller<T> {
         self.integral
     }
 
-    /// Resets the integral action's state to zero (arming). Extension, docs/integral-action.md.
+    /// The feedforward scale's state `(μ, μ_f)` (zero when it is off).
+    /// Extension, [`crate::feedforward_scale`].
+    pub fn feedforward_scale_state(&self) -> FeedforwardScaleState<T> {
+        self.feedforward_scale
+    }
+
+    /// Resets the integral action's state, and the feedforward scale's, to zero (arming).
+    /// Extension, docs/integral-action.md.
     pub fn reset_integral(&mut self) {
         self.integral = IntegralState::zero();
+        self.feedforward_scale = FeedforwardScaleState::zero();
         self.observed_velocity = None;
     }
 
-    /// Freezes (`true`) or releases the integral estimate: while frozen it is held, not
-    /// integrated, and still applied (failsafe). Extension, docs/integral-action.md.
+    /// Freezes (`true`) or releases the integral estimate and the feedforward scale: while
+    /// frozen they are held, not integrated, and still applied (failsafe). Extension,
+    /// docs/integral-action.md.
     pub fn set_integral_frozen(&mut self, frozen: bool) {
         self.integral_frozen = frozen;
     }
@@ -337,20 +355,36 @@ impl<T: Scalar> Controller<T> {
         // The integral action adds η_f and its closed-form derivatives to u, u̇, ü after the
         // paper's sums are formed, so that with it off every value is the paper's, bit for bit.
         let integral = g.integral.as_ref().map(|ig| {
-            let rate = match &ig.observer {
-                None => ig.rate_of(&self.integral, &position.z1, self.integral_frozen),
+            let raw = match &ig.observer {
+                None => position.z1 * (-ig.gain),
                 // The innovation v − v̂ against the observer's velocity before this sample.
                 Some(o) => {
                     let v_hat = self.observed_velocity.unwrap_or(state.velocity);
-                    let raw = o.raw_rate(ig.gain, &position.z1, &(state.velocity - v_hat));
-                    ig.clamped_rate(&self.integral, &raw, self.integral_frozen)
+                    o.raw_rate(ig.gain, &position.z1, &(state.velocity - v_hat))
                 }
             };
+            let rate = ig.clamped_rate(&self.integral, &raw, self.integral_frozen);
             let out = ig.output(&self.integral, &rate);
             position.u += out.filtered;
             position.u_dot += out.filtered_dot;
             position.u_ddot += out.filtered_ddot;
-            (ig, rate)
+            // The feedforward scale fits the part of the same error signal that moves with p̈_d.
+            let scale = ig.feedforward_scale.as_ref().map(|f| {
+                let state = &self.feedforward_scale;
+                let moving = self.integral.estimate - self.integral.filtered;
+                let rate = f.rate_of(
+                    state,
+                    &moving,
+                    &reference.acceleration,
+                    self.integral_frozen,
+                );
+                let out = f.output(state, rate, ig.bandwidth, reference);
+                position.u += out.u;
+                position.u_dot += out.u_dot;
+                position.u_ddot += out.u_ddot;
+                (f, rate)
+            });
+            (ig, rate, scale)
         });
         let desired = desired_attitude(
             &position.u,
@@ -385,8 +419,14 @@ impl<T: Scalar> Controller<T> {
         };
         let next_filter = propagator.apply(&self.filter, &position.ubar_p);
         let next_integral = match integral {
-            Some((ig, rate)) => ig.advance(&self.integral, &rate, dt),
+            Some((ig, rate, _)) => ig.advance(&self.integral, &rate, dt),
             None => self.integral,
+        };
+        let next_feedforward_scale = match integral {
+            Some((ig, _, Some((f, rate)))) => {
+                f.advance(&self.feedforward_scale, rate, ig.bandwidth, dt)
+            }
+            _ => self.feedforward_scale,
         };
         // Only `(gains, rate)` lives across the attitude's calls, as without the observer, so
         // that the flight build's step (integral off) pays nothing for it.
@@ -396,20 +436,32 @@ impl<T: Scalar> Controller<T> {
                     observer: Some(o), ..
                 },
                 _,
-            )) => Some(o.advance(
-                &self.observed_velocity.unwrap_or(state.velocity),
-                &state.velocity,
-                thrust,
-                self.vehicle.mass,
-                &body_z,
-                self.vehicle.gravity,
-                &self.integral.estimate,
-                dt,
-            )),
+                scale,
+            )) => {
+                // The observer's model subtracts what both estimates compensate.
+                let compensation = match scale {
+                    None => self.integral.estimate,
+                    Some(_) => modelled_compensation(
+                        &self.integral,
+                        &self.feedforward_scale,
+                        &reference.acceleration,
+                    ),
+                };
+                Some(o.advance(
+                    &self.observed_velocity.unwrap_or(state.velocity),
+                    &state.velocity,
+                    thrust,
+                    self.vehicle.mass,
+                    &body_z,
+                    self.vehicle.gravity,
+                    &compensation,
+                    dt,
+                ))
+            }
             _ => None,
         };
 
-        let mut probe = thrust * T::zero();
+        let mut probe = (thrust + next_feedforward_scale.filtered) * T::zero();
         for v in [
             &torque.torque,
             &next_filter.u_f,
@@ -431,6 +483,7 @@ impl<T: Scalar> Controller<T> {
             u_f: self.filter.u_f,
             u_s: self.filter.u_s,
             integral: self.integral.filtered,
+            feedforward_scale: self.feedforward_scale.filtered,
             u: position.u,
             thrust_direction: desired.thrust_direction.unit,
             desired_rotation: desired.rotation,
@@ -447,6 +500,7 @@ impl<T: Scalar> Controller<T> {
         self.lifting = lifting;
         self.filter = next_filter;
         self.integral = next_integral;
+        self.feedforward_scale = next_feedforward_scale;
         if next_observed_velocity.is_some() {
             self.observed_velocity = next_observed_velocity;
         }

@@ -98,6 +98,7 @@ mod tests {
         use crate::integral::{IntegralGains, IntegralState};
         let o = gains();
         let ig = IntegralGains {
+            feedforward_scale: None,
             gain: 0.0,
             level: Vector3::repeat(3.0),
             rate: Vector3::repeat(10.0),

@@ -31,6 +31,7 @@
 use nalgebra::Vector3;
 
 use crate::disturbance_observer::ObserverGains;
+use crate::feedforward_scale::FeedforwardScaleGains;
 use crate::params::{positive, ParameterError};
 use crate::scalar::{lit, Scalar};
 
@@ -60,6 +61,10 @@ pub struct IntegralGains<T: Scalar> {
     /// ([`crate::disturbance_observer`]): the raw rate becomes `−k_i sat(z₁) − L_d (v − v̂)`.
     /// `None`: the integral of `z₁` alone.
     pub observer: Option<ObserverGains<T>>,
+    /// With `Some`, a bounded estimate of the fraction by which the reference's acceleration
+    /// feedforward must be scaled (a mass or thrust-coefficient error;
+    /// [`crate::feedforward_scale`]). `None`: the feedforward is the paper's `p̈_d`.
+    pub feedforward_scale: Option<FeedforwardScaleGains<T>>,
 }
 
 impl<T: Scalar> IntegralGains<T> {
@@ -74,8 +79,11 @@ impl<T: Scalar> IntegralGains<T> {
         for (name, v) in ["R_i_x", "R_i_y", "R_i_z"].iter().zip(self.rate.iter()) {
             positive(name, *v)?;
         }
-        match &self.observer {
-            Some(o) => o.validate(),
+        if let Some(o) = &self.observer {
+            o.validate()?;
+        }
+        match &self.feedforward_scale {
+            Some(f) => f.validate(),
             None => Ok(()),
         }
     }
@@ -100,23 +108,14 @@ impl<T: Scalar> IntegralGains<T> {
             return Vector3::zeros();
         }
         Vector3::from_fn(|i, _| {
-            let r = raw[i].clamp(-self.rate[i], self.rate[i]);
-            let eta = state.estimate[i];
-            let outward =
-                (eta >= self.level[i] && r > T::zero()) || (eta <= -self.level[i] && r < T::zero());
-            if outward {
-                T::zero()
-            } else {
-                r
-            }
+            clamped_rate(raw[i], self.rate[i], state.estimate[i], self.level[i])
         })
     }
 
     /// `c = x/(1 − e^{−x})` with `x = k_η h_max` (dimensionless, `≥ 1`): the factor of the
     /// reachable-set bound (module docs).
     pub fn sample_factor(&self) -> T {
-        let x = self.bandwidth * lit::<T>(MAX_ESTIMATE_STEP_S);
-        x / (T::one() - (-x).exp())
+        sample_factor(self.bandwidth)
     }
 
     /// Per-axis bound on `|η̇_f,i|` [m/s³] at every sample reachable from
@@ -126,17 +125,7 @@ impl<T: Scalar> IntegralGains<T> {
     /// times over for samples down to [`MIN_CONTROL_PERIOD_S`]) of the filter's propagation
     /// added. Source: extension, docs/integral-action.md.
     pub fn filtered_rate_bound(&self) -> Vector3<T> {
-        let c = self.sample_factor();
-        let rounding = lit::<T>(16.0) * T::default_epsilon() / lit::<T>(MIN_CONTROL_PERIOD_S);
-        Vector3::from_fn(|i, _| {
-            let reachable = c * (self.rate[i] + rounding * self.level[i]);
-            let anywhere = lit::<T>(2.0) * self.bandwidth * self.level[i];
-            if reachable < anywhere {
-                reachable
-            } else {
-                anywhere
-            }
-        })
+        Vector3::from_fn(|i, _| filtered_rate_bound(self.bandwidth, self.rate[i], self.level[i]))
     }
 
     /// Per-axis bound on `|η̈_f,i|` [m/s⁴]: `k_η (|η̇_f,i| + R_i,i)` with
@@ -165,17 +154,80 @@ impl<T: Scalar> IntegralGains<T> {
     /// the box).
     pub fn advance(&self, state: &IntegralState<T>, rate: &Vector3<T>, h: T) -> IntegralState<T> {
         let decay = (-self.bandwidth * h).exp();
-        let filtered = state.estimate + (state.filtered - state.estimate) * decay;
-        let h_max = lit::<T>(MAX_ESTIMATE_STEP_S);
-        let step = if h > h_max { h_max } else { h };
-        let estimate = Vector3::from_fn(|i, _| {
-            (state.estimate[i] + step * rate[i]).clamp(-self.level[i], self.level[i])
-        });
-        IntegralState {
-            estimate,
-            filtered: Vector3::from_fn(|i, _| filtered[i].clamp(-self.level[i], self.level[i])),
+        let step = estimate_step(h);
+        let mut next = IntegralState::zero();
+        for i in 0..3 {
+            (next.estimate[i], next.filtered[i]) = advance_clamped(
+                (state.estimate[i], state.filtered[i]),
+                rate[i],
+                self.level[i],
+                decay,
+                step,
+            );
         }
+        next
     }
+}
+
+/// `c = x/(1 − e^{−x})` with `x = k_η h_max` (dimensionless, `≥ 1`) for the output filter's
+/// bandwidth `k_η` [1/s]: the factor of the reachable-set bound (module docs).
+pub(crate) fn sample_factor<T: Scalar>(bandwidth: T) -> T {
+    let x = bandwidth * lit::<T>(MAX_ESTIMATE_STEP_S);
+    x / (T::one() - (-x).exp())
+}
+
+/// The reachable-set bound on the filtered rate of one clamped, rate-limited estimate with
+/// level `level`, rate limit `rate` and output-filter bandwidth `bandwidth` (module docs):
+/// `min(2 k_η M, c (R + 16 ε M / h_min))`, in the estimate's unit per second.
+pub(crate) fn filtered_rate_bound<T: Scalar>(bandwidth: T, rate: T, level: T) -> T {
+    let rounding = lit::<T>(16.0) * T::default_epsilon() / lit::<T>(MIN_CONTROL_PERIOD_S);
+    let reachable = sample_factor(bandwidth) * (rate + rounding * level);
+    let anywhere = lit::<T>(2.0) * bandwidth * level;
+    if reachable < anywhere {
+        reachable
+    } else {
+        anywhere
+    }
+}
+
+/// One estimate's rate from its raw rate: clamped to `±rate`, and zero when the estimate sits at
+/// its level `±level` and the raw rate pushes outwards (the estimate's clamp holds it there).
+pub(crate) fn clamped_rate<T: Scalar>(raw: T, rate: T, estimate: T, level: T) -> T {
+    let r = raw.clamp(-rate, rate);
+    let outward = (estimate >= level && r > T::zero()) || (estimate <= -level && r < T::zero());
+    if outward {
+        T::zero()
+    } else {
+        r
+    }
+}
+
+/// The length over which an estimate moves in a sample of `h` \[s\]: `min(h, h_max)`
+/// ([`MAX_ESTIMATE_STEP_S`]).
+pub(crate) fn estimate_step<T: Scalar>(h: T) -> T {
+    let h_max = lit::<T>(MAX_ESTIMATE_STEP_S);
+    if h > h_max {
+        h_max
+    } else {
+        h
+    }
+}
+
+/// One estimate and its filtered output `(estimate, filtered)` after a sample: the filter by its
+/// exact solution with the estimate held (`decay = e^{−k_η h}`), then the estimate by one clamped
+/// Euler step of length `step` at `rate`; both clamped to `±level`.
+pub(crate) fn advance_clamped<T: Scalar>(
+    (estimate, filtered): (T, T),
+    rate: T,
+    level: T,
+    decay: T,
+    step: T,
+) -> (T, T) {
+    let filtered = estimate + (filtered - estimate) * decay;
+    (
+        (estimate + step * rate).clamp(-level, level),
+        filtered.clamp(-level, level),
+    )
 }
 
 /// The integral action's state, inertial frame [m/s²].
@@ -221,6 +273,7 @@ mod tests {
             rate: Vector3::new(0.4, 0.6, 1.0),
             bandwidth: 5.0,
             observer: None,
+            feedforward_scale: None,
         }
     }
 

@@ -162,6 +162,7 @@ mod tests {
                 saturation: 1.0,
             },
             IntegralGains {
+                feedforward_scale: None,
                 gain: ki,
                 level: nalgebra::Vector3::repeat(1.0),
                 rate: nalgebra::Vector3::repeat(1.0),

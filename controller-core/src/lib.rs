@@ -12,8 +12,8 @@
 //! [`desired_attitude`] (eq:DesiredRotationMatrix, Lemma 1), [`mrp`] (Section II),
 //! [`path_lifting`] (Appendix), [`attitude_control`] (Section V), [`reference`](mod@reference)
 //! (Assumption 1's trajectories), [`bounds`] (Assumption 1, Theorems 1–2, Lemma 1),
-//! [`integral`] and [`integral_stability`] (bounded integral action, an extension:
-//! docs/integral-action.md),
+//! [`integral`], [`disturbance_observer`], [`feedforward_scale`] and [`integral_stability`]
+//! (bounded integral action, an extension: docs/integral-action.md),
 //! [`params`], [`thrust`] (the paper's `T = m|u|` or the no-dive projection),
 //! [`tilt_priority`] (per-axis attitude feedback levels, an extension: docs/tilt-priority.md),
 //! [`velocity_limit`] (a braking profile in the position feedback, an extension:
@@ -27,6 +27,7 @@ pub mod bounds;
 pub mod controller;
 pub mod desired_attitude;
 pub mod disturbance_observer;
+pub mod feedforward_scale;
 pub mod integral;
 pub mod integral_stability;
 pub mod mrp;
@@ -46,6 +47,7 @@ pub use bounds::{
 };
 pub use controller::{ControlOutput, Controller, Diagnostics, StepError, VehicleState};
 pub use disturbance_observer::ObserverGains;
+pub use feedforward_scale::{FeedforwardScaleGains, FeedforwardScaleState};
 pub use integral::{IntegralGains, IntegralState};
 pub use params::{Gains, Limits, ParameterError, Vehicle};
 pub use path_lifting::JumpCounters;

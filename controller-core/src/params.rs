@@ -5,6 +5,7 @@ use nalgebra::Vector3;
 use crate::attitude_control::AttitudeGains;
 use crate::integral::IntegralGains;
 use crate::position::PositionGains;
+use crate::reference::TrajectoryConstants;
 use crate::scalar::{lit, to_f64, Scalar};
 use crate::tilt_priority::TiltPriorityGains;
 use crate::velocity_limit::VelocityLimit;
@@ -196,6 +197,22 @@ impl<T: Scalar> Limits<T> {
 }
 
 impl<T: Scalar> Gains<T> {
+    /// The Assumption 1 constants of the reference as the law applies it: `k` itself, or with the
+    /// feedforward scale on ([`crate::feedforward_scale`], extension, docs/integral-action.md)
+    /// the constants of the scaled feedforward `(1 + μ_f) p̈_d`
+    /// ([`crate::feedforward_scale::FeedforwardScaleGains::constants`]). Every bound of
+    /// [`crate::certify`] and the controller's reference check use these.
+    pub fn law_constants(&self, k: &TrajectoryConstants<T>) -> TrajectoryConstants<T> {
+        match &self.integral {
+            Some(IntegralGains {
+                feedforward_scale: Some(f),
+                bandwidth,
+                ..
+            }) => f.constants(k, *bandwidth),
+            _ => *k,
+        }
+    }
+
     /// Checks every gain and level `> 0`, `δ > 0` and `0 < α < 1`.
     /// Errors: [`ParameterError::NotPositive`] or [`ParameterError::OutOfRange`].
     /// Source: Section IV (`k_p, k_v, k_f, k_s, M_p > 0`), Section V (`k_ϑ, k_ω, M_ϑ, M_ω > 0`),

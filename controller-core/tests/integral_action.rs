@@ -12,6 +12,7 @@ const DT: f64 = 0.01;
 
 fn integral_gains() -> IntegralGains<f64> {
     IntegralGains {
+        feedforward_scale: None,
         gain: 2.0,
         level: Vector3::new(0.5, 0.5, 1.5),
         rate: Vector3::new(0.5, 0.5, 1.0),

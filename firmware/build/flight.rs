@@ -352,6 +352,13 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         finite(file, "gains.integral.M_i_m_s2", &i.M_i_m_s2);
         finite(file, "gains.integral.rate_m_s3", &i.rate_m_s3);
         finite(file, "gains.integral", &[i.k_i, i.k_eta]);
+        if let Some(f) = &i.feedforward_scale {
+            finite(
+                file,
+                "gains.integral.feedforward_scale",
+                &[f.gain, f.excitation_m_s2, f.level, f.rate_1_s],
+            );
+        }
     }
     let mut design = tables.design;
     let margin = match design.remove("margin") {
@@ -428,7 +435,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         match &g.integral {
             None => "None".to_string(),
             Some(i) => format!(
-                "Some(controller_core::IntegralGains {{ gain: {}, level: {}, rate: {}, bandwidth: {}, observer: {} }})",
+                "Some(controller_core::IntegralGains {{ gain: {}, level: {}, rate: {}, bandwidth: {}, observer: {}, feedforward_scale: {} }})",
                 lit(i.k_i),
                 vec3(i.M_i_m_s2),
                 vec3(i.rate_m_s3),
@@ -438,6 +445,13 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
                     lit(o.velocity_gain_1_s),
                     lit(o.disturbance_gain_1_s2),
                     lit(o.error_limit_m)
+                )),
+                i.feedforward_scale.map_or("None".to_string(), |f| format!(
+                    "Some(controller_core::FeedforwardScaleGains {{ gain: {}, excitation: {}, level: {}, rate: {} }})",
+                    lit(f.gain),
+                    lit(f.excitation_m_s2),
+                    lit(f.level),
+                    lit(f.rate_1_s)
                 ))
             ),
         },

@@ -109,6 +109,25 @@ pub struct IntegralTable {
     /// (absent: the integral of `z₁` alone).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub observer: Option<ObserverTable>,
+    /// `[gains.integral.feedforward_scale]`: the bounded estimate of the feedforward's scale (a
+    /// mass or thrust-coefficient error; absent: the paper's feedforward `p̈_d`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub feedforward_scale: Option<FeedforwardScaleTable>,
+}
+
+/// `[gains.integral.feedforward_scale]`: the feedforward scale `μ` (extension,
+/// docs/integral-action.md, controller-core's `feedforward_scale`).
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FeedforwardScaleTable {
+    /// `λ` (dimensionless): adaptation gain along the reference's acceleration.
+    pub gain: f64,
+    /// `a₀` [m/s²]: floor of the normalisation by `|p̈_d|²`.
+    pub excitation_m_s2: f64,
+    /// `μ̄` (dimensionless, in (0, 1)): the largest mass or thrust-coefficient error covered.
+    pub level: f64,
+    /// `R_μ` [1/s]: rate limit of the estimate.
+    pub rate_1_s: f64,
 }
 
 /// `[gains.integral.observer]`: the velocity disturbance observer (extension,

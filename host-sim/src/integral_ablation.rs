@@ -154,6 +154,7 @@ pub const DEFAULT_LEVEL_FRACTION_OF_M_P: f64 = 0.25;
 ///   than `M_i` per axis (a 20 % mass error is 1.96 m/s² vertically) is only partly removed.
 pub fn default_integral_gains(scenario: &Scenario) -> IntegralGains<f64> {
     IntegralGains {
+        feedforward_scale: None,
         gain: 1.0,
         level: Vector3::repeat(DEFAULT_LEVEL_FRACTION_OF_M_P * scenario.gains.M_p),
         rate: Vector3::repeat(1.0),
@@ -184,6 +185,14 @@ fn gains_in<T: Scalar>(scenario: &Scenario, integral: Option<&IntegralGains<f64>
             disturbance_gain: lit(o.disturbance_gain),
             error_limit: lit(o.error_limit),
         }),
+        feedforward_scale: i
+            .feedforward_scale
+            .map(|f| controller_core::FeedforwardScaleGains {
+                gain: lit(f.gain),
+                excitation: lit(f.excitation),
+                level: lit(f.level),
+                rate: lit(f.rate),
+            }),
     });
     g
 }

@@ -52,6 +52,7 @@ fn flight(integral: bool) -> FlightConfig {
             .expect("locally stable integral gains");
         let o = g.observer.expect("design's rule includes the observer");
         c.gains.integral = Some(IntegralGains {
+            feedforward_scale: None,
             gain: g.gain as f32,
             level: g.level.cast(),
             rate: g.rate.cast(),

@@ -471,6 +471,7 @@ fn integral_estimate_grows_is_held_in_failsafe_and_restarts_at_zero_on_arming() 
     let mut c = FlightConfig::built();
     let level = Vector3::new(0.5, 0.5, 1.0);
     c.gains.integral = Some(IntegralGains {
+        feedforward_scale: None,
         gain: 2.0,
         level,
         rate: Vector3::repeat(1.0),

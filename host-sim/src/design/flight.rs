@@ -37,6 +37,14 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
                 disturbance_gain_1_s2: o.disturbance_gain,
                 error_limit_m: o.error_limit,
             }),
+            feedforward_scale: i.feedforward_scale.map(|f| {
+                firmware::flight_tables::FeedforwardScaleTable {
+                    gain: f.gain,
+                    excitation_m_s2: f.excitation,
+                    level: f.level,
+                    rate_1_s: f.rate,
+                }
+            }),
         }),
         tilt_priority: g
             .tilt_priority

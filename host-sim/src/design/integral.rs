@@ -79,6 +79,7 @@ impl IntegralSpec {
     pub fn probe(&self, kf: f64, ks: f64) -> IntegralGains<f64> {
         let level = Vector3::from(self.level_m_s2);
         IntegralGains {
+            feedforward_scale: None,
             gain: 1.0,
             level,
             rate: level * kf,

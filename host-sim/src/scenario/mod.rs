@@ -306,6 +306,14 @@ impl Scenario {
                 disturbance_gain: lit(o.disturbance_gain_1_s2),
                 error_limit: lit(o.error_limit_m),
             }),
+            feedforward_scale: i.feedforward_scale.map(|f| {
+                controller_core::FeedforwardScaleGains {
+                    gain: lit(f.gain),
+                    excitation: lit(f.excitation_m_s2),
+                    level: lit(f.level),
+                    rate: lit(f.rate_1_s),
+                }
+            }),
         });
         out
     }

@@ -370,6 +370,7 @@ fn run_generic<T: Scalar>(
         a_priori: a_priori(
             &cert,
             &scenario.gains(),
+            &scenario.trajectory::<f64>().constants(),
             (!scenario.controller.is_paper()).then_some([thrust_low, thrust_high]),
             tight_report(&cert, &tight),
         ),

@@ -2,7 +2,7 @@
 //! the integral action's, the tight ones), what was observed against them, the final errors,
 //! the path lifting's events and the settling times.
 
-use controller_core::{Certificate, Gains};
+use controller_core::{Certificate, Gains, TrajectoryConstants};
 use serde::Serialize;
 
 use crate::rotor_plant::MixerCounts;
@@ -86,6 +86,24 @@ pub struct IntegralReport {
     /// `[a₀, …, a₅]` of the per-axis linearisation's characteristic polynomial, ascending
     /// (`a₅ = 0`: the quartic of the integral of `z₁` alone).
     pub characteristic_polynomial: [f64; 6],
+    /// With `[gains.integral.feedforward_scale]` only: its gains, and the Assumption 1
+    /// constants of the scaled feedforward every bound above is computed for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub feedforward_scale: Option<FeedforwardScaleReport>,
+}
+
+/// The feedforward scale in `summary.json` (controller-core `feedforward_scale`).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+#[allow(non_snake_case)]
+pub struct FeedforwardScaleReport {
+    /// The gains as given.
+    pub gains: firmware::flight_tables::FeedforwardScaleTable,
+    /// `[K_a12, K_a3]` [m/s²] of the scaled feedforward `(1 + μ_f) p̈_d`.
+    pub acceleration_m_s2: [f64; 2],
+    /// `K_j` [m/s³] of the scaled feedforward.
+    pub jerk_m_s3: f64,
+    /// `K_s` [m/s⁴] of the scaled feedforward.
+    pub snap_m_s4: f64,
 }
 
 /// Extremes seen along the run (over the controller samples).
@@ -168,6 +186,7 @@ pub struct Summary {
 pub(super) fn a_priori(
     c: &Certificate<f64>,
     gains: &Gains<f64>,
+    constants: &TrajectoryConstants<f64>,
     no_dive_thrust_interval: Option<[f64; 2]>,
     tight: TightReport,
 ) -> APriori {
@@ -187,6 +206,20 @@ pub(super) fn a_priori(
             u_rate_term_m_s3: i.u_rate_term,
             u_acceleration_term_m_s4: i.u_acceleration_term,
             characteristic_polynomial: i.polynomial,
+            feedforward_scale: g.feedforward_scale.map(|f| {
+                let k = gains.law_constants(constants);
+                FeedforwardScaleReport {
+                    gains: firmware::flight_tables::FeedforwardScaleTable {
+                        gain: f.gain,
+                        excitation_m_s2: f.excitation,
+                        level: f.level,
+                        rate_1_s: f.rate,
+                    },
+                    acceleration_m_s2: [k.horizontal_acceleration, k.vertical_acceleration],
+                    jerk_m_s3: k.jerk,
+                    snap_m_s4: k.snap,
+                }
+            }),
         }),
         _ => None,
     };

@@ -104,7 +104,8 @@ impl ConfiningSet {
         constants.validate()?;
         let p = &gains.position;
         let (g, mp) = (vehicle.gravity, p.saturation);
-        let k = constants;
+        // The reference as the law applies it (the feedforward scale widens its constants).
+        let k = &gains.law_constants(constants);
         let integral = IntegralTerms::new(gains);
         // `x + 0` is exact: adding only non-zero terms keeps the boxes (hence every bound)
         // bit for bit what they are without the integral action.

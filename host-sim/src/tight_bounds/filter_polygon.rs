@@ -165,7 +165,8 @@ impl FilterPolygon {
         let p = Interval::point;
         let pos = &gains.position;
         let (kf, ks, mp) = (pos.kf, pos.ks, pos.saturation);
-        let k = constants;
+        // The reference as the law applies it (the feedforward scale widens its constants).
+        let k = &gains.law_constants(constants);
         let i = IntegralTerms::new(gains);
         let (level, rate, accel) = (i.level, i.rate, i.acceleration);
         // The horizontal pair shares the larger terms (keeps the square's symmetries).
