@@ -376,6 +376,7 @@ impl<T: Scalar> Controller<T> {
                     state,
                     &moving,
                     &reference.acceleration,
+                    &position.z1,
                     self.integral_frozen,
                 );
                 let out = f.output(state, rate, ig.bandwidth, reference);

@@ -13,16 +13,17 @@
 //! `u = u_f + η_f + g e₃ + (1 + μ_f) p̈_d`. With `μ_f = E` and `η_f = E g e₃` the plant tracks
 //! exactly, whatever the reference's acceleration.
 //!
-//! **Estimate.** A scalar `μ` driven by the integral action's raw rate `s` (the rate `η` would
-//! follow before its clamps: `−k_i sat(z₁) − L_d (v − v̂)` with the observer) projected on the
-//! reference's acceleration `a = p̈_d`: `μ̇ = clamp(λ (s·a)/(a₀² + |a|²), ±R_μ)`, then
-//! `μ ← clamp(μ + h μ̇, ±μ̄)`. The two estimates together fit the disturbance model
-//! `d̂ = −(η + μ a)`, a constant plus a part proportional to the reference's acceleration, by the
-//! same error signal: `η` on the regressor 1, `μ` on `a` (normalised, so that along `a` the
-//! estimate `μ a` moves at most `λ` times as fast as `η`). On a reference that does not
-//! accelerate `a = 0` and `μ` does not move: there the integral action alone takes the
-//! constant part, and a constant force cannot be mistaken for a mass error (it correlates with
-//! the constant regressor, not with a reference acceleration that changes direction).
+//! **Estimate.** A scalar `μ` driven by the turning part of the integral action's estimate,
+//! `η − η_f` (`η` high-passed by its own output filter: the constant part, a force or the
+//! weight, drops out), projected on the reference's acceleration `a = p̈_d`:
+//! `μ̇ = clamp(λ ((η − η_f)·a)/(a₀² + |a|²), ±R_μ)`, then `μ ← clamp(μ + h μ̇, ±μ̄)`. While
+//! `μ ≠ E` the observer's `η` carries a part `≈ (E − μ)/(1 + E) · a` that turns with the
+//! reference, so the projection has the sign of `E − μ`; at `μ = E` it is gone and `μ` stops.
+//! On a reference that does not accelerate `a = 0` and `μ` does not move: there the integral
+//! action alone takes the constant part. `μ` adapts only near the reference (every
+//! `|z₁,i| ≤ z̄_μ`): in a large transient `η` moves with the transient, not with a mass error.
+//! The observer's model subtracts what both estimates compensate, `η + μ a`
+//! ([`modelled_compensation`]).
 //!
 //! **Output.** `μ_f`, `μ̇_f = −k_η (μ_f − μ)`, `μ̈_f = −k_η (μ̇_f − μ̇)`: the same output filter as
 //! `η` (its bandwidth `k_η`), exact propagation, closed-form derivatives.
@@ -58,6 +59,10 @@ pub struct FeedforwardScaleGains<T: Scalar> {
     pub level: T,
     /// `R_μ` [1/s]: rate limit, `|μ̇| ≤ R_μ`.
     pub rate: T,
+    /// `z̄_μ` \[m\]: `μ` adapts only while every `|z₁,i| ≤ z̄_μ`; farther from the reference the
+    /// integral's estimate moves with the transient (a flip, a start metres away), not with a
+    /// mass error.
+    pub tracking_limit: T,
 }
 
 /// The feedforward scale's state (dimensionless).
@@ -92,13 +97,14 @@ pub struct FeedforwardScaleOutput<T: Scalar> {
 }
 
 impl<T: Scalar> FeedforwardScaleGains<T> {
-    /// Checks `λ, a₀, R_μ > 0` and `0 < μ̄ < 1` (all finite).
+    /// Checks `λ, a₀, R_μ, z̄_μ > 0` and `0 < μ̄ < 1` (all finite).
     /// Errors: [`ParameterError::NotPositive`] naming `"mu_gain"`, `"mu_excitation"`,
-    /// `"mu_rate"`; [`ParameterError::OutOfRange`] naming `"mu_level"` (bounds `(0, 1)`).
+    /// `"mu_rate"`, `"mu_tracking_limit"`; [`ParameterError::OutOfRange`] naming `"mu_level"` (bounds `(0, 1)`).
     pub fn validate(&self) -> Result<(), ParameterError> {
         positive("mu_gain", self.gain)?;
         positive("mu_excitation", self.excitation)?;
         positive("mu_rate", self.rate)?;
+        positive("mu_tracking_limit", self.tracking_limit)?;
         if self.level > T::zero() && self.level < T::one() {
             Ok(())
         } else {
@@ -111,22 +117,24 @@ impl<T: Scalar> FeedforwardScaleGains<T> {
         }
     }
 
-    /// The rate `μ̇` [1/s] used over the coming sample, from the integral action's raw rate
-    /// `raw` [m/s³] (before its clamps) and the reference's acceleration `acceleration` [m/s²]
-    /// (both inertial): `λ (s·a)/(a₀² + |a|²)` clamped to `±R_μ`, zero when `μ` sits at its
-    /// level and would be pushed outwards, zero when `frozen`.
+    /// The rate `μ̇` [1/s] used over the coming sample, from the turning part of the integral
+    /// action's estimate `moving = η − η_f` [m/s²], the reference's acceleration
+    /// `acceleration` [m/s²] and the forward-projected position error `z1` \[m\] (all
+    /// inertial): `λ (moving·a)/(a₀² + |a|²)` clamped to `±R_μ`; zero when `μ` sits at its level
+    /// and would be pushed outwards, when some `|z₁,i| > z̄_μ`, or when `frozen`.
     pub fn rate_of(
         &self,
         state: &FeedforwardScaleState<T>,
-        raw: &Vector3<T>,
+        moving: &Vector3<T>,
         acceleration: &Vector3<T>,
+        z1: &Vector3<T>,
         frozen: bool,
     ) -> T {
-        if frozen {
+        if frozen || z1.amax() > self.tracking_limit {
             return T::zero();
         }
         let a0 = self.excitation;
-        let normalised = raw.dot(acceleration) / (a0 * a0 + acceleration.norm_squared());
+        let normalised = moving.dot(acceleration) / (a0 * a0 + acceleration.norm_squared());
         clamped_rate(
             self.gain * normalised,
             self.rate,

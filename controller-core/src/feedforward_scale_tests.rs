@@ -8,6 +8,7 @@ fn gains() -> FeedforwardScaleGains<f64> {
         excitation: 0.1,
         level: 0.25,
         rate: 0.2,
+        tracking_limit: 0.05,
     }
 }
 
@@ -40,7 +41,7 @@ proptest! {
         let mut s = FeedforwardScaleState::zero();
         for (k, (raw, acc)) in drive.iter().enumerate() {
             let frozen = k >= frozen_from;
-            let rate = f.rate_of(&s, raw, acc, frozen);
+            let rate = f.rate_of(&s, raw, acc, &Vector3::zeros(), frozen);
             prop_assert!(rate.abs() <= f.rate);
             let reference = sample(*acc, Vector3::zeros(), Vector3::zeros());
             let out = f.output(&s, rate, bandwidth, &reference);
@@ -111,7 +112,7 @@ fn mass_error_moves_the_estimate_and_a_constant_force_does_not() {
         let mut s = FeedforwardScaleState::zero();
         for k in 0..turn * 4 {
             let t = k as f64 * h;
-            let r = f.rate_of(&s, &raw(t), &acc(t), false);
+            let r = f.rate_of(&s, &raw(t), &acc(t), &Vector3::zeros(), false);
             s = f.advance(&s, r, 1.0, h);
         }
         s.estimate
@@ -131,8 +132,22 @@ fn mass_error_moves_the_estimate_and_a_constant_force_does_not() {
 fn hover_reference_never_moves_the_estimate() {
     let f = gains();
     let s = FeedforwardScaleState::zero();
-    let rate = f.rate_of(&s, &Vector3::new(5.0, -3.0, 40.0), &Vector3::zeros(), false);
+    let zero = Vector3::zeros();
+    let rate = f.rate_of(&s, &Vector3::new(5.0, -3.0, 40.0), &zero, &zero, false);
     assert_eq!(rate, 0.0);
+}
+
+/// Far from the reference (a transient) the estimate is held, whatever drives it; near it, the
+/// same drive moves it.
+#[test]
+fn estimate_is_held_outside_the_tracking_limit() {
+    let f = gains();
+    let s = FeedforwardScaleState::zero();
+    let (moving, acc) = (Vector3::new(0.1, 0.0, 0.0), Vector3::new(0.3, 0.0, 0.0));
+    let near = Vector3::new(0.04, -0.05, 0.0);
+    let far = Vector3::new(0.0, 0.051, 0.0);
+    assert!(f.rate_of(&s, &moving, &acc, &near, false) > 0.0);
+    assert_eq!(f.rate_of(&s, &moving, &acc, &far, false), 0.0);
 }
 
 #[test]
@@ -172,6 +187,13 @@ fn refuses_bad_gains_by_name() {
                 ..gains()
             },
             "mu_excitation",
+        ),
+        (
+            FeedforwardScaleGains {
+                tracking_limit: -1.0,
+                ..gains()
+            },
+            "mu_tracking_limit",
         ),
     ] {
         let got = match bad.validate() {

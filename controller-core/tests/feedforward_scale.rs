@@ -50,6 +50,7 @@ fn scale() -> FeedforwardScaleGains<f64> {
         excitation: 0.1,
         level: 0.25,
         rate: 0.05,
+        tracking_limit: 0.05,
     }
 }
 

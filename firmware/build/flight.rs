@@ -356,7 +356,13 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
             finite(
                 file,
                 "gains.integral.feedforward_scale",
-                &[f.gain, f.excitation_m_s2, f.level, f.rate_1_s],
+                &[
+                    f.gain,
+                    f.excitation_m_s2,
+                    f.level,
+                    f.rate_1_s,
+                    f.tracking_limit_m,
+                ],
             );
         }
     }
@@ -447,11 +453,12 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
                     lit(o.error_limit_m)
                 )),
                 i.feedforward_scale.map_or("None".to_string(), |f| format!(
-                    "Some(controller_core::FeedforwardScaleGains {{ gain: {}, excitation: {}, level: {}, rate: {} }})",
+                    "Some(controller_core::FeedforwardScaleGains {{ gain: {}, excitation: {}, level: {}, rate: {}, tracking_limit: {} }})",
                     lit(f.gain),
                     lit(f.excitation_m_s2),
                     lit(f.level),
-                    lit(f.rate_1_s)
+                    lit(f.rate_1_s),
+                    lit(f.tracking_limit_m)
                 ))
             ),
         },

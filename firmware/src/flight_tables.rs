@@ -128,6 +128,8 @@ pub struct FeedforwardScaleTable {
     pub level: f64,
     /// `R_μ` [1/s]: rate limit of the estimate.
     pub rate_1_s: f64,
+    /// `z̄_μ` \[m\]: the estimate adapts only while every `|z₁,i|` is at most this.
+    pub tracking_limit_m: f64,
 }
 
 /// `[gains.integral.observer]`: the velocity disturbance observer (extension,

@@ -58,10 +58,12 @@ pub struct Case {
     pub force_max_fraction_of_weight: f64,
     /// Gust force std per inertial axis, as a fraction of the nominal weight `m g`.
     pub gust_std_fraction_of_weight: f64,
+    /// A combined case: flown `--integral-combined-runs` times.
+    pub combined: bool,
 }
 
 /// The cases, in the order of the report.
-pub const CASES: [Case; 6] = [
+pub const CASES: [Case; 7] = [
     Case {
         name: "nominal",
         plant_mass_factor: 1.0,
@@ -69,6 +71,7 @@ pub const CASES: [Case; 6] = [
         inertia_error_max_fraction: 0.0,
         force_max_fraction_of_weight: 0.0,
         gust_std_fraction_of_weight: 0.0,
+        combined: false,
     },
     Case {
         name: "plant mass +20 %",
@@ -77,6 +80,7 @@ pub const CASES: [Case; 6] = [
         inertia_error_max_fraction: 0.0,
         force_max_fraction_of_weight: 0.0,
         gust_std_fraction_of_weight: 0.0,
+        combined: false,
     },
     Case {
         name: "plant mass -20 %",
@@ -85,6 +89,7 @@ pub const CASES: [Case; 6] = [
         inertia_error_max_fraction: 0.0,
         force_max_fraction_of_weight: 0.0,
         gust_std_fraction_of_weight: 0.0,
+        combined: false,
     },
     Case {
         name: "constant force <= 10 % of weight",
@@ -93,6 +98,7 @@ pub const CASES: [Case; 6] = [
         inertia_error_max_fraction: 0.0,
         force_max_fraction_of_weight: 0.1,
         gust_std_fraction_of_weight: 0.0,
+        combined: false,
     },
     Case {
         name: "gusts (2 % of weight, 0.5 s)",
@@ -101,6 +107,16 @@ pub const CASES: [Case; 6] = [
         inertia_error_max_fraction: 0.0,
         force_max_fraction_of_weight: 0.0,
         gust_std_fraction_of_weight: 0.02,
+        combined: false,
+    },
+    Case {
+        name: "mass, inertia +-20 %, force (no gusts)",
+        plant_mass_factor: 1.0,
+        mass_error_max_fraction: 0.2,
+        inertia_error_max_fraction: 0.2,
+        force_max_fraction_of_weight: 0.1,
+        gust_std_fraction_of_weight: 0.0,
+        combined: true,
     },
     Case {
         name: "all: mass, inertia +-20 %, force, gusts",
@@ -109,10 +125,11 @@ pub const CASES: [Case; 6] = [
         inertia_error_max_fraction: 0.2,
         force_max_fraction_of_weight: 0.1,
         gust_std_fraction_of_weight: 0.02,
+        combined: true,
     },
 ];
 
-/// Index in [`CASES`] of the combined case (its run count is `--integral-combined-runs`).
+/// Index in [`CASES`] of the case with every perturbation (mass, inertia, force, gusts).
 pub const COMBINED_CASE: usize = CASES.len() - 1;
 
 impl Case {
@@ -192,6 +209,7 @@ fn gains_in<T: Scalar>(scenario: &Scenario, integral: Option<&IntegralGains<f64>
                 excitation: lit(f.excitation),
                 level: lit(f.level),
                 rate: lit(f.rate),
+                tracking_limit: lit(f.tracking_limit),
             }),
     });
     g
@@ -235,8 +253,8 @@ pub fn extended_certificate(
 }
 
 /// The bounds samples are checked against with the integral action on: the extended
-/// Theorem 1 interval (through the scenario's thrust mode) and Theorem 2 torques; no tight
-/// bounds (they are not extended).
+/// Theorem 1 interval (through the scenario's thrust mode) and Theorem 2 torques; the tight
+/// bounds are added by [`run_integral`] when the gains are the scenario's own.
 ///
 /// Errors: as [`extended_certificate`], or the thrust mode's floor is above `T_min`.
 pub fn extended_bound_set(scenario: &Scenario, integral: &IntegralGains<f64>) -> Result<BoundSet> {
@@ -275,6 +293,9 @@ pub struct IntegralRow {
     pub steady_error_all_mm: Distribution,
     /// Samples outside the a-priori bounds of the gains flown, over all runs.
     pub samples_outside_a_priori: u64,
+    /// Samples above the tight bounds of the gains flown, over all runs (`None`: not checked,
+    /// the integral gains are not the scenario's own).
+    pub samples_above_tight: Option<u64>,
     /// The seven 180° starts: time until the attitude error is first below 90° \[s\].
     pub half_turn_time_to_90deg_s: Distribution,
     /// The seven 180° starts: settling time \[s\] (of those that settled).
@@ -390,6 +411,9 @@ fn cell(
         steady_error_converged_mm: Distribution::of(done.iter().filter(|m| m.converged).map(mm)),
         steady_error_all_mm: Distribution::of(done.iter().map(mm)),
         samples_outside_a_priori: done.iter().map(|m| m.samples_outside_a_priori).sum(),
+        samples_above_tight: bounds
+            .tight
+            .map(|_| done.iter().map(|m| m.samples_above_tight).sum()),
         half_turn_time_to_90deg_s: Distribution::of(
             half.iter().filter_map(|m| m.attitude_below_90deg_s),
         ),
@@ -399,7 +423,10 @@ fn cell(
 }
 
 /// Runs every case of [`CASES`] with and without the integral action on `scenario`: `runs`
-/// runs per cell (`combined_runs` for the combined case), from `seed`.
+/// runs per cell (`combined_runs` for the combined cases), from `seed`. The rows without it
+/// are checked against the paper's bounds (and tight bounds) of the same gains with the
+/// integral action off; the rows with it against the extended certificate's, and, when the
+/// integral gains are the scenario's own, its tight bounds too.
 ///
 /// Errors: the scenario is invalid, or its integral gains are refused or leave no thrust
 /// (`certify`).
@@ -411,22 +438,31 @@ pub fn run_integral(
 ) -> Result<IntegralReport> {
     let (gains, source) = integral_gains_of(scenario);
     let cert = extended_certificate(scenario, &gains)?;
-    let bounds_without = bound_set(scenario)?;
-    let bounds_with = extended_bound_set(scenario, &gains)?;
+    // Without: the paper's bounds of the same gains with the integral action off.
+    let mut without = scenario.clone();
+    without.gains.integral = None;
+    let bounds_without = bound_set(&without)?;
+    let mut bounds_with = extended_bound_set(scenario, &gains)?;
+    if source == "scenario" {
+        // The tight bounds cover the scenario's own integral action (and feedforward scale).
+        let tight = crate::tight_certificate::scenario_tight_bounds(scenario)?;
+        bounds_with.tight = Some(crate::tight_certificate::tight_limits(&tight));
+    }
     let sampler = Sampler::new(scenario, SamplerRadii::default())?;
     let violations: Vec<String> = cert
         .violations()
         .map(|c| format!("{}: {:.4} vs {:.4}", c.name, c.lhs, c.rhs))
         .collect();
     let mut rows = Vec::new();
-    for (k, case) in CASES.iter().enumerate() {
-        let n = if k == COMBINED_CASE {
-            combined_runs
-        } else {
-            runs
-        };
-        for (integral, bounds) in [(None, bounds_without), (Some(&gains), bounds_with)] {
-            rows.push(cell(scenario, case, integral, bounds, &sampler, seed, n)?);
+    for case in &CASES {
+        let n = if case.combined { combined_runs } else { runs };
+        // Without: the scenario with the integral action removed (its thrust cap is then the
+        // paper's T_max, not the extended one).
+        for (base, integral, bounds) in [
+            (&without, None, bounds_without),
+            (scenario, Some(&gains), bounds_with),
+        ] {
+            rows.push(cell(base, case, integral, bounds, &sampler, seed, n)?);
         }
     }
     Ok(IntegralReport {
@@ -488,7 +524,7 @@ pub fn markdown(md: &mut String, r: &IntegralReport) {
     let _ = writeln!(md, "{}\n", r.definitions);
     let _ = writeln!(
         md,
-        "| case | integral | runs | steady error p50 / p99, converged [mm] | steady error p50 / p99, all [mm] | converged | samples outside a-priori | 180-deg: time to < 90 deg p90 [s] | 180-deg: settling p90 [s] (settled) |"
+        "| case | integral | runs | steady error p50 / p99, converged [mm] | steady error p50 / p99, all [mm] | converged | samples outside a-priori / above tight | 180-deg: time to < 90 deg p90 [s] | 180-deg: settling p90 [s] (settled) |"
     );
     let _ = writeln!(
         md,
@@ -498,7 +534,7 @@ pub fn markdown(md: &mut String, r: &IntegralReport) {
     for row in &r.rows {
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} / {} | {} / {} | {:.1} % | {} | {} | {} ({}/{}) |",
+            "| {} | {} | {} | {} / {} | {} / {} | {:.1} % | {} / {} | {} | {} ({}/{}) |",
             row.case,
             if row.integral { "on" } else { "off" },
             row.runs,
@@ -508,6 +544,8 @@ pub fn markdown(md: &mut String, r: &IntegralReport) {
             mm(row.steady_error_all_mm.p99),
             row.converged_percent,
             row.samples_outside_a_priori,
+            row.samples_above_tight
+                .map_or_else(|| "-".to_string(), |n| n.to_string()),
             fmt_opt(row.half_turn_time_to_90deg_s.p90),
             fmt_opt(row.half_turn_settling_s.p90),
             row.half_turn_settled,

@@ -68,6 +68,8 @@ fn cases_build_their_perturbations() {
     assert!((heavy.vehicle.mass_kg - 1.2 * s.vehicle.mass_kg).abs() < 1e-15);
     assert!(heavy.perturbations.is_nominal());
     let all = CASES[COMBINED_CASE].plant_scenario(&s);
+    assert!(CASES[COMBINED_CASE].combined && CASES[COMBINED_CASE - 1].combined);
+    assert_eq!(CASES[COMBINED_CASE - 1].gust_std_fraction_of_weight, 0.0);
     assert_eq!(all.vehicle.mass_kg, s.vehicle.mass_kg);
     let p = &all.perturbations;
     assert_eq!(p.mass_error_max_fraction, 0.2);

@@ -112,7 +112,7 @@ fn log_summary(s: &Summary) {
         "flight t={=u64} ms {=str}/{=str} cal={=bool} conv={=bool} pose_age={=f32} ms \
          p=[{=f32}, {=f32}, {=f32}] p_d=[{=f32}, {=f32}, {=f32}] |e|={=f32} m \
          T={=f32} N tau=[{=f32}, {=f32}, {=f32}] throttle=[{=f32}, {=f32}, {=f32}, {=f32}] \
-         eta=[{=f32}, {=f32}, {=f32}] m/s^2 armed={=bool}",
+         eta=[{=f32}, {=f32}, {=f32}] m/s^2 mu={=f32} armed={=bool}",
         s.now_us / 1000,
         st.state.name(),
         st.mode.name(),
@@ -137,6 +137,7 @@ fn log_summary(s: &Summary) {
         st.integral[0],
         st.integral[1],
         st.integral[2],
+        st.feedforward_scale,
         s.output.armed
     );
 }

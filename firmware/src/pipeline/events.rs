@@ -143,6 +143,10 @@ pub struct PipelineStatus {
     /// to `u` against a constant disturbance (docs/integral-action.md). Zero while disarmed or
     /// with the integral action off; held from the failsafe's start.
     pub integral: [f32; 3],
+    /// The feedforward scale `μ_f` (dimensionless): the law applies `(1 + μ_f) p̈_d`
+    /// (controller-core `feedforward_scale`). Zero while disarmed or with it off; held from the
+    /// failsafe's start.
+    pub feedforward_scale: f32,
 }
 
 /// Event queue length: the events of a burst of commands and state changes within one log
@@ -199,6 +203,10 @@ impl FlightPipeline {
                 .controller
                 .as_ref()
                 .map_or([0.0; 3], |c| c.integral_state().filtered.into()),
+            feedforward_scale: self
+                .controller
+                .as_ref()
+                .map_or(0.0, |c| c.feedforward_scale_state().filtered),
         }
     }
 

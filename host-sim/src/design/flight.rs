@@ -43,6 +43,7 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
                     excitation_m_s2: f.excitation,
                     level: f.level,
                     rate_1_s: f.rate,
+                    tracking_limit_m: f.tracking_limit,
                 }
             }),
         }),

@@ -31,6 +31,7 @@ fn key_of(name: &str) -> &'static str {
         "mu_excitation" => "gains.integral.feedforward_scale.excitation_m_s2",
         "mu_level" => "gains.integral.feedforward_scale.level",
         "mu_rate" => "gains.integral.feedforward_scale.rate_1_s",
+        "mu_tracking_limit" => "gains.integral.feedforward_scale.tracking_limit_m",
         "M_i_x" | "M_i_y" | "M_i_z" => "gains.integral.M_i_m_s2",
         "R_i_x" | "R_i_y" | "R_i_z" => "gains.integral.rate_m_s3",
         n if n.starts_with("M_p + M_i_z") => "gains.integral.M_i_m_s2",

@@ -312,6 +312,7 @@ impl Scenario {
                     excitation: lit(f.excitation_m_s2),
                     level: lit(f.level),
                     rate: lit(f.rate_1_s),
+                    tracking_limit: lit(f.tracking_limit_m),
                 }
             }),
         });

@@ -214,6 +214,7 @@ pub(super) fn a_priori(
                         excitation_m_s2: f.excitation,
                         level: f.level,
                         rate_1_s: f.rate,
+                        tracking_limit_m: f.tracking_limit,
                     },
                     acceleration_m_s2: [k.horizontal_acceleration, k.vertical_acceleration],
                     jerk_m_s3: k.jerk,
