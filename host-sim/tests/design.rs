@@ -485,6 +485,17 @@ fn integral_design_certifies_the_extended_bounds_and_removes_a_mass_error() {
     );
     let flight = std::fs::read_to_string(out.join("firmware.toml")).unwrap();
     assert!(flight.contains("[gains.integral]"), "{flight}");
+    // The mass error is covered on accelerating references too: the feedforward scale.
+    let scale = spec.feedforward_scale().expect("a mass error is covered");
+    assert!(scale.level > spec.mass_error_fraction);
+    assert_eq!(
+        s.gains::<f64>().integral.unwrap().feedforward_scale,
+        Some(scale)
+    );
+    assert!(
+        flight.contains("[gains.integral.feedforward_scale]"),
+        "{flight}"
+    );
 
     // Hover 2 m up, plant 20 % heavier, 60 s.
     let mut table: toml::Table = text.parse().unwrap();

@@ -22,14 +22,21 @@
 //!   Liénard–Chipart conditions of the linearised loop hold
 //!   ([`controller_core::integral_stability::local_stability_conditions`]): every design
 //!   `design --integral` maps is locally exponentially stable by construction.
+//! - **Feedforward scale** (`controller_core::feedforward_scale`), when a mass error is
+//!   covered: level `μ̄ = e + 0.02`, the values of `host-sim/scenarios/mass-error.toml` otherwise
+//!   (`λ = 4`, `a₀ = 0.1 m/s²`, `R_μ = 0.05 /s`, `z̄_μ = z̄`): it removes the periodic residual
+//!   a mass error leaves on an accelerating reference, and its terms widen the reference's
+//!   constants by `1 + μ̄` plus `R_μ`-sized terms, already in the probe's bounds.
 
 use controller_core::integral_stability::local_stability_conditions;
 use controller_core::position::PositionGains;
-use controller_core::{IntegralGains, ObserverGains};
+use controller_core::{FeedforwardScaleGains, IntegralGains, ObserverGains};
 use nalgebra::Vector3;
 
 /// `z̄` \[m\]: clamp of `z₁` before `k_i` (the hand-tuned scenarios' value).
 pub const ERROR_LIMIT_M: f64 = 0.05;
+/// Margin of the feedforward scale's level above the covered mass error (module docs).
+const SCALE_LEVEL_MARGIN: f64 = 0.02;
 /// Most halvings of `k_i` tried before a design is refused.
 const HALVINGS: usize = 40;
 
@@ -74,18 +81,31 @@ impl IntegralSpec {
     }
 
     /// The integral terms that enter the bounds (level, rate limit `k_f M_i`, output filter
-    /// `k_η = k_s`) for the position filter gains `k_f`, `k_s` [1/s]; `k_i = 1` and no observer,
-    /// which enter none of them. For `certify`'s envelope only.
+    /// `k_η = k_s`, the feedforward scale) for the position filter gains `k_f`, `k_s` [1/s];
+    /// `k_i = 1` and no observer, which enter none of them. For `certify`'s envelope only.
     pub fn probe(&self, kf: f64, ks: f64) -> IntegralGains<f64> {
         let level = Vector3::from(self.level_m_s2);
         IntegralGains {
-            feedforward_scale: None,
+            feedforward_scale: self.feedforward_scale(),
             gain: 1.0,
             level,
             rate: level * kf,
             bandwidth: ks,
             observer: None,
         }
+    }
+
+    /// The feedforward scale for the covered mass error (module docs); `None` when no mass
+    /// error is covered.
+    pub fn feedforward_scale(&self) -> Option<FeedforwardScaleGains<f64>> {
+        let e = self.mass_error_fraction;
+        (e > 0.0 && e + SCALE_LEVEL_MARGIN < 1.0).then_some(FeedforwardScaleGains {
+            gain: 4.0,
+            excitation: 0.1,
+            level: e + SCALE_LEVEL_MARGIN,
+            rate: 0.05,
+            tracking_limit: ERROR_LIMIT_M,
+        })
     }
 
     /// The full integral gains for the position gains `position` (module docs): the probe's
@@ -118,6 +138,17 @@ impl IntegralSpec {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The feedforward scale comes with a covered mass error, above it, and not without one.
+    #[test]
+    fn feedforward_scale_covers_the_mass_error_only() {
+        let s = IntegralSpec::covering(9.81, 0.2, 0.1).unwrap();
+        let f = s.feedforward_scale().unwrap();
+        assert!(f.level > 0.2 && f.level < 1.0 && f.validate().is_ok());
+        assert_eq!(s.probe(1.0, 3.0).feedforward_scale, Some(f));
+        let force_only = IntegralSpec::covering(9.81, 0.0, 0.1).unwrap();
+        assert_eq!(force_only.feedforward_scale(), None);
+    }
 
     #[test]
     fn levels_hold_the_heavier_plant_against_a_downward_force() {
