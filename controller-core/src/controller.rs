@@ -368,7 +368,7 @@ impl<T: Scalar> Controller<T> {
             position.u += out.filtered;
             position.u_dot += out.filtered_dot;
             position.u_ddot += out.filtered_ddot;
-            // The feedforward scale fits the part of the same error signal that moves with p̈_d.
+            // The feedforward scale takes the part of the estimate that turns with p̈_d.
             let scale = ig.feedforward_scale.as_ref().map(|f| {
                 let state = &self.feedforward_scale;
                 let moving = self.integral.estimate - self.integral.filtered;
@@ -429,8 +429,8 @@ impl<T: Scalar> Controller<T> {
             }
             _ => self.feedforward_scale,
         };
-        // Only `(gains, rate)` lives across the attitude's calls, as without the observer, so
-        // that the flight build's step (integral off) pays nothing for it.
+        // Only the gains and rates live across the attitude's calls, as without the observer,
+        // so that the flight build's step (integral off) pays nothing for it.
         let next_observed_velocity = match integral {
             Some((
                 IntegralGains {

@@ -48,8 +48,8 @@ use crate::scalar::{to_f64, Scalar};
 /// Gains and levels of the feedforward scale (extension, docs/integral-action.md).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FeedforwardScaleGains<T: Scalar> {
-    /// `λ` (dimensionless): adaptation gain; along `p̈_d` the estimate `μ p̈_d` moves at
-    /// `λ |a|²/(a₀² + |a|²)` times the integral action's raw rate.
+    /// `λ` [1/s]: adaptation gain, `μ̇ = λ ((η − η_f)·a)/(a₀² + |a|²)` before the clamps
+    /// (`a = p̈_d`; the fraction is dimensionless).
     pub gain: T,
     /// `a₀` [m/s²]: the normalisation's floor; references accelerating much less than `a₀`
     /// move the estimate little.

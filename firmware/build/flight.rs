@@ -357,7 +357,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
                 file,
                 "gains.integral.feedforward_scale",
                 &[
-                    f.gain,
+                    f.gain_1_s,
                     f.excitation_m_s2,
                     f.level,
                     f.rate_1_s,
@@ -454,7 +454,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
                 )),
                 i.feedforward_scale.map_or("None".to_string(), |f| format!(
                     "Some(controller_core::FeedforwardScaleGains {{ gain: {}, excitation: {}, level: {}, rate: {}, tracking_limit: {} }})",
-                    lit(f.gain),
+                    lit(f.gain_1_s),
                     lit(f.excitation_m_s2),
                     lit(f.level),
                     lit(f.rate_1_s),

@@ -120,8 +120,8 @@ pub struct IntegralTable {
 #[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct FeedforwardScaleTable {
-    /// `λ` (dimensionless): adaptation gain along the reference's acceleration.
-    pub gain: f64,
+    /// `λ` [1/s]: adaptation gain along the reference's acceleration.
+    pub gain_1_s: f64,
     /// `a₀` [m/s²]: floor of the normalisation by `|p̈_d|²`.
     pub excitation_m_s2: f64,
     /// `μ̄` (dimensionless, in (0, 1)): the largest mass or thrust-coefficient error covered.

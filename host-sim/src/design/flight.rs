@@ -39,7 +39,7 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
             }),
             feedforward_scale: i.feedforward_scale.map(|f| {
                 firmware::flight_tables::FeedforwardScaleTable {
-                    gain: f.gain,
+                    gain_1_s: f.gain,
                     excitation_m_s2: f.excitation,
                     level: f.level,
                     rate_1_s: f.rate,

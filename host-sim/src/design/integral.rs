@@ -24,7 +24,7 @@
 //!   `design --integral` maps is locally exponentially stable by construction.
 //! - **Feedforward scale** (`controller_core::feedforward_scale`), when a mass error is
 //!   covered: level `μ̄ = e + 0.02`, the values of `host-sim/scenarios/mass-error.toml` otherwise
-//!   (`λ = 4`, `a₀ = 0.1 m/s²`, `R_μ = 0.05 /s`, `z̄_μ = z̄`): it removes the periodic residual
+//!   (`λ = 4 /s`, `a₀ = 0.1 m/s²`, `R_μ = 0.05 /s`, `z̄_μ = z̄`): it removes the periodic residual
 //!   a mass error leaves on an accelerating reference, and its terms widen the reference's
 //!   constants by `1 + μ̄` plus `R_μ`-sized terms, already in the probe's bounds.
 

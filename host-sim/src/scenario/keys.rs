@@ -27,7 +27,7 @@ fn key_of(name: &str) -> &'static str {
         "L_v" => "gains.integral.observer.velocity_gain_1_s",
         "L_d" => "gains.integral.observer.disturbance_gain_1_s2",
         "z_bar" => "gains.integral.observer.error_limit_m",
-        "mu_gain" => "gains.integral.feedforward_scale.gain",
+        "mu_gain" => "gains.integral.feedforward_scale.gain_1_s",
         "mu_excitation" => "gains.integral.feedforward_scale.excitation_m_s2",
         "mu_level" => "gains.integral.feedforward_scale.level",
         "mu_rate" => "gains.integral.feedforward_scale.rate_1_s",

@@ -308,7 +308,7 @@ impl Scenario {
             }),
             feedforward_scale: i.feedforward_scale.map(|f| {
                 controller_core::FeedforwardScaleGains {
-                    gain: lit(f.gain),
+                    gain: lit(f.gain_1_s),
                     excitation: lit(f.excitation_m_s2),
                     level: lit(f.level),
                     rate: lit(f.rate_1_s),
@@ -513,6 +513,29 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("gains.integral.M_i_m_s2"), "{e}");
+    }
+
+    /// `[gains.integral.feedforward_scale]` reaches the gains; a level outside `(0, 1)` or an
+    /// unknown key is refused with its key.
+    #[test]
+    fn feedforward_scale_table_is_parsed_and_checked() {
+        let text = include_str!("../../scenarios/mass-error.toml");
+        let s = Scenario::parse(text, "mass-error.toml").unwrap();
+        let f = s
+            .gains::<f64>()
+            .integral
+            .unwrap()
+            .feedforward_scale
+            .unwrap();
+        assert_eq!((f.level, f.rate, f.tracking_limit), (0.22, 0.05, 0.05));
+        let e = Scenario::parse(&text.replace("level = 0.22", "level = 1.5"), "m.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("gains.integral.feedforward_scale.level"), "{e}");
+        let e = Scenario::parse(&text.replace("gain_1_s = 4.0", "gain = 4.0"), "m.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("gain"), "{e}");
     }
 
     #[test]

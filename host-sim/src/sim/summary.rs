@@ -210,7 +210,7 @@ pub(super) fn a_priori(
                 let k = gains.law_constants(constants);
                 FeedforwardScaleReport {
                     gains: firmware::flight_tables::FeedforwardScaleTable {
-                        gain: f.gain,
+                        gain_1_s: f.gain,
                         excitation_m_s2: f.excitation,
                         level: f.level,
                         rate_1_s: f.rate,
