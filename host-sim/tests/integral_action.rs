@@ -114,10 +114,10 @@ fn integral_tight_is_certified_by_the_tight_bounds_only() {
 }
 
 /// `scenarios/integral-campaign.toml` (the campaign set-up of docs/integral-action.md): the
-/// gains of `integral-tight.toml` with the feedforward scale. The scale widens the reference's
-/// constants, and still every condition but the chained Theorem 2 holds (extended Theorem 1
-/// within the 7 N, the integral's stability), the tight bounds hold, and a short run stays
-/// inside both.
+/// gains of `integral-tight.toml` with a higher vertical level and the feedforward scale. The
+/// scale widens the reference's constants, and still every condition but the chained Theorem 2
+/// holds (extended Theorem 1 within the 7 N, the integral's stability), the tight bounds hold,
+/// and a short run stays inside both.
 #[test]
 fn integral_campaign_is_certified_with_the_feedforward_scale() {
     let mut s = Scenario::parse(
