@@ -43,7 +43,7 @@ use crate::integral::{
 };
 use crate::params::{positive, ParameterError};
 use crate::reference::{ReferenceSample, TrajectoryConstants};
-use crate::scalar::{to_f64, Scalar};
+use crate::scalar::{lit, to_f64, Scalar};
 
 /// Gains and levels of the feedforward scale (extension, docs/integral-action.md).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -165,7 +165,7 @@ impl<T: Scalar> FeedforwardScaleGains<T> {
         let acceleration = (k.horizontal_acceleration * k.horizontal_acceleration
             + k.vertical_acceleration * k.vertical_acceleration)
             .sqrt();
-        let two = T::one() + T::one();
+        let two = lit::<T>(2.0);
         TrajectoryConstants {
             horizontal_acceleration: scale * k.horizontal_acceleration,
             vertical_acceleration: scale * k.vertical_acceleration,
@@ -188,7 +188,7 @@ impl<T: Scalar> FeedforwardScaleGains<T> {
         let mu_dot = (state.filtered - state.estimate) * (-bandwidth);
         let mu_ddot = (mu_dot - rate) * (-bandwidth);
         let (a, j, s) = (&reference.acceleration, &reference.jerk, &reference.snap);
-        let two = T::one() + T::one();
+        let two = lit::<T>(2.0);
         FeedforwardScaleOutput {
             u: a * mu,
             u_dot: a * mu_dot + j * mu,

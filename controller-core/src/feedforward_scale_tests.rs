@@ -25,7 +25,7 @@ fn sample(a: Vector3<f64>, j: Vector3<f64>, s: Vector3<f64>) -> ReferenceSample<
 }
 
 proptest! {
-    /// Whatever drives it (raw rates and reference accelerations of any size, held for long,
+    /// Whatever drives it (estimates and reference accelerations of any size, held for long,
     /// sample lengths up to 0.5 s, freezing), μ and μ_f stay in [−μ̄, μ̄], μ̇ within ±R_μ, and
     /// μ̇_f, μ̈_f within the bounds the certificate's constants use.
     #[test]
@@ -39,9 +39,9 @@ proptest! {
         let f = FeedforwardScaleGains { gain, ..gains() };
         let (b, a) = (f.filtered_rate_bound(bandwidth), f.filtered_acceleration_bound(bandwidth));
         let mut s = FeedforwardScaleState::zero();
-        for (k, (raw, acc)) in drive.iter().enumerate() {
+        for (k, (moving, acc)) in drive.iter().enumerate() {
             let frozen = k >= frozen_from;
-            let rate = f.rate_of(&s, raw, acc, &Vector3::zeros(), frozen);
+            let rate = f.rate_of(&s, moving, acc, &Vector3::zeros(), frozen);
             prop_assert!(rate.abs() <= f.rate);
             let reference = sample(*acc, Vector3::zeros(), Vector3::zeros());
             let out = f.output(&s, rate, bandwidth, &reference);
@@ -94,9 +94,10 @@ proptest! {
     }
 }
 
-/// On a helix's acceleration, a raw integral rate that is a fixed fraction of p̈_d (what a mass
-/// error leaves) drives μ towards the sign of that fraction; a constant raw rate (a constant
-/// force, before η has taken it) leaves μ where it started after whole turns, to rounding.
+/// On a helix's acceleration, a turning part of the estimate `η − η_f` that is a fixed fraction
+/// of p̈_d (what a mass error leaves) drives μ towards the sign of that fraction; a constant one
+/// (a constant force while η is still moving towards it) leaves μ where it started after whole
+/// turns, to rounding.
 #[test]
 fn mass_error_moves_the_estimate_and_a_constant_force_does_not() {
     let f = FeedforwardScaleGains {
@@ -108,22 +109,22 @@ fn mass_error_moves_the_estimate_and_a_constant_force_does_not() {
     let acc = |t: f64| Vector3::new(-(omega * t).cos(), -(omega * t).sin(), 0.0) * 0.3;
     let h = 0.01;
     let turn = (2.0 * core::f64::consts::PI / omega / h).round() as usize;
-    let run = |raw: &dyn Fn(f64) -> Vector3<f64>| {
+    let run = |moving: &dyn Fn(f64) -> Vector3<f64>| {
         let mut s = FeedforwardScaleState::zero();
         for k in 0..turn * 4 {
             let t = k as f64 * h;
-            let r = f.rate_of(&s, &raw(t), &acc(t), &Vector3::zeros(), false);
+            let r = f.rate_of(&s, &moving(t), &acc(t), &Vector3::zeros(), false);
             s = f.advance(&s, r, 1.0, h);
         }
         s.estimate
     };
-    // A plant heavier than modelled: η would have to rise along p̈_d, so its raw rate is +c p̈_d.
+    // A plant heavier than modelled: η rises along p̈_d, so η − η_f is +c p̈_d.
     let heavier = run(&|t| acc(t) * 0.8);
     assert!(heavier > 0.05, "mu = {heavier}");
     let lighter = run(&|t| acc(t) * -0.8);
     assert!(lighter < -0.05, "mu = {lighter}");
-    // Small enough that μ's swing within a turn stays inside its level (the closed loop drives
-    // this part of the raw rate to zero as η takes the force).
+    // Small enough that μ's swing within a turn stays inside its level (in closed loop this
+    // part of η − η_f vanishes once η has taken the force).
     let force = run(&|_| Vector3::new(0.02, -0.01, 0.05));
     assert!(force.abs() < 1e-3 * heavier, "mu = {force}");
 }
