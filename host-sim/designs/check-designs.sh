@@ -6,6 +6,9 @@
 # over the last 5 s (no limit cycle). Prints one Markdown table row per preset.
 #
 # Usage: bash host-sim/designs/check-designs.sh [OUT_DIR] [PRESET ...]
+# With REUSE_DESIGNS=1, a preset whose OUT_DIR/<preset>/design.json exists is not designed again
+# (its campaigns are re-run, the design time is the one design.json recorded): to check the
+# committed designs, `REUSE_DESIGNS=1 bash host-sim/designs/check-designs.sh host-sim/designs`.
 # (default OUT_DIR out/designs, presets crazyflie-2.1 hummingbird x500). About 1 minute of
 # design and a few seconds of campaigns per preset on 2 cores, after the release build (the
 # Hummingbird's 120 s runs: about 2 minutes; the x500's 300 s runs: about 5 minutes).
@@ -38,9 +41,14 @@ for p in "${presets[@]}"; do
   case "$p" in
     hummingbird) extra=(--duration-s 120) ;;
   esac
-  start=$(date +%s)
-  "$bin" design --vehicle "$vehicle" "${extra[@]}" --out "$dir"
-  design_s=$(( $(date +%s) - start ))
+  if [ "${REUSE_DESIGNS:-0}" = 1 ] && [ -f "$dir/design.json" ]; then
+    printf '(reusing %s/design.json)\n' "$dir"
+    design_s=$(python3 -c 'import json, sys; print(round(json.load(open(sys.argv[1]))["wall_time_s"]))' "$dir/design.json")
+  else
+    start=$(date +%s)
+    "$bin" design --vehicle "$vehicle" "${extra[@]}" --out "$dir"
+    design_s=$(( $(date +%s) - start ))
+  fi
   tau=$(awk -F'=' '/^motor_time_constant_s/ {gsub(/[ #].*/, "", $2); print $2; exit}' <(sed 's/ //g' "$vehicle"))
   doubled=$(awk -v t="$tau" 'BEGIN { printf "%.6g", 2 * t }')
   printf '\n==> %s: 1000 runs on the rotor plant\n' "$p"

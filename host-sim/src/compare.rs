@@ -33,7 +33,8 @@ use crate::plant::RigidBodyState;
 use crate::report::fmt_opt;
 use crate::scenario::{HeadingConfig, Scenario, TrajectoryConfig};
 
-/// One contestant: a controller and whether the plant clips its commands.
+/// One contestant: a controller, whether the plant clips its commands, and whether the
+/// paper's law flies the scenario's bounded integral action.
 #[derive(Clone, Debug, Serialize)]
 pub struct Contestant {
     /// Report label.
@@ -42,22 +43,46 @@ pub struct Contestant {
     pub controller: ControllerKind,
     /// Commands clipped to the physical limits before the plant.
     pub clip: bool,
+    /// The scenario's `[gains.integral]` is kept (`false`: removed, so the law, its thrust cap
+    /// and its bounds are the paper's). Only the paper's law reads it.
+    pub integral: bool,
 }
 
-/// The contestants for a base scenario.
+impl Contestant {
+    /// The scenario this contestant flies: `base` with its clipping and, without the integral
+    /// action, `[gains.integral]` removed.
+    pub fn scenario(&self, base: &Scenario) -> Scenario {
+        let mut s = base.clone();
+        s.simulation.clip_to_limits = self.clip;
+        if !self.integral {
+            s.gains.integral = None;
+        }
+        s
+    }
+}
+
+/// The contestants for a base scenario: the paper's law (with and without the bounded integral
+/// action when the scenario has one, docs/integral-action.md), Lee et al. unclipped and clipped,
+/// and the PX4-style cascade.
 pub fn contestants(scenario: &Scenario) -> Vec<Contestant> {
     let clip = scenario.simulation.clip_to_limits;
-    let c = |label: &str, controller, clip| Contestant {
+    let c = |label: &str, controller, clip, integral| Contestant {
         label: label.into(),
         controller,
         clip,
+        integral,
     };
-    vec![
-        c("paper", ControllerKind::Paper, clip),
-        c("lee", ControllerKind::Lee, clip),
-        c("lee (clipped)", ControllerKind::Lee, true),
-        c("px4", ControllerKind::Px4, clip),
-    ]
+    let mut list = Vec::new();
+    if scenario.gains.integral.is_some() {
+        list.push(c("paper + integral", ControllerKind::Paper, clip, true));
+    }
+    list.extend([
+        c("paper", ControllerKind::Paper, clip, false),
+        c("lee", ControllerKind::Lee, clip, false),
+        c("lee (clipped)", ControllerKind::Lee, true, false),
+        c("px4", ControllerKind::Px4, clip, false),
+    ]);
+    list
 }
 
 /// Hover and step checks of one contestant.
@@ -88,6 +113,9 @@ pub struct ContestantResult {
     pub campaign: CampaignStats,
     /// Chattering runs: 180° starts at the reference with attitude noise.
     pub chattering: CampaignStats,
+    /// The bounds this contestant's samples are checked against: the extended certificate's
+    /// with the integral action, the paper's without (the report's `bounds` otherwise).
+    pub bounds: BoundSet,
 }
 
 /// `compare.json`.
@@ -113,15 +141,9 @@ pub struct CompareReport {
 /// Attitude noise of the chattering comparison [deg per axis].
 pub const CHATTER_NOISE_DEG: f64 = 2.0;
 
-fn with_clip(scenario: &Scenario, clip: bool) -> Scenario {
-    let mut s = scenario.clone();
-    s.simulation.clip_to_limits = clip;
-    s
-}
-
 /// Hover, 1 m step and 30° tilt from hover at (0, 0, 5) m, 10 s each.
 fn sanity(base: &Scenario, c: &Contestant, bounds: BoundSet) -> Result<SanityRow> {
-    let mut s = with_clip(base, c.clip);
+    let mut s = c.scenario(base);
     s.trajectory = TrajectoryConfig::Hover {
         point_m: [0.0, 0.0, 5.0],
         heading: HeadingConfig::Constant { yaw_rad: 0.0 },
@@ -163,7 +185,7 @@ fn chattering(
     seed: u64,
     bounds: BoundSet,
 ) -> Result<CampaignStats> {
-    let mut s = with_clip(base, c.clip);
+    let mut s = c.scenario(base);
     s.perturbations.attitude_noise_std_rad = CHATTER_NOISE_DEG.to_radians();
     let radii = SamplerRadii {
         position_m: 0.0,
@@ -203,7 +225,13 @@ pub fn run_compare(
     let mut results = Vec::new();
     let mut campaigns = Vec::new();
     for c in contestants(base) {
-        let s = with_clip(base, c.clip);
+        let s = c.scenario(base);
+        // Without the integral action the law's bounds are the paper's, not the extended ones.
+        let own_bounds = if c.integral || base.gains.integral.is_none() {
+            bounds
+        } else {
+            bound_set(&s)?
+        };
         let config = |runs, radii| CampaignConfig {
             scenario: s.clone(),
             controller: c.controller,
@@ -222,11 +250,12 @@ pub fn run_compare(
         ))?;
         let campaign = run_campaign(&config(runs, SamplerRadii::default()))?;
         results.push(ContestantResult {
-            sanity: sanity(base, &c, bounds)
+            sanity: sanity(base, &c, own_bounds)
                 .with_context(|| format!("sanity runs of {}", c.label))?,
             half_turns: summarise(&half, nominal),
             campaign: summarise(&campaign, nominal),
-            chattering: chattering(base, &c, seed, bounds)?,
+            chattering: chattering(base, &c, seed, own_bounds)?,
+            bounds: own_bounds,
             contestant: c,
         });
         campaigns.push(campaign);
@@ -279,6 +308,23 @@ pub fn markdown(r: &CompareReport, plots: &[(String, String)]) -> String {
         b.torque_max_Nm[1],
         b.torque_max_Nm[2]
     );
+    if let Some(without) = r
+        .results
+        .iter()
+        .find(|c| c.contestant.controller == ControllerKind::Paper && !c.contestant.integral)
+        .filter(|_| r.results.iter().any(|c| c.contestant.integral))
+    {
+        let w = &without.bounds;
+        let _ = writeln!(
+            md,
+            "The scenario carries the bounded integral action (docs/integral-action.md): the bounds \
+             above are its extended certificate's, which \"paper + integral\" is checked against. \
+             \"paper\" flies the same scenario without `[gains.integral]` and is checked against \
+             the paper's bounds of the same gains: T in [{:.2}, {:.2}] N, |tau| <= ({:.3}, {:.3}, \
+             {:.3}) N m.\n",
+            w.thrust_min_N, w.thrust_max_N, w.torque_max_Nm[0], w.torque_max_Nm[1], w.torque_max_Nm[2]
+        );
+    }
     let _ = writeln!(
         md,
         "## Sanity checks of each controller on its own (hover at (0, 0, 5) m, 10 s)\n"
@@ -440,14 +486,14 @@ fn write_plots(
     let mut files = Vec::new();
     let mut traces = Vec::new();
     for c in &report.results {
-        let s = with_clip(base, c.contestant.clip);
+        let s = c.contestant.scenario(base);
         let (_, points) = trace(
             &s,
             c.contestant.controller,
             &s.initial_state(),
             0,
             Convergence::default(),
-            report.bounds,
+            c.bounds,
         )?;
         traces.push((c.contestant.label.clone(), points));
     }

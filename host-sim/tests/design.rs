@@ -438,7 +438,7 @@ fn uncertifiable_reference_is_slowed_down_and_said() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
-/// `--integral`: the design carries the bounded integral action sized for a 20 % mass error and
+/// The integral action (`design`'s default): the design carries the bounded integral action sized for a 20 % mass error and
 /// a force of 10 % of the weight. The written scenario, read back, passes the extended
 /// certificate (the loop's local stability conditions included) and its extended box fits the
 /// rotors; the flight file switches it on; and flown from hover with a plant 20 % heavier, it

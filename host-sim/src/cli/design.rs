@@ -59,26 +59,28 @@ pub struct DesignArgs {
     /// and box fit, which the firmware re-checks, pass too).
     #[arg(long, value_enum, default_value_t = BoundsKind::Paper)]
     pub bounds: BoundsKind,
-    /// Carry the bounded integral action (docs/integral-action.md), sized to cover
-    /// `--integral-mass-error` and `--integral-force-fraction`; every bound is then the extended
-    /// one, and the flight file switches it on.
+    /// Design without the bounded integral action (the paper's law alone). By default the
+    /// design carries it (docs/integral-action.md), sized to cover `--integral-mass-error` and
+    /// `--integral-force-fraction`; every bound is then the extended one, and the flight file
+    /// switches it on.
     #[arg(long)]
-    pub integral: bool,
-    /// With `--integral`: largest plant mass error covered, fraction of the vehicle's mass.
-    #[arg(
-        long,
-        value_name = "FRACTION",
-        default_value_t = 0.2,
-        requires = "integral"
-    )]
-    pub integral_mass_error: f64,
-    /// With `--integral`: largest constant force covered (any direction), fraction of the
-    /// plant's weight.
+    pub no_integral: bool,
+    /// Largest plant mass error the integral action covers, fraction of the vehicle's mass
+    /// (a payload, a sagging battery, a thrust coefficient known to 10 %).
     #[arg(
         long,
         value_name = "FRACTION",
         default_value_t = 0.1,
-        requires = "integral"
+        conflicts_with = "no_integral"
+    )]
+    pub integral_mass_error: f64,
+    /// Largest constant force the integral action covers (any direction), fraction of the
+    /// plant's weight (a steady wind, a tether).
+    #[arg(
+        long,
+        value_name = "FRACTION",
+        default_value_t = 0.05,
+        conflicts_with = "no_integral"
     )]
     pub integral_force_fraction: f64,
     /// Thrust flown and written: `vertical-priority` (the no-dive thrust, docs/no-dive-thrust.md,
@@ -100,7 +102,7 @@ pub struct DesignArgs {
 
 /// Runs the design and prints where its files went.
 pub fn run(args: &DesignArgs) -> Result<()> {
-    let integral = if args.integral {
+    let integral = if !args.no_integral {
         let gravity = host_sim::design::vehicle::DesignVehicle::load(&args.vehicle)?
             .body
             .gravity;
@@ -166,4 +168,38 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         println!("  {}", f.display());
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::super::{Cli, Command};
+
+    fn parse(args: &[&str]) -> Result<super::DesignArgs, clap::Error> {
+        let cli = Cli::try_parse_from(
+            ["host-sim", "design", "--vehicle", "v.toml"]
+                .iter()
+                .chain(args),
+        )?;
+        match cli.command {
+            Some(Command::Design(d)) => Ok(d),
+            other => panic!("not a design command: {other:?}"),
+        }
+    }
+
+    /// Given no integral flag, when parsed, then the design carries the integral action covering
+    /// 10 % of mass and 5 % of the weight; `--no-integral` turns it off and refuses a coverage.
+    #[test]
+    fn the_integral_action_is_on_by_default() {
+        let d = parse(&[]).unwrap();
+        assert!(!d.no_integral);
+        assert_eq!(
+            (d.integral_mass_error, d.integral_force_fraction),
+            (0.1, 0.05)
+        );
+        assert!(parse(&["--no-integral"]).unwrap().no_integral);
+        let e = parse(&["--no-integral", "--integral-mass-error", "0.2"]).unwrap_err();
+        assert_eq!(e.kind(), clap::error::ErrorKind::ArgumentConflict);
+    }
 }

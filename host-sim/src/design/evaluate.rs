@@ -7,7 +7,7 @@
 //! - recovery from upside down at hover: a hover at `p_d(0)` with heading `ψ_d(0)`, started
 //!   rotated 180° about body x with zero velocity; the altitude lost is `z(0) − min z`;
 //! - robustness: the seven starts again with the motor time constant doubled;
-//! - with the integral action (`design --integral`): the disturbance it covers, at hover from
+//! - with the integral action (`design` (unless `--no-integral`)): the disturbance it covers, at hover from
 //!   rest, upright: the plant's mass raised by the covered fraction `e` and a constant force of
 //!   the covered fraction `f` of the plant's weight pushing down ([`disturbed_hover`]).
 //!

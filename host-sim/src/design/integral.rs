@@ -1,4 +1,4 @@
-//! `design --integral`: the bounded integral action (docs/integral-action.md) chosen by the
+//! `design` (unless `--no-integral`): the bounded integral action (docs/integral-action.md) chosen by the
 //! design, so that what `design` produces rejects constant mass, thrust-coefficient and force
 //! errors and its certificate covers the estimate (issue 11).
 //!
@@ -21,7 +21,7 @@
 //! - **Integral gain** `k_i = ω_p³/5` [1/s³] (that file's 5 at `ω_p = 3`), halved until the
 //!   Liénard–Chipart conditions of the linearised loop hold
 //!   ([`controller_core::integral_stability::local_stability_conditions`]): every design
-//!   `design --integral` maps is locally exponentially stable by construction.
+//!   `design` (unless `--no-integral`) maps is locally exponentially stable by construction.
 //! - **Feedforward scale** (`controller_core::feedforward_scale`), when a mass error is
 //!   covered: level `μ̄ = e + 0.02`, the values of `host-sim/scenarios/mass-error.toml` otherwise
 //!   (`λ = 4 /s`, `a₀ = 0.1 m/s²`, `R_μ = 0.05 /s`, `z̄_μ = z̄`): it removes the periodic residual
@@ -40,7 +40,7 @@ const SCALE_LEVEL_MARGIN: f64 = 0.02;
 /// Most halvings of `k_i` tried before a design is refused.
 const HALVINGS: usize = 40;
 
-/// The disturbance `design --integral` covers, and the estimate's level it needs.
+/// The disturbance `design` (unless `--no-integral`) covers, and the estimate's level it needs.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct IntegralSpec {
     /// Largest plant mass error covered, as a fraction of the model's mass.
@@ -68,7 +68,7 @@ impl IntegralSpec {
         let vertical = (e + f * (1.0 + e)) * gravity;
         if horizontal <= 0.0 || vertical <= 0.0 {
             return Err(format!(
-                "--integral: the levels must be > 0 on every axis (horizontal {horizontal} m/s^2 \
+                "integral action: the levels must be > 0 on every axis (horizontal {horizontal} m/s^2 \
                  from --integral-force-fraction {f}, vertical {vertical} m/s^2): give a force \
                  fraction > 0"
             ));

@@ -73,7 +73,7 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
     if let (Some(spec), Some(i)) = (&r.integral, &r.gains.integral) {
         let _ = writeln!(
             s,
-            "With the **bounded integral action** (`--integral`, docs/integral-action.md), sized to \
+            "With the **bounded integral action** (the default, docs/integral-action.md), sized to \
              cover a plant mass error of {:.0} % and a constant force of {:.0} % of the weight: \
              level `M_i` = ({:.3}, {:.3}, {:.3}) m/s², rate limit `R_i` = ({:.3}, {:.3}, {:.3}) m/s³, \
              output filter `k_η` = {:.3} 1/s, `k_i` = {:.4} 1/s³, observer `L_v` = {:.3} 1/s, \

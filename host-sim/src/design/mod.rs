@@ -10,7 +10,7 @@
 //! argmin's particle swarm; [`mod@reference`] scales the reference down when it cannot be
 //! certified; [`report`] writes `design.json`, `design.md`, the plots, `scenario.toml` and
 //! `firmware.toml`. [`vehicle`] reads the vehicle file, [`flight`] builds the scenarios;
-//! [`integral`] sizes the bounded integral action of `design --integral`; [`thrust`] puts the
+//! [`integral`] sizes the bounded integral action of `design` (unless `--no-integral`); [`thrust`] puts the
 //! no-dive thrust of `design --thrust vertical-priority` inside the certified box.
 
 pub mod authority;

@@ -103,7 +103,7 @@ pub struct ObjectiveEntry {
     pub worst_settling_180_s: Option<f64>,
     /// Settling time per 180° start \[s\].
     pub settling_180_s: Vec<(String, Option<f64>)>,
-    /// With `--integral`: the disturbed hover (plant mass `× (1 + e)`, force `f` of its weight
+    /// With the integral action (the default; absent with `--no-integral`): the disturbed hover (plant mass `× (1 + e)`, force `f` of its weight
     /// down, from rest; `design::evaluate::disturbed_hover`): settling time \[s\] (`null`: not
     /// settled) and the altitude lost \[m\]. `null` without the integral action.
     pub disturbed_hover: Option<DisturbedEntry>,
@@ -183,7 +183,7 @@ pub struct Report {
     pub limits: LimitsConfig,
     /// The attitude feedback searched (`paper` or `tilt-priority`).
     pub law: super::variables::AttitudeLaw,
-    /// With `--integral`: the disturbance the bounded integral action covers and its level
+    /// With the integral action (the default; absent with `--no-integral`): the disturbance the bounded integral action covers and its level
     /// `M_i` [m/s²] (its gains are in `gains.integral`); `null` without.
     pub integral: Option<super::integral::IntegralSpec>,
     /// The thrust flown and written (`--thrust`): its mode, vertical priority's floor and the
@@ -301,7 +301,7 @@ impl Report {
                     "worst settling time over the seven 180 degree starts [s] + {DOUBLED_LAG_WEIGHT} x the same \
                      with the motor time constant doubled [s] + {ALTITUDE_WEIGHT_S_PER_M} s/m x \
                      altitude lost recovering from upside down at hover [m] (+ the disturbed hover's \
-                     settling time [s] with --integral), on the scenario's plant \
+                     settling time [s] with the integral action), on the scenario's plant \
                      with the vehicle's motor time constant and the controller's sample-and-hold; \
                      settled: |p - p_d| < 5 cm and attitude error < 2 deg until the end; constraint: \
                      every run (also with the motor time constant doubled) settles by the end - {TAIL_S} s \

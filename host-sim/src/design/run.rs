@@ -78,7 +78,7 @@ pub struct DesignOptions {
     /// The bounds that certify Theorem 2's torque condition and the box fit.
     pub bounds: BoundsKind,
     /// `Some`: the design carries the bounded integral action sized to cover this disturbance,
-    /// certified with the extended bounds (`--integral`, [`super::integral`]).
+    /// certified with the extended bounds (the default, [`super::integral`]; `None` with `--no-integral`).
     pub integral: Option<IntegralSpec>,
     /// The thrust flown and written: the paper's `norm`, or `vertical-priority` with the lowest
     /// floor the certified box allows ([`super::thrust`]).
@@ -310,7 +310,7 @@ fn refuse_uncoverable(vehicle: &DesignVehicle, set: &RotorSet, spec: &IntegralSp
     let level = spec.level_m_s2[2];
     if level >= g {
         bail!(
-            "--integral: covering a mass error of {} and a force of {} of the weight needs a vertical \
+            "integral action: covering a mass error of {} and a force of {} of the weight needs a vertical \
              level M_i,z = {level:.4} m/s^2 >= g = {g} m/s^2, which leaves the extended Theorem 1 no \
              thrust floor T_min = m(g - K_a3 - M_p - M_i,z) > 0",
             spec.mass_error_fraction,
@@ -320,7 +320,7 @@ fn refuse_uncoverable(vehicle: &DesignVehicle, set: &RotorSet, spec: &IntegralSp
     let needed = m * (g + level);
     if set.thrust_total_max() <= needed {
         bail!(
-            "--integral: {}: the rotors' 4 x thrust_max_N = {:.4} N cannot hold the covered plant \
+            "integral action: {}: the rotors' 4 x thrust_max_N = {:.4} N cannot hold the covered plant \
              (mass error {}, force {} of the weight): m (g + M_i,z) = {needed:.4} N",
             vehicle.origin,
             set.thrust_total_max(),
