@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{bail, Context as _, Result};
-use controller_core::Gains;
+use controller_core::{Bounds, Gains};
 
 use super::authority::RotorSet;
 use super::certificate::{certify_design_with, Certified};
@@ -379,13 +379,7 @@ fn score(
     if !certified.ok() {
         return Err(10.0 * PENALTY);
     }
-    let thrust = thrust_of(vehicle, &certified, ctx.margin, settings.controller.thrust)
-        .map_err(|_| 10.0 * PENALTY)?;
-    let settings = FlightSettings {
-        controller: thrust.controller(),
-        ..settings
-    };
-    let (scenario, hover) = scenarios(
+    let (mut scenario, mut hover) = scenarios(
         vehicle,
         &certified.limits,
         &mapped.gains,
@@ -393,6 +387,18 @@ fn score(
         settings,
     )
     .map_err(|_| 10.0 * PENALTY)?;
+    let firmware = firmware_bounds(&scenario).map_err(|_| 10.0 * PENALTY)?;
+    let thrust = thrust_of(
+        vehicle,
+        &certified,
+        &firmware,
+        ctx.margin,
+        settings.controller.thrust,
+    )
+    .map_err(|_| 10.0 * PENALTY)?;
+    // The floor is within T_min by construction, so the scenarios stay valid.
+    scenario.controller = thrust.controller();
+    hover.controller = thrust.controller();
     let evaluation = evaluate(
         &scenario,
         &hover,
@@ -408,24 +414,48 @@ fn score(
     })
 }
 
+/// The bounds the firmware's boot certificate computes for `scenario`'s set-up: `certify` in
+/// f32, as on the board. With the integral action they are slightly wider than the f64 ones
+/// (its reachable-set bound carries the scalar's rounding, `16 ε M_i / h_min`: about 0.5 % of
+/// `|u̇|` on the x500 in f32), so a floor bisected on the f64 box alone can leave the firmware's
+/// gate a hair under the margin. Errors: `certify` refuses the f32 parameters.
+fn firmware_bounds(scenario: &crate::scenario::Scenario) -> Result<Bounds<f32>> {
+    use controller_core::Trajectory as _;
+    let c = controller_core::certify(
+        &scenario.vehicle::<f32>(),
+        &scenario.limits::<f32>(),
+        &scenario.gains::<f32>(),
+        &scenario.trajectory::<f32>().constants(),
+        controller_core::FilterStart::Zero,
+    )
+    .map_err(|e| anyhow::anyhow!("{}", crate::scenario::describe(&e)))?;
+    Ok(c.bounds)
+}
+
 /// The thrust of a certified candidate: vertical priority's floor is the lowest at which the
-/// box the firmware's gate measures (Theorem 1's `T_max`, Theorem 2's torque bounds; the
-/// design's own box when that one does not fit) leaves the margin free.
+/// box the firmware's gate measures (Theorem 1's `T_max`, Theorem 2's torque bounds, each the
+/// larger of the f64 certificate's and the firmware's f32 one, `firmware`; the design's own box
+/// when the paper's does not fit) leaves the margin free.
 fn thrust_of(
     vehicle: &DesignVehicle,
     certified: &Certified,
+    firmware: &Bounds<f32>,
     margin: f64,
     kind: ThrustKind,
 ) -> Result<ThrustDesign> {
     let mixer = Mixer::new(&vehicle.rotors)
         .map_err(|e| anyhow::anyhow!("rotor set refused by the mixer: {e:?}"))?;
-    let b = &certified.certificate.bounds;
+    let mut b = certified.certificate.bounds;
+    b.thrust_max = b.thrust_max.max(f64::from(firmware.thrust_max));
+    let paper_box = b
+        .torque_max
+        .zip_map(&firmware.torque_max, |x, y| x.max(f64::from(y)));
     let gate_box = if certified.paper_fits_with_margin {
-        b.torque_max
+        paper_box
     } else {
         certified.torque_box
     };
-    ThrustDesign::new(kind, b, &mixer, &gate_box, margin).map_err(anyhow::Error::msg)
+    ThrustDesign::new(kind, &b, &mixer, &gate_box, margin).map_err(anyhow::Error::msg)
 }
 
 /// Runs `design`. Errors: unreadable or invalid inputs, an impossible vehicle (with the
@@ -584,4 +614,33 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
 /// The gains of a report, for tests and callers.
 pub fn gains_of(s: &Scored) -> Gains<f64> {
     s.mapped.gains
+}
+
+#[cfg(test)]
+mod firmware_gate_tests {
+    use firmware::mixer::Mixer;
+
+    use super::firmware_bounds;
+    use crate::scenario::Scenario;
+
+    /// Given the committed x500 design (integral action on, vertical priority's floor), when its
+    /// box is rebuilt as the firmware's boot gate builds it (f32 certificate, `[T_floor, T_max]`),
+    /// then it still leaves the design's 5 % margin of every rotor's range free; and the f32
+    /// bounds are the wider ones, which is why the floor is bisected on them.
+    #[test]
+    fn the_x500_designs_floor_passes_the_firmwares_gate() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/designs/x500/scenario.toml");
+        let s = Scenario::load(std::path::Path::new(path)).unwrap();
+        assert!(s.gains.integral.is_some());
+        let f32_bounds = firmware_bounds(&s).unwrap();
+        let f64_bounds = crate::sim::certificate(&s).unwrap().bounds;
+        for i in 0..3 {
+            assert!(f64::from(f32_bounds.torque_max[i]) > f64_bounds.torque_max[i]);
+        }
+        let vehicle = crate::vehicle::load(&crate::vehicle::preset_path("x500")).unwrap();
+        let mixer = Mixer::new(&crate::vehicle::airframe(&vehicle).rotors).unwrap();
+        let floor = s.controller.thrust_floor_N as f32;
+        let margin = mixer.box_margin(floor, f32_bounds.thrust_max, &f32_bounds.torque_max);
+        assert!(margin >= 0.05, "{margin}");
+    }
 }
