@@ -455,7 +455,11 @@ fn thrust_of(
     } else {
         certified.torque_box
     };
-    ThrustDesign::new(kind, &b, &mixer, &gate_box, margin).map_err(anyhow::Error::msg)
+    let mut thrust =
+        ThrustDesign::new(kind, &b, &mixer, &gate_box, margin).map_err(anyhow::Error::msg)?;
+    // The f32 end only bounds the floor's bisection; the interval reported is the certificate's.
+    thrust.interval_N[1] = certified.certificate.bounds.thrust_max;
+    Ok(thrust)
 }
 
 /// Runs `design`. Errors: unreadable or invalid inputs, an impossible vehicle (with the
