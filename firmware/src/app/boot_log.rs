@@ -45,7 +45,9 @@ pub fn log_certificate(certificate: &Result<Certificate<f32>, ParameterError>) {
         Err(e) => return log_refusal("certificate", e),
     };
     log_values("bounds", &report::bound_values(c));
-    for cond in &c.conditions {
+    // Every condition the gate checks: the paper's, then the integral action's and tilt
+    // priority's when on (`Certificate::all_conditions`).
+    for cond in c.all_conditions() {
         match report::condition_severity(cond) {
             Severity::Info => info!(
                 "condition {=str}: holds = {=bool}, lhs = {=f32}, rhs = {=f32}, \
@@ -72,14 +74,14 @@ pub fn log_certificate(certificate: &Result<Certificate<f32>, ParameterError>) {
     if violated == 0 {
         info!(
             "certificate: all {=usize} conditions hold: {=str}",
-            c.conditions.len(),
+            c.all_conditions().count(),
             report::certificate_verdict(c)
         );
     } else {
         error!(
             "certificate: {=usize} of {=usize} conditions violated: {=str}",
             violated,
-            c.conditions.len(),
+            c.all_conditions().count(),
             report::certificate_verdict(c)
         );
     }
