@@ -1,6 +1,6 @@
 //! Benchmarks: one controller step (f32 and f64) at a representative state, and the whole 30 s
 //! Section VI closed-loop simulation (f32 and f64 controller), without any file output: with a
-//! [`Record`](host_sim::sim::Record) per sample handed to an observer (what the main run writes
+//! [`Record`](host_sim::fly::sim::Record) per sample handed to an observer (what the main run writes
 //! to `timeseries.csv`), and for the summary only.
 //!
 //! Run with `cargo bench -p host-sim`; sample sizes and times are kept small so the run takes
@@ -14,10 +14,10 @@ use controller_core::{
     ControlOutput, Controller, ReferenceSample, StepError, Trajectory, VehicleState,
 };
 use criterion::{criterion_group, criterion_main, Criterion};
-use host_sim::controllers::measure;
-use host_sim::plant::PlantInput;
-use host_sim::scenario::{Precision, Scenario};
-use host_sim::sim::{run_summary, run_with};
+use host_sim::fly::controllers::measure;
+use host_sim::fly::scenario::{Precision, Scenario};
+use host_sim::fly::sim::{run_summary, run_with};
+use host_sim::model::plant::PlantInput;
 use nalgebra::Vector3;
 
 /// The controller, the measured state and the reference of the paper scenario at

@@ -1,36 +1,38 @@
 //! host-sim: the controller-core law against a desktop rigid-body model.
 //!
-//! [`scenario`] reads TOML scenarios (the paper's is embedded), [`plant`] integrates
-//! eq:FullDynamics, [`closed_loop`] closes the loop (and [`sim`] flies the paper law in it with
-//! its diagnostics), and [`output`] writes CSV, PNG plots and
-//! `summary.json`. [`campaign`], [`ablation`] and [`compare`] fly many runs ([`rate_study`]
-//! compares the law's rates); [`harness`] flies
-//! the firmware itself (software and processor in the loop, Cortex-M4F instruction counts).
+//! Grouped by role:
+//! - [`model`]: what is flown: the rigid-body plant (eq:FullDynamics), the rotor-level plant,
+//!   perturbations, vehicle files and SO(3) helpers;
+//! - [`fly`]: how one flight is flown: scenario files, the closed loop, the controllers (the
+//!   paper's law and the baselines), the set-up built once from a scenario, and the main run;
+//! - [`bounds`]: the a-priori bounds before flying: the tight bounds, the certificate beside the
+//!   paper's, and the `bounds` table;
+//! - [`runs`]: the toolkit for many runs: sampled initial conditions, per-run metrics, the
+//!   parallel runner, statistics and kept traces;
+//! - [`studies`]: what is measured with it: campaigns, ablations (hysteresis, filters, no-dive
+//!   thrust, integral action), the baseline comparison and the law-rate study;
+//! - [`design`]: gains and levels certified for a real vehicle;
+//! - [`harness`]: the firmware itself in the loop (software, processor on QEMU, M4F counts);
+//! - [`output`]: files and text written by a run (CSV, PNG, JSON, Markdown, the console summary).
 //!
-//! The command line belongs to the `host-sim` binary (`src/cli/`): the library takes plain
-//! option structs ([`harness::sil::SilOptions`], [`harness::pil::PilCommandOptions`],
-//! [`campaign::CampaignOptions`], [`ablation::AblationOptions`], [`compare::CompareOptions`])
-//! and knows nothing of clap.
+//! The command line belongs to the `host-sim` binary (`src/bin/host-sim/`): the library takes
+//! plain option structs ([`harness::sil::SilOptions`], [`harness::pil::PilCommandOptions`],
+//! [`studies::campaign::CampaignOptions`], [`studies::ablation::AblationOptions`],
+//! [`studies::compare::CompareOptions`]) and knows nothing of clap.
 
-pub mod ablation;
-pub mod bounds_table;
-pub mod campaign;
-pub mod closed_loop;
-pub mod compare;
-pub mod controllers;
+#![deny(missing_docs)]
+
+pub mod bounds;
 pub mod design;
+pub mod fly;
 pub mod harness;
-pub mod integral_ablation;
-pub mod no_dive;
+pub mod model;
 pub mod output;
-pub mod perturbation;
-pub mod plant;
-pub mod rate_study;
-pub mod report;
-pub mod rotor_plant;
-pub mod scenario;
-pub mod sim;
-pub mod so3;
-pub mod tight_bounds;
-pub mod tight_certificate;
-pub mod vehicle;
+pub mod runs;
+pub mod studies;
+
+// The paths the workspace's cross-crate tests and fuzz targets import (`tests/`, `tests/fuzz/`),
+// kept from before the grouping by role.
+pub use fly::{controllers, scenario, sim};
+pub use model::{plant, so3};
+pub use studies::campaign;

@@ -7,9 +7,9 @@
 //! removes the force's steady error that the row without it keeps, and neither row leaves its
 //! own a-priori bounds.
 
-use host_sim::compare::{contestants, run_compare};
-use host_sim::controllers::ControllerKind;
-use host_sim::scenario::Scenario;
+use host_sim::fly::controllers::ControllerKind;
+use host_sim::fly::scenario::Scenario;
+use host_sim::studies::compare::{contestants, run_compare};
 
 const TEXT: &str = include_str!("../scenarios/integral-campaign.toml");
 
@@ -83,7 +83,7 @@ fn with_and_without_rows_under_a_constant_force() {
 
     // The force (0.36 N, 8 % of the weight) leaves the paper's law centimetres off; the
     // integral action removes it.
-    let steady = |r: &host_sim::compare::ContestantResult| {
+    let steady = |r: &host_sim::studies::compare::ContestantResult| {
         r.campaign
             .steady_position_error_m
             .p50

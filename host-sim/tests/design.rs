@@ -7,8 +7,8 @@ use std::path::PathBuf;
 use controller_core::{certify, FilterStart, Trajectory};
 use firmware::mixer::Mixer;
 use host_sim::design::{run_design, DesignOptions};
-use host_sim::scenario::Scenario;
-use host_sim::vehicle::{airframe, preset_path, VehicleFile};
+use host_sim::fly::scenario::Scenario;
+use host_sim::model::vehicle::{airframe, preset_path, VehicleFile};
 
 fn out_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!(
@@ -30,7 +30,7 @@ fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOptions 
         law: Default::default(),
         bounds: Default::default(),
         integral: None,
-        thrust: host_sim::scenario::ThrustKind::Norm,
+        thrust: host_sim::fly::scenario::ThrustKind::Norm,
         speed_limit: None,
         fallback: host_sim::design::run::Fallback::Off,
         out,
@@ -253,7 +253,7 @@ fn tight_bounds_certify_a_faster_reference_than_the_papers() {
     // Independently: the core's bounds and the tight bounds at the full budget.
     let s = Scenario::load(&out.join("scenario.toml")).unwrap();
     let core = read_back(&s);
-    let t = host_sim::tight_certificate::scenario_tight_bounds(&s).unwrap();
+    let t = host_sim::bounds::certificate::scenario_tight_bounds(&s).unwrap();
     let split = tight_feedforward(&s.vehicle(), (t.angular_velocity, t.angular_acceleration))
         + core.bounds.feedback_torque_axes;
     let torque = nalgebra::Vector3::from_fn(|i, _| t.torque_max[i].min(split[i]));
@@ -290,7 +290,7 @@ fn written_scenario_flies() {
     let out = out_dir("fly");
     run_design(&options(preset_path("crazyflie-2.1"), out.clone(), 1)).unwrap();
     let s = Scenario::load(&out.join("scenario.toml")).unwrap();
-    let (summary, records) = host_sim::sim::run(&s).unwrap();
+    let (summary, records) = host_sim::fly::sim::run(&s).unwrap();
     let steps = (s.simulation.duration_s / s.simulation.controller_period_s).round() as usize;
     assert_eq!(records.len(), steps + 1);
     let a = &summary.a_priori;
@@ -509,12 +509,12 @@ fn integral_design_certifies_the_extended_bounds_and_removes_a_mass_error() {
     table.extend(hover);
     table["simulation"]["duration_s"] = toml::Value::Float(60.0);
     let heavy = Scenario::parse(&table.to_string(), "heavy.toml").unwrap();
-    let with = host_sim::sim::run_summary(&heavy).unwrap();
+    let with = host_sim::fly::sim::run_summary(&heavy).unwrap();
     assert!(with.final_.position_error_m < 0.01, "{:?}", with.final_);
     assert_eq!(with.observed.samples_outside_a_priori_bounds, 0);
     let mut without = heavy.clone();
     without.gains.integral = None;
-    let without = host_sim::sim::run_summary(&without).unwrap();
+    let without = host_sim::fly::sim::run_summary(&without).unwrap();
     assert!(
         without.final_.position_error_m > 10.0 * with.final_.position_error_m.max(0.01),
         "without {:?}, with {:?}",
@@ -532,7 +532,7 @@ fn integral_design_certifies_the_extended_bounds_and_removes_a_mass_error() {
 #[test]
 fn vertical_priority_design_certifies_its_floor() {
     use host_sim::design::evaluate::upside_down;
-    use host_sim::scenario::ThrustKind;
+    use host_sim::fly::scenario::ThrustKind;
     let out = out_dir("vertical-priority");
     let mut o = options(preset_path("crazyflie-2.1"), out.clone(), 4);
     o.thrust = ThrustKind::VerticalPriority;

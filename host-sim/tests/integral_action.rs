@@ -3,8 +3,8 @@
 //! ends within 1 cm of the reference with every sample inside the a-priori bounds; without the
 //! integral action the same set-up does not.
 
-use host_sim::scenario::Scenario;
-use host_sim::sim::{certificate, run_summary};
+use host_sim::fly::scenario::Scenario;
+use host_sim::fly::sim::{certificate, run_summary};
 
 const TEXT: &str = include_str!("../scenarios/mass-error.toml");
 
@@ -101,7 +101,7 @@ fn integral_tight_is_certified_by_the_tight_bounds_only() {
     .unwrap();
     let c = certificate(&s).unwrap();
     let violated: Vec<&str> = c.violations().map(|v| v.name).collect();
-    assert_eq!(violated, host_sim::tight_certificate::THEOREM2_TORQUE);
+    assert_eq!(violated, host_sim::bounds::certificate::THEOREM2_TORQUE);
     let summary = run_summary(&s).unwrap();
     let t = &summary.a_priori.tight;
     assert!(t.feasible, "{t:?}");
@@ -133,7 +133,7 @@ fn integral_campaign_is_certified_with_the_feedforward_scale() {
         .is_some());
     let c = certificate(&s).unwrap();
     let violated: Vec<&str> = c.violations().map(|v| v.name).collect();
-    assert_eq!(violated, host_sim::tight_certificate::THEOREM2_TORQUE);
+    assert_eq!(violated, host_sim::bounds::certificate::THEOREM2_TORQUE);
     // The bounds do not depend on the run's length; a short run checks the samples.
     s.simulation.duration_s = 5.0;
     let summary = run_summary(&s).unwrap();

@@ -5,8 +5,8 @@
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use host_sim::scenario::{Scenario, PAPER_SCENARIO};
-use host_sim::sim::{run, Record};
+use host_sim::fly::scenario::{Scenario, PAPER_SCENARIO};
+use host_sim::fly::sim::{run, Record};
 
 /// The paper scenario from a file with `extra` appended, shortened to 3 s.
 fn from_file(extra: &str) -> Scenario {
@@ -75,9 +75,10 @@ fn model_errors_and_disturbances_change_the_main_run() {
 /// The paper scenario of [`from_file`] flown on the rotor plant with the paper vehicle file's
 /// rotors (`[perturbations]` from `extra`).
 fn on_rotors(extra: &str) -> Scenario {
-    let vehicle = host_sim::vehicle::load(&host_sim::vehicle::preset_path("paper")).unwrap();
+    let vehicle =
+        host_sim::model::vehicle::load(&host_sim::model::vehicle::preset_path("paper")).unwrap();
     let mut s = from_file(extra).with_vehicle(&vehicle);
-    s.simulation.plant = host_sim::scenario::PlantKind::Rotors;
+    s.simulation.plant = host_sim::fly::scenario::PlantKind::Rotors;
     s.validate().unwrap();
     s
 }

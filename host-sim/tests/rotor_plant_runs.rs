@@ -5,8 +5,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use host_sim::scenario::PAPER_SCENARIO;
-use host_sim::vehicle::preset_path;
+use host_sim::fly::scenario::PAPER_SCENARIO;
+use host_sim::model::vehicle::preset_path;
 
 fn host_sim(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_host-sim"))

@@ -131,8 +131,9 @@ fn demo_helix_converges_inside_the_certified_bounds() {
 #[test]
 fn the_default_build_flies_the_x500_preset() {
     use firmware::config::FlightConfig;
-    let preset = host_sim::vehicle::load(&host_sim::vehicle::preset_path("x500")).unwrap();
-    let from_preset = host_sim::vehicle::airframe(&preset);
+    let preset =
+        host_sim::model::vehicle::load(&host_sim::model::vehicle::preset_path("x500")).unwrap();
+    let from_preset = host_sim::model::vehicle::airframe(&preset);
     let built = FlightConfig::built_airframe();
     assert_eq!(built, from_preset);
     let flight = FlightConfig::built();

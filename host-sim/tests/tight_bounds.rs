@@ -1,15 +1,15 @@
-//! Tight a-priori bounds (`host_sim::tight_bounds`): the enclosures contain controller-core's
+//! Tight a-priori bounds (`host_sim::bounds::tight`): the enclosures contain controller-core's
 //! values, the bounds are below the paper's, and they grow with `M_p`.
 
 use controller_core::attitude_control::AttitudeGains;
 use controller_core::desired_attitude::desired_attitude;
 use controller_core::mrp::rotation_from_mrp;
 use controller_core::{certify, FilterStart, Gains, ReferenceTrajectory, Trajectory, Vehicle};
-use host_sim::tight_bounds::confining_set::{ConfiningSet, SPLIT_DIM};
-use host_sim::tight_bounds::desired_rates::{desired_rates, Heading};
-use host_sim::tight_bounds::interval::Interval;
-use host_sim::tight_bounds::torque::AttitudeTerm;
-use host_sim::tight_bounds::{tight_bounds, TightOptions};
+use host_sim::bounds::tight::confining_set::{ConfiningSet, SPLIT_DIM};
+use host_sim::bounds::tight::desired_rates::{desired_rates, Heading};
+use host_sim::bounds::tight::interval::Interval;
+use host_sim::bounds::tight::torque::AttitudeTerm;
+use host_sim::bounds::tight::{tight_bounds, TightOptions};
 use nalgebra::{Vector2, Vector3};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -169,7 +169,7 @@ fn torque_decomposition_bounds_the_law() {
             trace_weights: [0.0; 3],
         };
         let phi = term.maximise(0.01, 1_000_000);
-        *bound = host_sim::tight_bounds::torque::torque_bound(
+        *bound = host_sim::bounds::tight::torque::torque_bound(
             axis,
             gains.attitude.omega_saturation,
             phi.upper,
@@ -286,7 +286,7 @@ fn tilt_priority_torque_decomposition_bounds_the_law() {
             trace_weights: tilt.trace_weights.into(),
         };
         let phi = term.maximise(0.01, 1_000_000);
-        *bound = host_sim::tight_bounds::torque::torque_bound(
+        *bound = host_sim::bounds::tight::torque::torque_bound(
             axis,
             tilt.omega_levels[axis],
             phi.upper,
@@ -347,14 +347,17 @@ fn quick() -> TightOptions {
 /// the paper's set-up on `|ω_d|`) are below Lemma 1's and Theorem 2's and above the best point values the searches saw. Prints the figures.
 #[test]
 fn tight_bounds_are_below_the_papers() {
-    let mut setups = vec![("paper".to_string(), host_sim::scenario::Scenario::paper())];
+    let mut setups = vec![(
+        "paper".to_string(),
+        host_sim::fly::scenario::Scenario::paper(),
+    )];
     let designs = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("designs");
     for entry in std::fs::read_dir(&designs).unwrap() {
         let path = entry.unwrap().path().join("scenario.toml");
         if path.exists() {
             setups.push((
                 path.display().to_string(),
-                host_sim::scenario::Scenario::load(&path).unwrap(),
+                host_sim::fly::scenario::Scenario::load(&path).unwrap(),
             ));
         }
     }
@@ -483,7 +486,7 @@ fn refuses_bad_inputs_with_names() {
 /// `[0, π/4]`, found by a hill climb over `u` and `ψ` at every vertex.
 #[test]
 fn angular_velocity_bound_holds_at_interior_headings() {
-    use host_sim::tight_bounds::search::{maximise, point_value, Quantity};
+    use host_sim::bounds::tight::search::{maximise, point_value, Quantity};
     let set = paper_set();
     let bound = maximise(&set, Quantity::AngularVelocity, 1e-3, 400_000).upper;
     let mut rng = ChaCha8Rng::seed_from_u64(5);

@@ -1,8 +1,8 @@
-//! Soundness sampling and witnesses of the a-priori bounds (`host_sim::tight_bounds`).
+//! Soundness sampling and witnesses of the a-priori bounds (`host_sim::bounds::tight`).
 //!
 //! - Dense seeded sampling of the confining set (10⁵ admissible states per set-up, plus the
 //!   witnesses, which are the most demanding states found) never exceeds the bounds under test:
-//!   tight ones (`host_sim::tight_bounds::tight_bounds`, including its `H₁₂`, `H₃`) for the
+//!   tight ones (`host_sim::bounds::tight::tight_bounds`, including its `H₁₂`, `H₃`) for the
 //!   paper's set-up and the Crazyflie design, from both filter start sets.
 //! - The witnesses are admissible (checked on their stored values, independently of the
 //!   parameter map), re-evaluate to their values from their stored parameters, stay below the
@@ -11,19 +11,19 @@
 use std::path::PathBuf;
 
 use controller_core::FilterStart;
-use host_sim::campaign::metrics::Convergence;
-use host_sim::campaign::runner::{run_campaign, CampaignConfig};
-use host_sim::campaign::sampler::SamplerRadii;
-use host_sim::controllers::ControllerKind;
-use host_sim::scenario::Scenario;
-use host_sim::tight_bounds::sampling::{sample, AdmissibleState};
-use host_sim::tight_bounds::setup::Setup;
-use host_sim::tight_bounds::witness::{witnesses, Quantity, WitnessBudget, Witnesses, QUANTITIES};
+use host_sim::bounds::tight::sampling::{sample, AdmissibleState};
+use host_sim::bounds::tight::setup::Setup;
+use host_sim::bounds::tight::witness::{witnesses, Quantity, WitnessBudget, Witnesses, QUANTITIES};
+use host_sim::fly::controllers::ControllerKind;
+use host_sim::fly::scenario::Scenario;
+use host_sim::runs::metrics::Convergence;
+use host_sim::runs::runner::{run_campaign, CampaignConfig};
+use host_sim::runs::sampler::SamplerRadii;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 /// Upper bounds on `|ω_d|` [rad/s], `|ω̇_d|` [rad/s²] and `|τ_i|` [N m], with the field names
-/// of `host_sim::tight_bounds::TightBounds`.
+/// of `host_sim::bounds::tight::TightBounds`.
 struct Bound {
     angular_velocity: f64,
     angular_acceleration: f64,
@@ -47,7 +47,7 @@ fn paper_bound(setup: &Setup) -> Bound {
 
 /// The bounds the samples are checked against: the tight ones.
 fn bound_under_test(setup: &Setup) -> Bound {
-    let t = host_sim::tight_bounds::tight_bounds(
+    let t = host_sim::bounds::tight::tight_bounds(
         &setup.vehicle,
         &setup.gains,
         &setup.constants,
@@ -301,10 +301,10 @@ fn witness_search_is_deterministic() {
 /// `ü` tied to them.
 #[test]
 fn coupled_searches_bound_the_samples() {
-    use host_sim::tight_bounds::confining_set::ConfiningSet;
-    use host_sim::tight_bounds::coupled_search::maximise_coupled;
-    use host_sim::tight_bounds::filter_polygon::FilterPolygon;
-    use host_sim::tight_bounds::search::Quantity as Searched;
+    use host_sim::bounds::tight::confining_set::ConfiningSet;
+    use host_sim::bounds::tight::coupled_search::maximise_coupled;
+    use host_sim::bounds::tight::filter_polygon::FilterPolygon;
+    use host_sim::bounds::tight::search::Quantity as Searched;
     let mut box_start = Setup::paper();
     box_start.filter_start = FilterStart::InSaturationBox;
     for (setup, name) in [

@@ -1,8 +1,8 @@
 //! Tilt-priority attitude feedback (controller-core's `tilt_priority`, docs/tilt-priority.md)
 //! on the paper's vehicle: the scenario file, its certificate and the recovery it buys.
 
-use host_sim::no_dive::hover_half_turns;
-use host_sim::scenario::Scenario;
+use host_sim::fly::scenario::Scenario;
+use host_sim::studies::ablation::no_dive::hover_half_turns;
 
 fn scenario(name: &str) -> Scenario {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -40,7 +40,7 @@ fn tilt_priority_scenario_is_certified_per_axis() {
     let mut same = tilt.clone();
     same.gains = no_dive.gains.clone();
     assert_eq!(same, no_dive);
-    let cert = host_sim::sim::certificate(&tilt).unwrap();
+    let cert = host_sim::fly::sim::certificate(&tilt).unwrap();
     let levels = cert.bounds.feedback_torque_axes;
     let t = tilt.gains.tilt_priority.unwrap();
     let radial = (1.0 + 1.02f64.powi(2)) * tilt.gains.M_theta / 4.0;

@@ -6,8 +6,8 @@ use controller_core::Vehicle;
 use firmware::airframe::Airframe;
 use firmware::config::FlightConfig;
 use firmware::mixer::Mixer;
-use host_sim::scenario::Scenario;
-use host_sim::vehicle::{self, VehicleFile, PRESETS};
+use host_sim::fly::scenario::Scenario;
+use host_sim::model::vehicle::{self, VehicleFile, PRESETS};
 use nalgebra::Vector3;
 
 fn preset(name: &str) -> (String, VehicleFile) {

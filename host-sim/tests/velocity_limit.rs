@@ -4,8 +4,8 @@
 //! 30 m/s, against the same gains with the paper's feedback: the certificate is the same, the way
 //! back is not (docs/velocity-limit.md).
 
-use host_sim::scenario::Scenario;
-use host_sim::sim::run;
+use host_sim::fly::scenario::Scenario;
+use host_sim::fly::sim::run;
 
 fn design() -> Scenario {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/designs/x500/scenario.toml");
@@ -100,7 +100,7 @@ fn a_bad_velocity_limit_is_refused_by_key() {
 /// paper's law flies it.
 #[test]
 fn ablations_refuse_the_velocity_limit_instead_of_ignoring_it() {
-    use host_sim::controllers::ControllerKind;
+    use host_sim::fly::controllers::ControllerKind;
     let s = design();
     assert!(ControllerKind::Paper.build(&s).is_ok());
     for kind in [

@@ -1,9 +1,9 @@
 //! The simulations that score a design, on the scenario's plant (the rotor plant with the
 //! vehicle's motor time constant) with the sample-and-hold at the controller rate.
 //!
-//! - the seven 180° starts of `campaign` ([`crate::campaign::sampler::HALF_TURN_AXES`]: exactly
+//! - the seven 180° starts of `campaign` ([`crate::runs::sampler::HALF_TURN_AXES`]: exactly
 //!   180° from `R_d(0)`, at `p_d(0)` with the reference velocity and zero angular velocity),
-//!   settling as in [`crate::campaign::metrics`] (5 cm and 2°, staying below until the end);
+//!   settling as in [`crate::runs::metrics`] (5 cm and 2°, staying below until the end);
 //! - recovery from upside down at hover: a hover at `p_d(0)` with heading `ψ_d(0)`, started
 //!   rotated 180° about body x with zero velocity; the altitude lost is `z(0) − min z`;
 //! - robustness: the seven starts again with the motor time constant doubled;
@@ -19,13 +19,13 @@ use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::campaign::metrics::{Convergence, MetricsAccumulator};
-use crate::campaign::runner::paper_bound_set;
-use crate::campaign::sampler::{Sampler, SamplerRadii, HALF_TURN_AXES};
-use crate::closed_loop::fly;
-use crate::controllers::ControllerKind;
-use crate::plant::RigidBodyState;
-use crate::scenario::Scenario;
+use crate::fly::closed_loop::fly;
+use crate::fly::controllers::ControllerKind;
+use crate::fly::scenario::Scenario;
+use crate::model::plant::RigidBodyState;
+use crate::runs::metrics::{Convergence, MetricsAccumulator};
+use crate::runs::runner::paper_bound_set;
+use crate::runs::sampler::{Sampler, SamplerRadii, HALF_TURN_AXES};
 
 /// The end window checked for a limit cycle \[s\].
 pub const TAIL_S: f64 = 5.0;

@@ -12,7 +12,7 @@ use rand::RngExt;
 use rand_xoshiro::rand_core::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-use crate::campaign::sampler::seeded_rng;
+use crate::runs::sampler::seeded_rng;
 
 /// Particles per swarm (capped by the budget).
 pub const PARTICLES: usize = 16;

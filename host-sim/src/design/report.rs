@@ -15,8 +15,8 @@ use super::reference::Reference;
 use super::run::{DesignOptions, Scored};
 use super::variables::Choices;
 use super::vehicle::DesignVehicle;
+use crate::fly::scenario::{GainsConfig, LimitsConfig, TrajectoryConfig};
 use crate::output::chart::{LegendAt, Panel, Scale, Series};
-use crate::scenario::{GainsConfig, LimitsConfig, TrajectoryConfig};
 
 /// One condition of the certificate.
 #[derive(Clone, Debug, Serialize)]
@@ -482,7 +482,7 @@ pub fn write_outputs(
             continue;
         }
         let path = dir.join(p.file);
-        crate::campaign::figures::time_series_png(&path, p)?;
+        crate::studies::campaign::figures::time_series_png(&path, p)?;
         drawn.push(p.file);
         files.push(path);
     }

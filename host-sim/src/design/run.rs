@@ -18,7 +18,7 @@ use super::thrust::ThrustDesign;
 use super::tight::{tight_torque_box, BoundsKind, SEARCH_BOXES};
 use super::variables::{map, AttitudeLaw, Choices, Context, Mapped};
 use super::vehicle::DesignVehicle;
-use crate::scenario::{ControllerConfig, Scenario, ThrustKind};
+use crate::fly::scenario::{ControllerConfig, Scenario, ThrustKind};
 use firmware::mixer::Mixer;
 
 /// Default length of each scoring run and of the written scenario \[s\]: the paper's 30 s (the
@@ -419,7 +419,7 @@ fn score(
 /// (its reachable-set bound carries the scalar's rounding, `16 ε M_i / h_min`: about 0.5 % of
 /// `|u̇|` on the x500 in f32), so a floor bisected on the f64 box alone can leave the firmware's
 /// gate a hair under the margin. Errors: `certify` refuses the f32 parameters.
-fn firmware_bounds(scenario: &crate::scenario::Scenario) -> Result<Bounds<f32>> {
+fn firmware_bounds(scenario: &crate::fly::scenario::Scenario) -> Result<Bounds<f32>> {
     use controller_core::Trajectory as _;
     let c = controller_core::certify(
         &scenario.vehicle::<f32>(),
@@ -428,7 +428,7 @@ fn firmware_bounds(scenario: &crate::scenario::Scenario) -> Result<Bounds<f32>> 
         &scenario.trajectory::<f32>().constants(),
         controller_core::FilterStart::Zero,
     )
-    .map_err(|e| anyhow::anyhow!("{}", crate::scenario::describe(&e)))?;
+    .map_err(|e| anyhow::anyhow!("{}", crate::fly::scenario::describe(&e)))?;
     Ok(c.bounds)
 }
 
@@ -552,7 +552,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
     let guess = Choices::initial_guess(o.law).to_unit();
     let optimum = minimise(&cost, &guess, o.evaluations, o.seed)?;
     // The final design's tight bounds with the default budget: never looser than the search's.
-    let final_boxes = crate::tight_bounds::TightOptions::default().max_boxes;
+    let final_boxes = crate::bounds::tight::TightOptions::default().max_boxes;
     let best = score(
         &vehicle,
         &ctx,
@@ -625,7 +625,7 @@ mod firmware_gate_tests {
     use firmware::mixer::Mixer;
 
     use super::firmware_bounds;
-    use crate::scenario::Scenario;
+    use crate::fly::scenario::Scenario;
 
     /// Given the committed x500 design (integral action on, vertical priority's floor), when its
     /// box is rebuilt as the firmware's boot gate builds it (f32 certificate, `[T_floor, T_max]`),
@@ -637,12 +637,13 @@ mod firmware_gate_tests {
         let s = Scenario::load(std::path::Path::new(path)).unwrap();
         assert!(s.gains.integral.is_some());
         let f32_bounds = firmware_bounds(&s).unwrap();
-        let f64_bounds = crate::sim::certificate(&s).unwrap().bounds;
+        let f64_bounds = crate::fly::sim::certificate(&s).unwrap().bounds;
         for i in 0..3 {
             assert!(f64::from(f32_bounds.torque_max[i]) > f64_bounds.torque_max[i]);
         }
-        let vehicle = crate::vehicle::load(&crate::vehicle::preset_path("x500")).unwrap();
-        let mixer = Mixer::new(&crate::vehicle::airframe(&vehicle).rotors).unwrap();
+        let vehicle =
+            crate::model::vehicle::load(&crate::model::vehicle::preset_path("x500")).unwrap();
+        let mixer = Mixer::new(&crate::model::vehicle::airframe(&vehicle).rotors).unwrap();
         let floor = s.controller.thrust_floor_N as f32;
         let margin = mixer.box_margin(floor, f32_bounds.thrust_max, &f32_bounds.torque_max);
         assert!(margin >= 0.05, "{margin}");

@@ -1,5 +1,5 @@
 //! `design --bounds tight`: Theorem 2's torque condition and the box fit judged with the tight
-//! a-priori bounds ([`crate::tight_bounds`], `docs/tight-bounds.md`) instead of Lemma 1's
+//! a-priori bounds ([`crate::bounds::tight`], `docs/tight-bounds.md`) instead of Lemma 1's
 //! closed form.
 //!
 //! Both are sound upper bounds of the same suprema, so any of them, or their minimum, certifies.
@@ -23,7 +23,7 @@ use controller_core::{certify, FilterStart, Gains, Limits, TrajectoryConstants, 
 use nalgebra::Vector3;
 use serde::Serialize;
 
-use crate::tight_bounds::{tight_bounds, tight_rates, TightOptions};
+use crate::bounds::tight::{tight_bounds, tight_rates, TightOptions};
 
 /// Which bounds certify Theorem 2's torque condition and the box fit.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, clap::ValueEnum)]
@@ -52,7 +52,8 @@ fn with_budget<R>(
     boxes: usize,
     run: impl FnOnce(&TightOptions) -> Result<R, controller_core::ParameterError>,
 ) -> Result<R> {
-    run(&options(boxes)).map_err(|e| anyhow!("tight bounds: {}", crate::scenario::describe(&e)))
+    run(&options(boxes))
+        .map_err(|e| anyhow!("tight bounds: {}", crate::fly::scenario::describe(&e)))
 }
 
 /// The feedforward part of the per-axis torque bound [N m] (body axes) from tight
@@ -95,7 +96,7 @@ pub fn tight_torque_box(
         torque_max: Vector3::repeat(1.0),
     };
     let paper = certify(vehicle, &limits, gains, constants, FilterStart::Zero)
-        .map_err(|e| anyhow!("{}", crate::scenario::describe(&e)))?
+        .map_err(|e| anyhow!("{}", crate::fly::scenario::describe(&e)))?
         .bounds;
     let t = with_budget(boxes, |o| {
         tight_bounds(vehicle, gains, constants, FilterStart::Zero, o)

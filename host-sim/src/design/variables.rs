@@ -401,12 +401,12 @@ mod tests {
         TrajectoryConstants<f64>,
     ) {
         use controller_core::Trajectory;
-        let v = crate::design::vehicle::DesignVehicle::load(&crate::vehicle::preset_path(
+        let v = crate::design::vehicle::DesignVehicle::load(&crate::model::vehicle::preset_path(
             "crazyflie-2.1",
         ))
         .unwrap();
         let set = RotorSet::new(&v.rotors).unwrap();
-        let constants = crate::scenario::Scenario::paper()
+        let constants = crate::fly::scenario::Scenario::paper()
             .trajectory::<f64>()
             .constants();
         (v, set, constants)
@@ -427,7 +427,7 @@ mod tests {
             integral: None,
             speed_limit: None,
         };
-        let mut rng = crate::campaign::sampler::seeded_rng(11);
+        let mut rng = crate::runs::sampler::seeded_rng(11);
         for law in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority] {
             for _ in 0..200 {
                 let x = random_point(&mut rng, law);
@@ -482,7 +482,7 @@ mod tests {
             integral: None,
             speed_limit: None,
         };
-        let mut rng = crate::campaign::sampler::seeded_rng(12);
+        let mut rng = crate::runs::sampler::seeded_rng(12);
         for law in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority] {
             for _ in 0..6 {
                 let x = random_point(&mut rng, law);

@@ -1,5 +1,5 @@
 //! The vehicle a design is made for: rigid body, rotor set and motor time constant, read from a
-//! vehicle file (`host-sim/vehicles/*.toml`, [`crate::vehicle`]), plus the file's own tables,
+//! vehicle file (`host-sim/vehicles/*.toml`, [`crate::model::vehicle`]), plus the file's own tables,
 //! which the design copies into the scenario and flight files it writes.
 
 use std::path::Path;
@@ -9,7 +9,7 @@ use controller_core::Vehicle;
 use firmware::config::RotorConfig;
 use nalgebra::Vector3;
 
-use crate::vehicle::VehicleFile;
+use crate::model::vehicle::VehicleFile;
 
 /// A vehicle as the design sees it.
 #[derive(Clone, Debug)]
@@ -33,14 +33,14 @@ pub struct DesignVehicle {
 impl DesignVehicle {
     /// Reads and validates a vehicle file. Errors: `"<file>: <key>: <reason>"`.
     pub fn load(path: &Path) -> Result<Self> {
-        let file = crate::vehicle::load(path)?;
+        let file = crate::model::vehicle::load(path)?;
         Self::from_file(&file, &path.display().to_string())
     }
 
     /// From a validated vehicle file; `origin` names it in messages.
     /// Errors: the tables cannot be written back as TOML (not expected).
     pub fn from_file(file: &VehicleFile, origin: &str) -> Result<Self> {
-        let airframe = crate::vehicle::airframe(file);
+        let airframe = crate::model::vehicle::airframe(file);
         let tables = match toml::Value::try_from(file)
             .map_err(|e| anyhow!("{origin}: cannot copy the vehicle tables: {e}"))?
         {

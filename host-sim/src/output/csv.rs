@@ -4,7 +4,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 
-use crate::sim::Record;
+use crate::fly::sim::Record;
 
 /// Writes `records` to `path` as CSV: a header row of the [`Record`] field names (which carry
 /// the units, e.g. `thrust_N`), then one row per record in order. Overwrites `path`.

@@ -4,6 +4,7 @@
 //! [`write_plots`] write the parts. Every error names the file that failed.
 
 pub(crate) mod chart;
+pub mod console;
 pub mod csv;
 pub mod plots;
 pub mod summary;
@@ -12,8 +13,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 
-use crate::scenario::Scenario;
-use crate::sim::{Record, Summary};
+use crate::fly::scenario::Scenario;
+use crate::fly::sim::{Record, Summary};
 
 pub use self::csv::write_csv;
 pub use self::plots::write_plots;
@@ -52,7 +53,7 @@ pub fn write_all(
 pub(crate) mod test_support {
     use std::path::PathBuf;
 
-    use crate::sim::{APriori, Final, Observed, PathLiftingReport, Record, Settling, Summary};
+    use crate::fly::sim::{APriori, Final, Observed, PathLiftingReport, Record, Settling, Summary};
 
     /// A fresh, empty directory under the system temp dir, unique per test `name` and process.
     pub fn temp_dir(name: &str) -> PathBuf {
@@ -102,7 +103,7 @@ pub(crate) mod test_support {
     /// A summary consistent with [`synthetic_records`].
     pub fn synthetic_summary() -> Summary {
         Summary {
-            precision: crate::scenario::Precision::F32,
+            precision: crate::fly::scenario::Precision::F32,
             a_priori: APriori {
                 thrust_min_N: 3.51,
                 thrust_max_N: 6.19,
@@ -113,11 +114,11 @@ pub(crate) mod test_support {
                 feedback_torque_axes_Nm: None,
                 feasible: true,
                 conditions: vec![],
-                tight: crate::tight_certificate::TightReport {
+                tight: crate::bounds::certificate::TightReport {
                     torque_max_Nm: [0.2, 0.25, 0.3],
                     angular_velocity_max_rad_s: 0.8,
                     angular_acceleration_max_rad_s2: 1.0,
-                    ratio_to_paper: crate::tight_certificate::TightRatios {
+                    ratio_to_paper: crate::bounds::certificate::TightRatios {
                         torque: [0.2 / 0.29, 0.25 / 0.33, 0.3 / 0.48],
                         angular_velocity: 0.8,
                         angular_acceleration: 0.5,

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 
-use crate::sim::Summary;
+use crate::fly::sim::Summary;
 
 /// Writes `summary` to `path` as pretty-printed JSON followed by a newline. Overwrites `path`.
 ///

@@ -9,7 +9,7 @@
 //! - motors: throttle → thrust through the vehicle's curve, first-order lag on rotor speed
 //!   (the flight's airframe's motor time constant unless the scenario sets one), per-rotor
 //!   limits;
-//!   the plant ([`crate::plant`]) is driven by the four rotor thrusts through the mixer's
+//!   the plant ([`crate::model::plant`]) is driven by the four rotor thrusts through the mixer's
 //!   effectiveness matrix (the same geometry the firmware allocates with);
 //! - optionally a flat ground (contact stops the body) for takeoff and landing.
 //!
@@ -41,7 +41,7 @@ use firmware::pipeline::{BootReport, Event, FlightPipeline, ImuSample, Mode, Mot
 use firmware::safety::FlightState;
 use nalgebra::{Matrix4, UnitQuaternion, Vector3, Vector4};
 
-use crate::plant::{PlantInput, RigidBody};
+use crate::model::plant::{PlantInput, RigidBody};
 use sensors::Rng;
 
 /// Motors: throttle → commanded thrust through the vehicle's curve (0 when stopped), then a

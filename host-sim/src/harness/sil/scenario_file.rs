@@ -38,8 +38,8 @@ use serde::Deserialize;
 
 use super::sensors::{ImuModel, MocapModel, PoseMessage};
 use super::setup::SilSetup;
-use crate::plant::RigidBodyState;
-use crate::scenario::Scenario;
+use crate::fly::scenario::Scenario;
+use crate::model::plant::RigidBodyState;
 
 /// The shared sensor models (`host-sim/scenarios/sil/sensors.toml`), as TOML text.
 pub const SENSORS: &str = include_str!(concat!(

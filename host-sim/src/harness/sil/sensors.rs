@@ -10,7 +10,7 @@ use firmware::link::mavlink::dialects::common::{
 use firmware::pipeline::ImuSample;
 use nalgebra::{UnitQuaternion, Vector3};
 
-use crate::plant::RigidBodyState;
+use crate::model::plant::RigidBodyState;
 
 /// SplitMix64: small, seeded, reproducible (written here; no dependency for a few lines).
 #[derive(Clone, Debug)]

@@ -8,7 +8,7 @@ use firmware::link::mavlink::dialects::common::MavMessage;
 use firmware::pipeline::FlightPipeline;
 
 use super::sensors::{ImuModel, MocapModel};
-use crate::plant::RigidBodyState;
+use crate::model::plant::RigidBodyState;
 
 /// One software-in-the-loop run.
 #[derive(Clone, Debug)]

@@ -1,0 +1,7 @@
+//! The a-priori bounds, before flying: the tight bounds by interval arithmetic ([`tight`]), the
+//! certificate evaluated with them beside the paper's ([`certificate`]) and the `host-sim bounds`
+//! table ([`table`]).
+
+pub mod certificate;
+pub mod table;
+pub mod tight;

@@ -1,0 +1,263 @@
+//! `[controller]`: the options of the law that depart from the paper (the no-dive thrust,
+//! [`controller_core::thrust`]), their validation and the thrust interval they certify.
+
+use controller_core::scalar::{lit, Scalar};
+use controller_core::{ThrustMode, Trajectory};
+use serde::{Deserialize, Serialize};
+
+use super::{describe, Scenario};
+
+/// `[controller]`: options of the law that depart from the paper (all off by default).
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct ControllerConfig {
+    /// How the collective thrust is computed from `u`: `"norm"` (`T = m|u|`, the paper's; the
+    /// default), or a no-dive thrust ([`controller_core::thrust`]): `"body-axis-projection"`
+    /// (`T = max(m uᵀRe₃, thrust_floor_N)`), `"alignment-power"`
+    /// (`T = max(m|u| max(cos θ̃, 0)^thrust_exponent, thrust_floor_N)`) or `"vertical-priority"`
+    /// (see [`ThrustKind::VerticalPriority`]).
+    #[serde(default)]
+    pub thrust: ThrustKind,
+    /// `T_floor` \[N\] of the no-dive thrusts, in `[0, T_min]` (Theorem 1's `T_min`); default 0.
+    /// Refused with `thrust = "norm"` unless 0.
+    #[serde(default, skip_serializing_if = "is_zero_f64")]
+    pub thrust_floor_N: f64,
+    /// Exponent `k > 0` of `"alignment-power"`; default 1.
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub thrust_exponent: f64,
+    /// Ramp width `b₀ ∈ (0, 1]` of `"vertical-priority"` in `e₃ᵀRe₃`; default 0.2.
+    #[serde(default = "default_ramp", skip_serializing_if = "is_default_ramp")]
+    pub thrust_ramp: f64,
+}
+
+fn default_ramp() -> f64 {
+    0.2
+}
+
+fn is_default_ramp(x: &f64) -> bool {
+    *x == default_ramp()
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+fn is_one(x: &f64) -> bool {
+    *x == 1.0
+}
+
+/// `controller.thrust`: the thrust law's name in scenario files and on the command line.
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum ThrustKind {
+    /// `T = m|u|` (the paper's).
+    #[default]
+    Norm,
+    /// `T = max(m uᵀRe₃, T_floor)`, the no-dive thrust.
+    BodyAxisProjection,
+    /// `T = max(m|u| max(cos θ̃, 0)^k, T_floor)`.
+    AlignmentPower,
+    /// `T = min(m u₃/b₃, T_max · min(1, b₃/b₀))` for `b₃ = e₃ᵀRe₃ > 0`, else 0, raised to
+    /// `thrust_floor_N` where below it: the vertical thrust `u` asks for while the body z axis
+    /// is above the horizon (tilt compensation), capped at Theorem 1's `T_max` and ramped to 0
+    /// (or the floor) at the horizon.
+    VerticalPriority,
+}
+
+impl ThrustKind {
+    /// The name used in scenario files and on the command line.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Norm => "norm",
+            Self::BodyAxisProjection => "body-axis-projection",
+            Self::AlignmentPower => "alignment-power",
+            Self::VerticalPriority => "vertical-priority",
+        }
+    }
+}
+
+impl Default for ControllerConfig {
+    fn default() -> Self {
+        Self {
+            thrust: ThrustKind::Norm,
+            thrust_floor_N: 0.0,
+            thrust_exponent: 1.0,
+            thrust_ramp: default_ramp(),
+        }
+    }
+}
+
+impl ControllerConfig {
+    /// True for the paper's law (the default, left out when a scenario is written).
+    pub fn is_paper(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// The core's thrust mode in scalar `T`; `thrust_max_n` \[N\] is Theorem 1's `T_max`, the
+    /// cap of `"vertical-priority"` (unused by the others).
+    pub fn thrust_mode<T: Scalar>(&self, thrust_max_n: f64) -> ThrustMode<T> {
+        match self.thrust {
+            ThrustKind::Norm => ThrustMode::Norm,
+            ThrustKind::BodyAxisProjection => ThrustMode::BodyAxisProjection {
+                floor: lit(self.thrust_floor_N),
+            },
+            ThrustKind::AlignmentPower => ThrustMode::AlignmentPower {
+                exponent: lit(self.thrust_exponent),
+                floor: lit(self.thrust_floor_N),
+            },
+            ThrustKind::VerticalPriority => ThrustMode::VerticalPriority {
+                cap: lit(thrust_max_n),
+                ramp: lit(self.thrust_ramp),
+                floor: lit(self.thrust_floor_N),
+            },
+        }
+    }
+}
+
+/// Overrides of `[controller]` keys (from the command line); `None` keeps the scenario's.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[allow(non_snake_case)]
+pub struct ControllerOverrides {
+    /// `thrust`.
+    pub thrust: Option<ThrustKind>,
+    /// `thrust_floor_N` \[N\].
+    pub thrust_floor_N: Option<f64>,
+    /// `thrust_ramp`.
+    pub thrust_ramp: Option<f64>,
+    /// `thrust_exponent`.
+    pub thrust_exponent: Option<f64>,
+}
+
+fn is_zero_f64(x: &f64) -> bool {
+    *x == 0.0
+}
+
+impl Scenario {
+    /// `[controller]`: the floor only with a no-dive thrust, and within `[0, m(g − M_p))`
+    /// ([`ThrustMode::validate`]; the bound check against Theorem 1's `T_min` needs the
+    /// reference and is [`Scenario::thrust_interval`]'s).
+    pub(super) fn validate_controller(&self) -> std::result::Result<(), String> {
+        let c = &self.controller;
+        if c.thrust == ThrustKind::Norm && c.thrust_floor_N != 0.0 {
+            return Err(format!(
+                "controller.thrust_floor_N: only used with the no-dive thrusts, \
+                 got {} N with thrust = \"norm\"",
+                c.thrust_floor_N
+            ));
+        }
+        if c.thrust == ThrustKind::AlignmentPower
+            && !(c.thrust_exponent.is_finite() && c.thrust_exponent > 0.0)
+        {
+            return Err(format!(
+                "controller.thrust_exponent: must be finite and > 0, got {}",
+                c.thrust_exponent
+            ));
+        }
+        // The cap (Theorem 1's T_max) is checked with the certificate; any positive value here.
+        // With the integral action the vertical part of u can drop by M_p + M_i,z.
+        let drop = self.gains.M_p + self.gains.integral.as_ref().map_or(0.0, |i| i.M_i_m_s2[2]);
+        c.thrust_mode::<f64>(1.0)
+            .validate(&self.vehicle(), drop)
+            .map_err(|e| describe(&e))
+    }
+
+    /// The core's thrust mode of `[controller]` for this scenario, in scalar `T` (the
+    /// vertical-priority cap is Theorem 1's `T_max` from the certificate).
+    /// Errors: the certificate cannot be computed (named by key).
+    pub fn thrust_mode<T: Scalar>(&self) -> std::result::Result<ThrustMode<T>, String> {
+        let thrust_max = if self.controller.thrust == ThrustKind::VerticalPriority {
+            controller_core::certify(
+                &self.vehicle::<f64>(),
+                &self.limits::<f64>(),
+                &self.gains::<f64>(),
+                &self.trajectory::<f64>().constants(),
+                controller_core::FilterStart::Zero,
+            )
+            .map_err(|e| describe(&e))?
+            .bounds
+            .thrust_max
+        } else {
+            0.0
+        };
+        Ok(self.controller.thrust_mode(thrust_max))
+    }
+
+    /// The a-priori interval `[low, high]` \[N\] of the thrust the scenario's law applies,
+    /// from its certificate's bounds: Theorem 1's `[T_min, T_max]` for `thrust = "norm"`,
+    /// `[thrust_floor_N, T_max]` for the no-dive thrust ([`ThrustMode::interval`]).
+    /// Errors: the floor exceeds `T_min` (named by key).
+    pub fn thrust_interval(
+        &self,
+        bounds: &controller_core::Bounds<f64>,
+    ) -> std::result::Result<[f64; 2], String> {
+        self.controller
+            .thrust_mode::<f64>(bounds.thrust_max)
+            .interval(bounds)
+            .map(|(low, high)| [low, high])
+            .map_err(|e| format!("{} (Theorem 1's interval)", describe(&e)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::PAPER_SCENARIO;
+    use super::*;
+
+    #[test]
+    fn paper_no_dive_is_the_paper_with_the_thrust_option() {
+        let text = include_str!("../../../scenarios/paper-no-dive.toml");
+        let s = Scenario::parse(text, "paper-no-dive.toml").unwrap();
+        assert_eq!(s.controller.thrust, ThrustKind::VerticalPriority);
+        assert_eq!(
+            Scenario {
+                controller: ControllerConfig::default(),
+                ..s
+            },
+            Scenario::paper()
+        );
+    }
+
+    #[test]
+    fn controller_keys_are_checked_by_name() {
+        let table = |body: &str| format!("{PAPER_SCENARIO}\n[controller]\n{body}\n");
+        let e = Scenario::parse(&table("thrust = \"sideways\""), "a.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("a.toml") && e.contains("sideways"), "{e}");
+        let e = Scenario::parse(
+            &table("thrust = \"body-axis-projection\"\nthrust_floor_N = -1.0"),
+            "b.toml",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("controller.thrust_floor_N"), "{e}");
+        let e = Scenario::parse(&table("thrust_floor_N = 0.5"), "c.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("controller.thrust_floor_N") && e.contains("norm"),
+            "{e}"
+        );
+        let e = Scenario::parse(
+            &table("thrust = \"vertical-priority\"\nthrust_ramp = 0.0"),
+            "d.toml",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("controller.thrust_ramp"), "{e}");
+        // A floor between T_min (3.51 N) and m(g - M_p) (3.59 N) passes the file check (which
+        // knows no reference) but not the interval.
+        let s = Scenario::parse(
+            &table("thrust = \"body-axis-projection\"\nthrust_floor_N = 3.55"),
+            "e.toml",
+        )
+        .unwrap();
+        let cert = crate::fly::sim::certificate(&s).unwrap();
+        let e = s.thrust_interval(&cert.bounds).unwrap_err();
+        assert!(e.contains("controller.thrust_floor_N"), "{e}");
+        // The paper's scenario written back has no [controller] table.
+        let written = toml::to_string(&Scenario::paper()).unwrap();
+        assert!(!written.contains("[controller]"), "{written}");
+    }
+}
