@@ -102,41 +102,6 @@ pub(crate) fn error_and_feedforward<T: Scalar>(
     (omega_error, feedforward)
 }
 
-/// The torque law the gains select: the paper's ([`AttitudeGains::evaluate`]) or, with
-/// `gains.tilt_priority` set, the per-axis tilt-priority feedback
-/// ([`crate::TiltPriorityGains::evaluate`]). Inputs and output as [`AttitudeGains::evaluate`].
-/// Source: Section V; extension, docs/tilt-priority.md.
-#[inline]
-pub fn attitude_torque<T: Scalar>(
-    gains: &crate::params::Gains<T>,
-    mrp_error: &Vector3<T>,
-    angular_velocity: &Vector3<T>,
-    error_rotation: &Matrix3<T>,
-    desired_angular_velocity: &Vector3<T>,
-    desired_angular_acceleration: &Vector3<T>,
-    inertia: &Vector3<T>,
-) -> TorqueOutput<T> {
-    match &gains.tilt_priority {
-        None => gains.attitude.evaluate(
-            mrp_error,
-            angular_velocity,
-            error_rotation,
-            desired_angular_velocity,
-            desired_angular_acceleration,
-            inertia,
-        ),
-        Some(tilt) => tilt.evaluate(
-            &gains.attitude,
-            mrp_error,
-            angular_velocity,
-            error_rotation,
-            desired_angular_velocity,
-            desired_angular_acceleration,
-            inertia,
-        ),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

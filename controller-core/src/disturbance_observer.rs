@@ -19,7 +19,7 @@
 
 use nalgebra::Vector3;
 
-use crate::params::{positive, ParameterError};
+use crate::parameter_error::{positive, ParameterError};
 use crate::scalar::Scalar;
 
 /// Gains of the disturbance observer (extension, docs/integral-action.md).

@@ -30,7 +30,7 @@
 
 use nalgebra::Matrix4;
 
-use crate::bounds::Condition;
+use crate::condition::Condition;
 use crate::integral::IntegralGains;
 use crate::position::PositionGains;
 use crate::scalar::Scalar;

@@ -14,7 +14,9 @@
 //! (Assumption 1's trajectories), [`bounds`] (Assumption 1, Theorems 1–2, Lemma 1),
 //! [`integral`], [`disturbance_observer`], [`feedforward_scale`] and [`integral_stability`]
 //! (bounded integral action, an extension: docs/integral-action.md),
-//! [`params`], [`thrust`] (the paper's `T = m|u|` or the no-dive projection),
+//! [`gains`], [`vehicle`] and [`parameter_error`] (the parameter sets and their validation),
+//! [`condition`] (one inequality of a certificate), [`clamped_estimate`] (the rate-limited
+//! estimates of the integral action), [`thrust`] (the paper's `T = m|u|` or the no-dive projection),
 //! [`tilt_priority`] (per-axis attitude feedback levels, an extension: docs/tilt-priority.md),
 //! [`velocity_limit`] (a braking profile in the position feedback, an extension:
 //! docs/velocity-limit.md), and
@@ -24,14 +26,17 @@
 
 pub mod attitude_control;
 pub mod bounds;
+pub mod clamped_estimate;
+pub mod condition;
 pub mod controller;
 pub mod desired_attitude;
 pub mod disturbance_observer;
 pub mod feedforward_scale;
+pub mod gains;
 pub mod integral;
 pub mod integral_stability;
 pub mod mrp;
-pub mod params;
+pub mod parameter_error;
 pub mod path_lifting;
 pub mod position;
 pub mod reference;
@@ -40,7 +45,16 @@ pub mod scalar;
 pub mod thrust;
 pub mod tilt_priority;
 pub mod trig;
+pub mod vehicle;
 pub mod velocity_limit;
+
+/// The parameter types under the path they had before the split into [`gains`], [`vehicle`] and
+/// [`parameter_error`] (kept for the firmware and the host tools that import them from here).
+pub mod params {
+    pub use crate::gains::Gains;
+    pub use crate::parameter_error::ParameterError;
+    pub use crate::vehicle::{Limits, Vehicle};
+}
 
 pub use bounds::{
     certify, Bounds, Certificate, Condition, FilterStart, IntegralCertificate, Violation,
@@ -48,8 +62,9 @@ pub use bounds::{
 pub use controller::{ControlOutput, Controller, Diagnostics, StepError, VehicleState};
 pub use disturbance_observer::ObserverGains;
 pub use feedforward_scale::{FeedforwardScaleGains, FeedforwardScaleState};
+pub use gains::Gains;
 pub use integral::{IntegralGains, IntegralState};
-pub use params::{Gains, Limits, ParameterError, Vehicle};
+pub use parameter_error::ParameterError;
 pub use path_lifting::JumpCounters;
 pub use reference::{
     HeadingProfile, ReferenceSample, ReferenceTrajectory, Trajectory, TrajectoryConstants,
@@ -57,4 +72,5 @@ pub use reference::{
 pub use scalar::Scalar;
 pub use thrust::ThrustMode;
 pub use tilt_priority::TiltPriorityGains;
+pub use vehicle::{Limits, Vehicle};
 pub use velocity_limit::VelocityLimit;

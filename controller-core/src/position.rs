@@ -107,7 +107,7 @@ impl<T: Scalar> PositionGains<T> {
         let (z1, z2) = self.z_coordinates(position_error, velocity_error, filter);
         let ubar_p = match limit {
             None => -tanh_saturation(&(z1 * self.kp + z2 * self.kv), self.saturation),
-            Some(l) => l.feedback(self, &z1, &z2),
+            Some(l) => l.feedback(self.kp, self.kv, self.saturation, &z1, &z2),
         };
         let filter_gap = filter.u_f - filter.u_s;
         let u_f_dot = -filter_gap * self.kf;

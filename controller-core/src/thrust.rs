@@ -33,8 +33,9 @@
 use nalgebra::Vector3;
 
 use crate::bounds::Bounds;
-use crate::params::{ParameterError, Vehicle};
+use crate::parameter_error::ParameterError;
 use crate::scalar::{norm, to_f64, Scalar};
+use crate::vehicle::Vehicle;
 
 /// How the collective thrust is computed from the control vector `u` [m/s²] (inertial) and
 /// the measured body z axis (see the module docs).
@@ -215,8 +216,9 @@ fn floor_in_interval<T: Scalar>(floor: T, bounds: &Bounds<T>) -> Result<T, Param
 mod tests {
     use super::*;
     use crate::bounds::{certify, FilterStart};
-    use crate::params::{Gains, Limits};
+    use crate::gains::Gains;
     use crate::reference::{ReferenceTrajectory, Trajectory};
+    use crate::vehicle::Limits;
     use nalgebra::{Rotation3, Unit};
     use proptest::prelude::*;
 

@@ -15,9 +15,9 @@ use controller_core::{
 };
 use criterion::{criterion_group, criterion_main, Criterion};
 use host_sim::fly::controllers::measure;
-use host_sim::fly::scenario::{Precision, Scenario};
 use host_sim::fly::sim::{run_summary, run_with};
 use host_sim::model::plant::PlantInput;
+use host_sim::model::scenario::{Precision, Scenario};
 use nalgebra::Vector3;
 
 /// The controller, the measured state and the reference of the paper scenario at

@@ -8,7 +8,7 @@ use std::time::Instant;
 use anyhow::{anyhow, Context, Result};
 use controller_core::{certify, FilterStart, Trajectory};
 use host_sim::bounds::tight::{tight_bounds, TightOptions};
-use host_sim::fly::scenario::{describe, Scenario};
+use host_sim::model::scenario::{describe, Scenario};
 
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -2,8 +2,8 @@
 //!
 //! Grouped by role:
 //! - [`model`]: what is flown: the rigid-body plant (eq:FullDynamics), the rotor-level plant,
-//!   perturbations, vehicle files and SO(3) helpers;
-//! - [`fly`]: how one flight is flown: scenario files, the closed loop, the controllers (the
+//!   perturbations, vehicle files, scenario files and SO(3) helpers;
+//! - [`fly`]: how one flight is flown: the closed loop, the controllers (the
 //!   paper's law and the baselines), the set-up built once from a scenario, and the main run;
 //! - [`bounds`]: the a-priori bounds before flying: the tight bounds, the certificate beside the
 //!   paper's, and the `bounds` table;
@@ -33,6 +33,6 @@ pub mod studies;
 
 // The paths the workspace's cross-crate tests and fuzz targets import (`tests/`, `tests/fuzz/`),
 // kept from before the grouping by role.
-pub use fly::{controllers, scenario, sim};
-pub use model::{plant, so3};
+pub use fly::{controllers, sim};
+pub use model::{plant, scenario, so3};
 pub use studies::campaign;

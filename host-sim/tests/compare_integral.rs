@@ -1,4 +1,4 @@
-//! `host-sim compare` on a scenario with the bounded integral action (issue 11, item 5): the
+//! `host-sim compare` on a scenario with the bounded integral action: the
 //! paper's law flies it with and without `[gains.integral]` beside the baselines, each checked
 //! against its own bounds (the extended certificate's with it, the paper's without).
 //!
@@ -8,7 +8,7 @@
 //! own a-priori bounds.
 
 use host_sim::fly::controllers::ControllerKind;
-use host_sim::fly::scenario::Scenario;
+use host_sim::model::scenario::Scenario;
 use host_sim::studies::compare::{contestants, run_compare};
 
 const TEXT: &str = include_str!("../scenarios/integral-campaign.toml");

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use controller_core::{certify, FilterStart, Trajectory};
 use firmware::mixer::Mixer;
 use host_sim::design::{run_design, DesignOptions};
-use host_sim::fly::scenario::Scenario;
+use host_sim::model::scenario::Scenario;
 use host_sim::model::vehicle::{airframe, preset_path, VehicleFile};
 
 fn out_dir(name: &str) -> PathBuf {
@@ -26,13 +26,13 @@ fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOptions 
         seed: 3,
         margin: 0.05,
         evaluations,
-        duration_s: host_sim::design::run::DEFAULT_DURATION_S,
+        duration_s: host_sim::design::options::DEFAULT_DURATION_S,
         law: Default::default(),
         bounds: Default::default(),
         integral: None,
-        thrust: host_sim::fly::scenario::ThrustKind::Norm,
+        thrust: host_sim::model::scenario::ThrustKind::Norm,
         speed_limit: None,
-        fallback: host_sim::design::run::Fallback::Off,
+        fallback: host_sim::design::options::Fallback::Off,
         out,
     }
 }
@@ -362,7 +362,7 @@ fn speed_limit_is_written_and_bad_ones_are_refused() {
 /// the fallback off the first design is written as it is.
 #[test]
 fn unconverged_design_falls_back_to_the_velocity_limit() {
-    use host_sim::design::run::{Fallback, FALLBACK_DURATION_S, FALLBACK_SPEED_LIMIT_M_S};
+    use host_sim::design::options::{Fallback, FALLBACK_DURATION_S, FALLBACK_SPEED_LIMIT_M_S};
     let out = out_dir("fallback");
     let mut o = options(preset_path("x500"), out.clone(), 1);
     o.fallback = Fallback::VelocityLimited;
@@ -532,7 +532,7 @@ fn integral_design_certifies_the_extended_bounds_and_removes_a_mass_error() {
 #[test]
 fn vertical_priority_design_certifies_its_floor() {
     use host_sim::design::evaluate::upside_down;
-    use host_sim::fly::scenario::ThrustKind;
+    use host_sim::model::scenario::ThrustKind;
     let out = out_dir("vertical-priority");
     let mut o = options(preset_path("crazyflie-2.1"), out.clone(), 4);
     o.thrust = ThrustKind::VerticalPriority;

@@ -3,8 +3,8 @@
 //! ends within 1 cm of the reference with every sample inside the a-priori bounds; without the
 //! integral action the same set-up does not.
 
-use host_sim::fly::scenario::Scenario;
 use host_sim::fly::sim::{certificate, run_summary};
+use host_sim::model::scenario::Scenario;
 
 const TEXT: &str = include_str!("../scenarios/mass-error.toml");
 

@@ -5,8 +5,8 @@
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use host_sim::fly::scenario::{Scenario, PAPER_SCENARIO};
 use host_sim::fly::sim::{run, Record};
+use host_sim::model::scenario::{Scenario, PAPER_SCENARIO};
 
 /// The paper scenario from a file with `extra` appended, shortened to 3 s.
 fn from_file(extra: &str) -> Scenario {
@@ -78,7 +78,7 @@ fn on_rotors(extra: &str) -> Scenario {
     let vehicle =
         host_sim::model::vehicle::load(&host_sim::model::vehicle::preset_path("paper")).unwrap();
     let mut s = from_file(extra).with_vehicle(&vehicle);
-    s.simulation.plant = host_sim::fly::scenario::PlantKind::Rotors;
+    s.simulation.plant = host_sim::model::scenario::PlantKind::Rotors;
     s.validate().unwrap();
     s
 }

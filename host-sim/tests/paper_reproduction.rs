@@ -10,8 +10,8 @@ use controller_core::{
     TrajectoryConstants, Vehicle,
 };
 use core::f64::consts::PI;
-use host_sim::fly::scenario::{Precision, Scenario};
 use host_sim::fly::sim::{certificate, run, Record, Summary};
+use host_sim::model::scenario::{Precision, Scenario};
 use nalgebra::Vector3;
 
 /// Rounds to the two decimals the paper prints.

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use host_sim::fly::scenario::PAPER_SCENARIO;
+use host_sim::model::scenario::PAPER_SCENARIO;
 use host_sim::model::vehicle::preset_path;
 
 fn host_sim(args: &[&str]) -> Output {

@@ -1,4 +1,4 @@
-//! SIL: the firmware's pipeline with the bounded integral action on (issue 11, items 3 and 4):
+//! SIL: the firmware's pipeline with the bounded integral action on:
 //! the default flight file (`firmware/flights/x500.toml`) carries it, sized by `design`'s rule,
 //! and the firmware certifies it at boot (extended Theorem 1, Lemma 1 and Theorem 2, the
 //! Liénard–Chipart conditions, and the box fit with its 5 % margin). Flown on a plant heavier than

@@ -349,7 +349,7 @@ fn quick() -> TightOptions {
 fn tight_bounds_are_below_the_papers() {
     let mut setups = vec![(
         "paper".to_string(),
-        host_sim::fly::scenario::Scenario::paper(),
+        host_sim::model::scenario::Scenario::paper(),
     )];
     let designs = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("designs");
     for entry in std::fs::read_dir(&designs).unwrap() {
@@ -357,7 +357,7 @@ fn tight_bounds_are_below_the_papers() {
         if path.exists() {
             setups.push((
                 path.display().to_string(),
-                host_sim::fly::scenario::Scenario::load(&path).unwrap(),
+                host_sim::model::scenario::Scenario::load(&path).unwrap(),
             ));
         }
     }

@@ -15,7 +15,7 @@ use host_sim::bounds::tight::sampling::{sample, AdmissibleState};
 use host_sim::bounds::tight::setup::Setup;
 use host_sim::bounds::tight::witness::{witnesses, Quantity, WitnessBudget, Witnesses, QUANTITIES};
 use host_sim::fly::controllers::ControllerKind;
-use host_sim::fly::scenario::Scenario;
+use host_sim::model::scenario::Scenario;
 use host_sim::runs::metrics::Convergence;
 use host_sim::runs::runner::{run_campaign, CampaignConfig};
 use host_sim::runs::sampler::SamplerRadii;

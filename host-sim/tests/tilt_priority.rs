@@ -1,7 +1,7 @@
 //! Tilt-priority attitude feedback (controller-core's `tilt_priority`, docs/tilt-priority.md)
 //! on the paper's vehicle: the scenario file, its certificate and the recovery it buys.
 
-use host_sim::fly::scenario::Scenario;
+use host_sim::model::scenario::Scenario;
 use host_sim::studies::ablation::no_dive::hover_half_turns;
 
 fn scenario(name: &str) -> Scenario {
@@ -13,7 +13,7 @@ fn scenario(name: &str) -> Scenario {
 
 /// Given the paper's law and the tilt-priority scenario (with the no-dive thrust), when each
 /// flies the seven 180° starts at hover, then the tilt-priority scenario loses at most half the
-/// altitude the paper's law loses from every start (issue 12's target), and settles from each.
+/// altitude the paper's law loses from every start (the target tilt priority was built for), and settles from each.
 #[test]
 fn tilt_priority_halves_the_altitude_lost_from_every_half_turn() {
     let paper = hover_half_turns(&Scenario::paper()).unwrap();

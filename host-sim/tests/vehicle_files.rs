@@ -6,7 +6,7 @@ use controller_core::Vehicle;
 use firmware::airframe::Airframe;
 use firmware::config::FlightConfig;
 use firmware::mixer::Mixer;
-use host_sim::fly::scenario::Scenario;
+use host_sim::model::scenario::Scenario;
 use host_sim::model::vehicle::{self, VehicleFile, PRESETS};
 use nalgebra::Vector3;
 

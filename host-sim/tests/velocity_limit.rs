@@ -4,8 +4,8 @@
 //! 30 m/s, against the same gains with the paper's feedback: the certificate is the same, the way
 //! back is not (docs/velocity-limit.md).
 
-use host_sim::fly::scenario::Scenario;
 use host_sim::fly::sim::run;
+use host_sim::model::scenario::Scenario;
 
 fn design() -> Scenario {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/designs/x500/scenario.toml");

@@ -10,13 +10,12 @@
 //! Theorem 1) does not depend on these bounds and keeps the paper's verdict.
 
 use anyhow::{anyhow, Result};
-use controller_core::{Certificate, FilterStart, Trajectory};
+use controller_core::{certify, Certificate, FilterStart, Trajectory};
 use serde::Serialize;
-use std::sync::{Mutex, MutexGuard, OnceLock};
 
 use crate::bounds::tight::{tight_bounds, TightBounds, TightOptions};
-use crate::fly::scenario::Scenario;
-use crate::studies::campaign::TightLimits;
+use crate::model::scenario::Scenario;
+use nalgebra::Vector3;
 
 /// One torque condition of Theorem 2 judged with both bounds.
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -77,14 +76,28 @@ pub struct TightRatios {
     pub angular_acceleration: f64,
 }
 
+/// The paper's certificate of a scenario ([`controller_core::certify`]: Assumption 1, Theorems
+/// 1-2, Lemma 1), computed in f64 with the filters starting at zero.
+///
+/// Errors: the scenario's parameters are refused (named by scenario key).
+pub fn scenario_certificate(scenario: &Scenario) -> Result<Certificate<f64>> {
+    certify(
+        &scenario.vehicle(),
+        &scenario.limits(),
+        &scenario.gains(),
+        &scenario.trajectory::<f64>().constants(),
+        FilterStart::Zero,
+    )
+    .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))
+}
+
 /// The tight bounds of `scenario` (the law's gains, vehicle and trajectory; the filters start at
 /// zero as in Section VI; with the integral action on, its estimate's level and rate widen the
 /// confining set, [`crate::bounds::tight::confining_set`]). Errors: the parameter errors of
 /// [`controller_core::certify`].
 ///
-/// The branch and bound takes about a second, and a campaign, its report and its runs ask for
-/// the same set-up's bounds, so results are kept for the process's life, keyed by the exact
-/// inputs.
+/// The branch and bound takes about a second: a caller that needs the bounds more than once
+/// computes them once ([`crate::fly::setup::FlightSetup`], [`crate::runs::runner::bound_set`]).
 pub fn scenario_tight_bounds(scenario: &Scenario) -> Result<TightBounds> {
     scenario_tight_bounds_with(scenario, &TightOptions::default())
 }
@@ -98,15 +111,8 @@ pub fn scenario_tight_bounds_with(
 ) -> Result<TightBounds> {
     let (vehicle, gains) = (scenario.vehicle(), scenario.gains());
     let constants = scenario.trajectory::<f64>().constants();
-    let key = format!("{vehicle:?}{gains:?}{constants:?}{options:?}");
-    let cache = MEMO.get_or_init(|| Mutex::new(Vec::new()));
-    if let Some((_, b)) = lock(cache).iter().find(|(k, _)| *k == key) {
-        return Ok(*b);
-    }
-    let b = tight_bounds(&vehicle, &gains, &constants, FilterStart::Zero, options)
-        .map_err(|e| anyhow!("{}", crate::fly::scenario::describe(&e)))?;
-    lock(cache).push((key, b));
-    Ok(b)
+    tight_bounds(&vehicle, &gains, &constants, FilterStart::Zero, options)
+        .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))
 }
 
 /// What a run's samples are checked against.
@@ -116,16 +122,6 @@ pub fn tight_limits(b: &TightBounds) -> TightLimits {
         angular_velocity_max_rad_s: b.angular_velocity,
         angular_acceleration_max_rad_s2: b.angular_acceleration,
     }
-}
-
-/// Tight bounds already computed in this process, by set-up (`Debug` of its inputs: exact for
-/// `f64`, whose `Debug` round-trips).
-static MEMO: OnceLock<Mutex<Vec<(String, TightBounds)>>> = OnceLock::new();
-
-/// The memo's contents stay valid if a thread panicked while holding it (entries are pushed
-/// whole), so a poisoned lock is used as is.
-fn lock(m: &Mutex<Vec<(String, TightBounds)>>) -> MutexGuard<'_, Vec<(String, TightBounds)>> {
-    m.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 /// Puts `tight` beside the paper's certificate `paper` and re-judges Theorem 2's torque
@@ -191,6 +187,27 @@ pub const THEOREM2_TORQUE: [&str; 3] = [
     "theorem2.torque_max_yaw",
 ];
 
+/// The tight bounds a sample is checked against.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+#[allow(non_snake_case)]
+pub struct TightLimits {
+    /// Per-axis bound on `|τ_i|` [N m], body frame.
+    pub torque_max_Nm: [f64; 3],
+    /// Bound on `|ω_d|` [rad/s].
+    pub angular_velocity_max_rad_s: f64,
+    /// Bound on `|ω̇_d|` [rad/s²].
+    pub angular_acceleration_max_rad_s2: f64,
+}
+
+impl TightLimits {
+    /// Whether a sample exceeds a bound, with the bound checks' rounding `slack` (relative).
+    pub fn exceeded(&self, torque: &Vector3<f64>, w_d: f64, w_d_dot: f64, slack: f64) -> bool {
+        w_d > self.angular_velocity_max_rad_s * (1.0 + slack)
+            || w_d_dot > self.angular_acceleration_max_rad_s2 * (1.0 + slack)
+            || (0..3).any(|i| torque[i].abs() > self.torque_max_Nm[i] * (1.0 + slack))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -200,7 +217,8 @@ mod tests {
     #[test]
     fn conditions_keep_the_paper_side_and_rejudge_with_the_tight_bound() {
         let scenario = Scenario::paper();
-        let paper = crate::fly::sim::certificate(&scenario).expect("paper certificate");
+        let paper =
+            crate::bounds::certificate::scenario_certificate(&scenario).expect("paper certificate");
         let tight = scenario_tight_bounds(&scenario).expect("tight bounds");
         let r = tight_report(&paper, &tight);
         assert_eq!(r.conditions.len(), 3);

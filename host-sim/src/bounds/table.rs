@@ -20,7 +20,7 @@ use crate::bounds::certificate::{
 use crate::bounds::tight::setup::Setup;
 use crate::bounds::tight::witness::{witnesses, Quantity, WitnessBudget};
 use crate::bounds::tight::TightOptions;
-use crate::fly::scenario::Scenario;
+use crate::model::scenario::Scenario;
 
 /// One row of the table.
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -92,7 +92,7 @@ pub fn bounds_table(options: &BoundsOptions) -> Result<BoundsTable> {
         Some(path) => (Scenario::load(path)?, path.display().to_string()),
         None => (Scenario::paper(), "paper".to_owned()),
     };
-    let paper = crate::fly::sim::certificate(&scenario)?;
+    let paper = crate::bounds::certificate::scenario_certificate(&scenario)?;
     let tight = scenario_tight_bounds_with(
         &scenario,
         &TightOptions {

@@ -118,7 +118,7 @@ pub fn certify_design_with(
         torque_max: Vector3::repeat(1.0),
     };
     let first = certify(vehicle, &probe, gains, constants, FilterStart::Zero)
-        .map_err(|e| anyhow!("{}", crate::fly::scenario::describe(&e)))?;
+        .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))?;
     let b = &first.bounds;
     let torque_box = tight_box.map_or(b.torque_max, |t| t.inf(&b.torque_max));
     let tau32 = torque_box.map(|x| x as f32);
@@ -130,7 +130,7 @@ pub fn certify_design_with(
         torque_max: capacity.map(|c| c.max(1e-12)),
     };
     let certificate = certify(vehicle, &limits, gains, constants, FilterStart::Zero)
-        .map_err(|e| anyhow!("{}", crate::fly::scenario::describe(&e)))?;
+        .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))?;
     let shrunk = Mixer::new(&shrunk_rotors(rotors, margin))
         .map_err(|e| anyhow!("rotor range shrunk by the margin {margin}: {e:?}"))?;
     let fits_with_margin = shrunk

@@ -21,8 +21,8 @@ use serde::Serialize;
 
 use crate::fly::closed_loop::fly;
 use crate::fly::controllers::ControllerKind;
-use crate::fly::scenario::Scenario;
 use crate::model::plant::RigidBodyState;
+use crate::model::scenario::Scenario;
 use crate::runs::metrics::{Convergence, MetricsAccumulator};
 use crate::runs::runner::paper_bound_set;
 use crate::runs::sampler::{Sampler, SamplerRadii, HALF_TURN_AXES};

@@ -8,7 +8,7 @@ use serde::Serialize;
 
 use super::reference::Reference;
 use super::vehicle::DesignVehicle;
-use crate::fly::scenario::{
+use crate::model::scenario::{
     ControllerConfig, GainsConfig, InitialConfig, LimitsConfig, PlantKind, Precision, Scenario,
     SimulationConfig, TrajectoryConfig,
 };
@@ -27,7 +27,7 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
         M_omega: g.attitude.omega_saturation,
         delta: g.hysteresis,
         alpha: g.reset_threshold,
-        integral: g.integral.map(|i| crate::fly::scenario::IntegralConfig {
+        integral: g.integral.map(|i| crate::model::scenario::IntegralConfig {
             k_i: i.gain,
             M_i_m_s2: i.level.into(),
             rate_m_s3: i.rate.into(),

@@ -1,6 +1,6 @@
 //! `design` (unless `--no-integral`): the bounded integral action (docs/integral-action.md) chosen by the
 //! design, so that what `design` produces rejects constant mass, thrust-coefficient and force
-//! errors and its certificate covers the estimate (issue 11).
+//! errors and its certificate covers the estimate.
 //!
 //! The choices, and why each is made the way it is:
 //! - **Level** `M_i` [m/s²], per inertial axis, from the disturbance the user asks to cover: a

@@ -9,7 +9,7 @@
 use controller_core::{Trajectory, TrajectoryConstants};
 use serde::Serialize;
 
-use crate::fly::scenario::{HeadingConfig, InitialConfig, TrajectoryConfig};
+use crate::model::scenario::{HeadingConfig, InitialConfig, TrajectoryConfig};
 
 /// A reference: trajectory and initial state (scenario syntax).
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -27,7 +27,7 @@ impl Reference {
     }
 
     fn scenario_trajectory(&self) -> controller_core::ReferenceTrajectory<f64> {
-        let mut s = crate::fly::scenario::Scenario::paper();
+        let mut s = crate::model::scenario::Scenario::paper();
         s.trajectory = self.trajectory.clone();
         s.trajectory::<f64>()
     }
@@ -101,7 +101,7 @@ pub fn largest_certifiable_scale(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fly::scenario::Scenario;
+    use crate::model::scenario::Scenario;
 
     /// Scaling time by `s` scales the constants by the powers of `s` the derivatives carry.
     #[test]

@@ -4,332 +4,23 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{bail, Context as _, Result};
-use controller_core::{Bounds, Gains};
+use controller_core::Bounds;
 
-use super::authority::RotorSet;
-use super::certificate::{certify_design_with, Certified};
-use super::evaluate::{evaluate, largest_converging_lag, Evaluation, PENALTY};
+use super::certificate::Certified;
+use super::evaluate::{evaluate, largest_converging_lag, PENALTY};
+use super::feasibility::*;
 use super::flight::{scenarios, FlightSettings};
-use super::integral::IntegralSpec;
 use super::optimise::minimise;
+use super::options::*;
+use super::outputs::write_outputs;
 use super::reference::{largest_certifiable_scale, Reference};
-use super::report::{write_outputs, Report};
+use super::report::Report;
 use super::thrust::ThrustDesign;
-use super::tight::{tight_torque_box, BoundsKind, SEARCH_BOXES};
-use super::variables::{map, AttitudeLaw, Choices, Context, Mapped};
+use super::tight::SEARCH_BOXES;
+use super::variables::{map, Choices, Context};
 use super::vehicle::DesignVehicle;
-use crate::fly::scenario::{ControllerConfig, Scenario, ThrustKind};
+use crate::model::scenario::{ControllerConfig, Scenario, ThrustKind};
 use firmware::mixer::Mixer;
-
-/// Default length of each scoring run and of the written scenario \[s\]: the paper's 30 s (the
-/// last 5 s are the limit-cycle window; campaigns judge convergence 5 s before the end).
-pub const DEFAULT_DURATION_S: f64 = 30.0;
-/// Shortest `--duration-s` \[s\]: twice the limit-cycle window.
-pub const MIN_DURATION_S: f64 = 2.0 * super::evaluate::TAIL_S;
-/// Speed limit [m/s] of the fallback design ([`Fallback::VelocityLimited`]).
-pub const FALLBACK_SPEED_LIMIT_M_S: f64 = 20.0;
-/// Run length \[s\] of the fallback design ([`Fallback::VelocityLimited`]).
-pub const FALLBACK_DURATION_S: f64 = 300.0;
-
-/// What `design` does when no design within the budget meets the convergence constraints.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Fallback {
-    /// Nothing: the best design is written and reported as not converging.
-    Off,
-    /// Design again, with the velocity-limited position feedback
-    /// ([`FALLBACK_SPEED_LIMIT_M_S`], docs/velocity-limit.md) on runs of
-    /// [`FALLBACK_DURATION_S`], and write that design (the CLI's default when neither
-    /// `--duration-s` nor `--speed-limit` is given): a certified design with a small `M_p`
-    /// overshoots a long fall with the paper's feedback and needs minutes to climb back.
-    VelocityLimited,
-    /// This design is that second attempt: why the first was set aside, and its wall time \[s\].
-    Taken {
-        /// The first attempt's outcome, for the report.
-        why: String,
-        /// The first attempt's wall time \[s\].
-        seconds: f64,
-    },
-}
-
-/// Default evaluation budget: sized so one preset finishes in well under 10 minutes on 2 cores
-/// (release build).
-pub const DEFAULT_EVALUATIONS: usize = 960;
-
-/// What `design` is asked.
-#[derive(Clone, Debug)]
-pub struct DesignOptions {
-    /// Vehicle file.
-    pub vehicle: PathBuf,
-    /// Scenario file whose `[trajectory]`, `[initial]` and controller period are the requested
-    /// reference; `None`: the paper's helix.
-    pub reference: Option<PathBuf>,
-    /// Seed of the optimiser.
-    pub seed: u64,
-    /// Box-fit margin, fraction of each rotor's range at both ends.
-    pub margin: f64,
-    /// Evaluation budget of the optimiser.
-    pub evaluations: usize,
-    /// Length of the scoring runs and of the written scenario \[s\] (at least
-    /// [`MIN_DURATION_S`]): the horizon a run must settle in, 5 s before its end. A vehicle whose
-    /// certified authority is small needs longer than the paper's 30 s.
-    pub duration_s: f64,
-    /// The attitude feedback searched: the paper's law or tilt priority (per-axis levels).
-    pub law: AttitudeLaw,
-    /// The bounds that certify Theorem 2's torque condition and the box fit.
-    pub bounds: BoundsKind,
-    /// `Some`: the design carries the bounded integral action sized to cover this disturbance,
-    /// certified with the extended bounds (the default, [`super::integral`]; `None` with `--no-integral`).
-    pub integral: Option<IntegralSpec>,
-    /// The thrust flown and written: the paper's `norm`, or `vertical-priority` with the lowest
-    /// floor the certified box allows ([`super::thrust`]).
-    pub thrust: ThrustKind,
-    /// `Some(V)`: the design flies the velocity-limited position feedback with speed limit `V`
-    /// [m/s] (`--speed-limit`, docs/velocity-limit.md); `None`: the paper's.
-    pub speed_limit: Option<f64>,
-    /// What to do when no design meets the convergence constraints.
-    pub fallback: Fallback,
-    /// Output directory.
-    pub out: PathBuf,
-}
-
-/// What `design` produced.
-#[derive(Clone, Debug)]
-pub struct DesignOutcome {
-    /// The report (also written as `design.json`).
-    pub report: Report,
-    /// Files written.
-    pub files: Vec<PathBuf>,
-}
-
-/// The probe design used to decide whether a reference can be certified at all: slow filters,
-/// half the largest `M_p` and half of `ι_max`.
-fn probe_choices(law: AttitudeLaw) -> Choices {
-    Choices {
-        kf: 0.3,
-        ks: 0.45,
-        saturation_fraction: 0.5,
-        iota_fraction: 0.5,
-        ..Choices::initial_guess(law)
-    }
-}
-
-/// Share of the vehicle's hover feedback authority a reference may take: the reference is
-/// usable when, as `M_p → 0`, the largest feedback torque level `ι_max` left by its feedforward
-/// is at least this share of `ι_max` at hover (without it, a "certified" design has too little
-/// torque left to recover from 180 degrees).
-pub const AUTHORITY_SHARE: f64 = 0.75;
-
-/// `ι_max` as `M_p → 0` [N m] for `constants` (independent of `k_f`, `k_s` there).
-fn iota_floor(
-    vehicle: &DesignVehicle,
-    set: &RotorSet,
-    (margin, bounds, integral): (f64, BoundsKind, Option<&IntegralSpec>),
-    constants: &controller_core::TrajectoryConstants<f64>,
-) -> f64 {
-    super::authority::envelope_with(
-        bounds,
-        &vehicle.body,
-        constants,
-        (1e-6, 0.3, 0.45),
-        integral,
-    )
-    .map_or(f64::NEG_INFINITY, |env| {
-        super::authority::iota_max(set, &env, margin)
-    })
-}
-
-/// Certifies `mapped` with the bounds of `kind` (the tight ones with `boxes` per search).
-fn certify_mapped(
-    vehicle: &DesignVehicle,
-    constants: &controller_core::TrajectoryConstants<f64>,
-    mapped: &Mapped,
-    (margin, kind, boxes): (f64, BoundsKind, usize),
-) -> Result<Certified> {
-    let tight = match kind {
-        BoundsKind::Paper => None,
-        BoundsKind::Tight => Some(tight_torque_box(
-            &vehicle.body,
-            &mapped.gains,
-            constants,
-            boxes,
-        )?),
-    };
-    certify_design_with(
-        &vehicle.body,
-        &vehicle.rotors,
-        &mapped.gains,
-        constants,
-        margin,
-        tight,
-    )
-}
-
-/// Why a reference cannot be used (the binding condition with its numbers), or `None`.
-fn binding_condition(
-    vehicle: &DesignVehicle,
-    set: &RotorSet,
-    (margin, law, bounds): (f64, AttitudeLaw, BoundsKind),
-    integral: Option<&IntegralSpec>,
-    r: &Reference,
-) -> Option<String> {
-    let constants = r.constants();
-    let hover = iota_floor(
-        vehicle,
-        set,
-        (margin, bounds, integral),
-        &controller_core::TrajectoryConstants::zero(),
-    );
-    let floor = iota_floor(vehicle, set, (margin, bounds, integral), &constants);
-    if floor < AUTHORITY_SHARE * hover {
-        let env = super::authority::envelope_with(
-            bounds,
-            &vehicle.body,
-            &constants,
-            (1e-6, 0.3, 0.45),
-            integral,
-        );
-        let detail = env.map_or_else(String::new, |env| {
-            format!(
-                " (thrust interval [{:.4}, {:.4}] N; reference feedforward torque bound \
-                 [{:.4e}, {:.4e}, {:.4e}] N m; rotor range [{}, {}] N)",
-                env.thrust.0,
-                env.thrust.1,
-                env.feedforward.x,
-                env.feedforward.y,
-                env.feedforward.z,
-                set.range.0,
-                set.range.1
-            )
-        });
-        return Some(if floor <= 0.0 {
-            format!(
-                "theorem2 + box fit: no feedback torque level iota > 0 fits the rotors with margin {margin} even as \
-                 M_p -> 0: iota_max = {floor:.4e} N m{detail}"
-            )
-        } else {
-            format!(
-                "authority: the reference's feedforward leaves iota_max = {floor:.4e} N m as M_p -> 0, less than \
-                 {AUTHORITY_SHARE} x the hover value {hover:.4e} N m{detail}"
-            )
-        });
-    }
-    let probe = probe_choices(law);
-    let ctx = Context {
-        vehicle: &vehicle.body,
-        constants: &constants,
-        rotors: set,
-        margin,
-        bounds,
-        integral,
-        speed_limit: None,
-    };
-    let Some(m) = map(&ctx, &probe) else {
-        return Some(
-            "theorem2 + box fit: no M_p > 0 leaves a positive feedback torque level".to_owned(),
-        );
-    };
-    match certify_mapped(vehicle, &constants, &m, (margin, bounds, SEARCH_BOXES)) {
-        Err(e) => Some(format!("{e:#}")),
-        Ok(c) if c.ok() => None,
-        Ok(c) => {
-            let mut why: Vec<String> = c
-                .certificate
-                .violations()
-                .map(|v| {
-                    format!(
-                        "{} ({}): lhs = {:.6e}, rhs = {:.6e}",
-                        v.name, v.statement, v.lhs, v.rhs
-                    )
-                })
-                .collect();
-            if !c.fits_with_margin {
-                why.push(format!(
-                    "box fit with margin {margin}: smallest headroom {:.4}",
-                    c.margin
-                ));
-            }
-            Some(why.join("; "))
-        }
-    }
-}
-
-/// Refuses a vehicle that cannot fly at all, with the reason.
-fn refuse_impossible(vehicle: &DesignVehicle) -> Result<RotorSet> {
-    let r = &vehicle.rotors;
-    if !(r.thrust_min.is_finite()
-        && r.thrust_max.is_finite()
-        && r.thrust_max > r.thrust_min
-        && r.thrust_min >= 0.0)
-    {
-        bail!(
-            "{}: rotors: thrust range empty or invalid: thrust_min_N = {}, thrust_max_N = {}",
-            vehicle.origin,
-            r.thrust_min,
-            r.thrust_max
-        );
-    }
-    let set = RotorSet::new(r).map_err(|e| anyhow::anyhow!("{}: rotors: {e}", vehicle.origin))?;
-    let weight = vehicle.body.mass * vehicle.body.gravity;
-    if set.thrust_total_max() <= weight {
-        bail!(
-            "{}: the vehicle cannot hover: 4 x thrust_max_N = {:.4} N <= weight m g = {:.4} N",
-            vehicle.origin,
-            set.thrust_total_max(),
-            weight
-        );
-    }
-    if 4.0 * set.range.0 >= weight {
-        bail!(
-            "{}: the vehicle cannot hover: 4 x thrust_min_N = {:.4} N >= weight m g = {:.4} N (it cannot descend)",
-            vehicle.origin,
-            4.0 * set.range.0,
-            weight
-        );
-    }
-    let hover = iota_floor(
-        vehicle,
-        &set,
-        (0.0, BoundsKind::Paper, None),
-        &controller_core::TrajectoryConstants::zero(),
-    );
-    if hover <= 0.0 {
-        bail!(
-            "{}: the rotors cannot hold the vehicle's hover thrust and any torque at once \
-             (largest feedback torque at hover iota_max = {hover:.4e} N m)",
-            vehicle.origin
-        );
-    }
-    Ok(set)
-}
-
-/// Refuses an integral action the vehicle cannot carry, with the numbers: the extended
-/// Theorem 1 needs `T_min = m(g − K_a3 − M_p − M_i,z) > 0`, and the rotors must at least hold
-/// the covered plant, `m(g + M_i,z)`.
-fn refuse_uncoverable(vehicle: &DesignVehicle, set: &RotorSet, spec: &IntegralSpec) -> Result<()> {
-    let (m, g) = (vehicle.body.mass, vehicle.body.gravity);
-    let level = spec.level_m_s2[2];
-    if level >= g {
-        bail!(
-            "integral action: covering a mass error of {} and a force of {} of the weight needs a vertical \
-             level M_i,z = {level:.4} m/s^2 >= g = {g} m/s^2, which leaves the extended Theorem 1 no \
-             thrust floor T_min = m(g - K_a3 - M_p - M_i,z) > 0",
-            spec.mass_error_fraction,
-            spec.force_fraction
-        );
-    }
-    let needed = m * (g + level);
-    if set.thrust_total_max() <= needed {
-        bail!(
-            "integral action: {}: the rotors' 4 x thrust_max_N = {:.4} N cannot hold the covered plant \
-             (mass error {}, force {} of the weight): m (g + M_i,z) = {needed:.4} N",
-            vehicle.origin,
-            set.thrust_total_max(),
-            spec.mass_error_fraction,
-            spec.force_fraction
-        );
-    }
-    Ok(())
-}
 
 /// Loads the requested reference and its controller period \[s\].
 fn load_reference(path: Option<&PathBuf>) -> Result<(Reference, f64)> {
@@ -344,18 +35,6 @@ fn load_reference(path: Option<&PathBuf>) -> Result<(Reference, f64)> {
         },
         s.simulation.controller_period_s,
     ))
-}
-
-/// A scored candidate.
-pub struct Scored {
-    /// Its mapped gains.
-    pub mapped: Mapped,
-    /// Its certificate.
-    pub certified: Certified,
-    /// Its thrust (the floor of vertical priority depends on its box).
-    pub thrust: ThrustDesign,
-    /// Its simulations.
-    pub evaluation: Evaluation,
 }
 
 /// Maps, certifies and flies one point of the unit box; the tight bounds (when certifying with
@@ -419,7 +98,7 @@ fn score(
 /// (its reachable-set bound carries the scalar's rounding, `16 ε M_i / h_min`: about 0.5 % of
 /// `|u̇|` on the x500 in f32), so a floor bisected on the f64 box alone can leave the firmware's
 /// gate a hair under the margin. Errors: `certify` refuses the f32 parameters.
-fn firmware_bounds(scenario: &crate::fly::scenario::Scenario) -> Result<Bounds<f32>> {
+fn firmware_bounds(scenario: &crate::model::scenario::Scenario) -> Result<Bounds<f32>> {
     use controller_core::Trajectory as _;
     let c = controller_core::certify(
         &scenario.vehicle::<f32>(),
@@ -428,7 +107,7 @@ fn firmware_bounds(scenario: &crate::fly::scenario::Scenario) -> Result<Bounds<f
         &scenario.trajectory::<f32>().constants(),
         controller_core::FilterStart::Zero,
     )
-    .map_err(|e| anyhow::anyhow!("{}", crate::fly::scenario::describe(&e)))?;
+    .map_err(|e| anyhow::anyhow!("{}", crate::model::scenario::describe(&e)))?;
     Ok(c.bounds)
 }
 
@@ -615,9 +294,13 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
     Ok(DesignOutcome { report, files })
 }
 
-/// The gains of a report, for tests and callers.
-pub fn gains_of(s: &Scored) -> Gains<f64> {
-    s.mapped.gains
+/// What `design` produced.
+#[derive(Clone, Debug)]
+pub struct DesignOutcome {
+    /// The report (also written as `design.json`).
+    pub report: Report,
+    /// Files written.
+    pub files: Vec<PathBuf>,
 }
 
 #[cfg(test)]
@@ -625,7 +308,7 @@ mod firmware_gate_tests {
     use firmware::mixer::Mixer;
 
     use super::firmware_bounds;
-    use crate::fly::scenario::Scenario;
+    use crate::model::scenario::Scenario;
 
     /// Given the committed x500 design (integral action on, vertical priority's floor), when its
     /// box is rebuilt as the firmware's boot gate builds it (f32 certificate, `[T_floor, T_max]`),

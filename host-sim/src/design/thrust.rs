@@ -16,7 +16,7 @@ use firmware::mixer::Mixer;
 use nalgebra::Vector3;
 use serde::Serialize;
 
-use crate::fly::scenario::{ControllerConfig, ThrustKind};
+use crate::model::scenario::{ControllerConfig, ThrustKind};
 
 /// Bisection steps on the floor: `T_min / 2^40`, far below an f32's resolution of it.
 const BISECTION_STEPS: usize = 40;

@@ -26,7 +26,7 @@ use serde::Serialize;
 use crate::bounds::tight::{tight_bounds, tight_rates, TightOptions};
 
 /// Which bounds certify Theorem 2's torque condition and the box fit.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum BoundsKind {
     /// Lemma 1 and Theorem 2 as the paper writes them (what the firmware re-checks on board).
@@ -53,7 +53,7 @@ fn with_budget<R>(
     run: impl FnOnce(&TightOptions) -> Result<R, controller_core::ParameterError>,
 ) -> Result<R> {
     run(&options(boxes))
-        .map_err(|e| anyhow!("tight bounds: {}", crate::fly::scenario::describe(&e)))
+        .map_err(|e| anyhow!("tight bounds: {}", crate::model::scenario::describe(&e)))
 }
 
 /// The feedforward part of the per-axis torque bound [N m] (body axes) from tight
@@ -96,7 +96,7 @@ pub fn tight_torque_box(
         torque_max: Vector3::repeat(1.0),
     };
     let paper = certify(vehicle, &limits, gains, constants, FilterStart::Zero)
-        .map_err(|e| anyhow!("{}", crate::fly::scenario::describe(&e)))?
+        .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))?
         .bounds;
     let t = with_budget(boxes, |o| {
         tight_bounds(vehicle, gains, constants, FilterStart::Zero, o)

@@ -54,7 +54,7 @@ pub const DIMENSION: usize = 9;
 pub const TILT_DIMENSION: usize = DIMENSION + 3;
 
 /// The attitude feedback a design searches.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum AttitudeLaw {
     /// The paper's law (Section V): one feedback torque level `ι` on every axis.
@@ -406,7 +406,7 @@ mod tests {
         ))
         .unwrap();
         let set = RotorSet::new(&v.rotors).unwrap();
-        let constants = crate::fly::scenario::Scenario::paper()
+        let constants = crate::model::scenario::Scenario::paper()
             .trajectory::<f64>()
             .constants();
         (v, set, constants)

@@ -15,10 +15,10 @@ use controller_core::{Limits, Trajectory};
 use nalgebra::Vector3;
 
 use crate::fly::controllers::{Command, FlightController};
-use crate::fly::scenario::{PlantKind, Scenario};
 use crate::model::perturbation::{PerturbationConfig, Perturber};
 use crate::model::plant::{PlantInput, RigidBodyState};
 use crate::model::rotor_plant::{RotorPlant, RotorSample};
+use crate::model::scenario::{PlantKind, Scenario};
 use crate::model::so3::rotation_angle;
 
 /// What the loop shows its observer at every controller sample.

@@ -2,8 +2,9 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-/// The vee map of the skew part of a 3×3 matrix: `vee(½(M − Mᵀ))`, so `vee_skew([w]ₓ) = w`.
-/// Dimensionless in, same unit out.
+/// The vee map of the skew-symmetric part of a 3×3 matrix `M`: `vee(½(M − Mᵀ))`, so
+/// `vee_skew([w]ₓ) = w` for every `w`. The result has the unit of `M`'s entries (rad/s for
+/// `[ω]ₓ`, dimensionless for a rotation matrix); frame as `M`'s.
 pub fn vee_skew(m: &Matrix3<f64>) -> Vector3<f64> {
     Vector3::new(
         m[(2, 1)] - m[(1, 2)],

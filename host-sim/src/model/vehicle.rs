@@ -3,7 +3,7 @@
 //!
 //! The format and its checks are the firmware's ([`firmware::vehicle_file`], shared with the
 //! firmware build script); see `docs/vehicles.md`. A scenario file may carry the same
-//! `[rotors]` and `[drag]` tables; [`crate::fly::scenario::Scenario::with_vehicle`] replaces a
+//! `[rotors]` and `[drag]` tables; [`crate::model::scenario::Scenario::with_vehicle`] replaces a
 //! scenario's vehicle with a file's.
 
 use std::path::Path;

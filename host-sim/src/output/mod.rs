@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 
-use crate::fly::scenario::Scenario;
 use crate::fly::sim::{Record, Summary};
+use crate::model::scenario::Scenario;
 
 pub use self::csv::write_csv;
 pub use self::plots::write_plots;
@@ -103,7 +103,7 @@ pub(crate) mod test_support {
     /// A summary consistent with [`synthetic_records`].
     pub fn synthetic_summary() -> Summary {
         Summary {
-            precision: crate::fly::scenario::Precision::F32,
+            precision: crate::model::scenario::Precision::F32,
             a_priori: APriori {
                 thrust_min_N: 3.51,
                 thrust_max_N: 6.19,

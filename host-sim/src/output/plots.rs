@@ -11,8 +11,8 @@ use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
 
 use super::chart::{self, Panel, Points, Scale, Series, FONT};
-use crate::fly::scenario::Scenario;
 use crate::fly::sim::{Record, Summary};
+use crate::model::scenario::Scenario;
 
 /// File name of the combined figure.
 pub const OVERVIEW_FILE: &str = "overview.png";

@@ -18,6 +18,7 @@
 //! - **switch rate**: the largest number of switches (or jumps) within any window of 1 s of
 //!   samples (`round(1 s / dt)` consecutive sample intervals).
 
+pub use crate::bounds::certificate::TightLimits;
 use std::collections::VecDeque;
 
 use nalgebra::Vector3;
@@ -89,27 +90,6 @@ pub struct BoundSet {
     /// The tight bounds ([`crate::bounds::tight`]); `None` where they are not computed (the
     /// design search, which certifies in closed form).
     pub tight: Option<TightLimits>,
-}
-
-/// The tight bounds a sample is checked against.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
-#[allow(non_snake_case)]
-pub struct TightLimits {
-    /// Per-axis bound on `|τ_i|` [N m], body frame.
-    pub torque_max_Nm: [f64; 3],
-    /// Bound on `|ω_d|` [rad/s].
-    pub angular_velocity_max_rad_s: f64,
-    /// Bound on `|ω̇_d|` [rad/s²].
-    pub angular_acceleration_max_rad_s2: f64,
-}
-
-impl TightLimits {
-    /// Whether a sample exceeds a bound, with the bound checks' rounding `slack` (relative).
-    pub fn exceeded(&self, torque: &Vector3<f64>, w_d: f64, w_d_dot: f64, slack: f64) -> bool {
-        w_d > self.angular_velocity_max_rad_s * (1.0 + slack)
-            || w_d_dot > self.angular_acceleration_max_rad_s2 * (1.0 + slack)
-            || (0..3).any(|i| torque[i].abs() > self.torque_max_Nm[i] * (1.0 + slack))
-    }
 }
 
 /// Sliding count of events over the last `window` sample intervals: push the running total

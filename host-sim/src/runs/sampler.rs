@@ -23,8 +23,8 @@ pub use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use serde::{Deserialize, Serialize};
 
-use crate::fly::scenario::Scenario;
 use crate::model::plant::RigidBodyState;
+use crate::model::scenario::Scenario;
 
 /// Axes (desired body frame, normalised on use) of the fixed 180° starts, with their names.
 pub const HALF_TURN_AXES: [(&str, [f64; 3]); 7] = [

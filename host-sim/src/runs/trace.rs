@@ -5,8 +5,8 @@ use anyhow::Result;
 use super::metrics::{BoundSet, Convergence, MetricsAccumulator, RunMetrics};
 use crate::fly::closed_loop::fly;
 use crate::fly::controllers::ControllerKind;
-use crate::fly::scenario::Scenario;
 use crate::model::plant::RigidBodyState;
+use crate::model::scenario::Scenario;
 
 /// One sample of a traced run.
 #[derive(Clone, Copy, Debug, PartialEq)]

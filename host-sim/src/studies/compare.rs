@@ -18,8 +18,8 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::fly::controllers::ControllerKind;
-use crate::fly::scenario::{HeadingConfig, Scenario, TrajectoryConfig};
 use crate::model::plant::RigidBodyState;
+use crate::model::scenario::{HeadingConfig, Scenario, TrajectoryConfig};
 use crate::output::chart::{LegendAt, Panel, Scale, Series};
 use crate::output::console::fmt_opt;
 use crate::runs::metrics::{BoundSet, RunMetrics};
@@ -130,7 +130,7 @@ pub struct CompareReport {
     pub chattering_noise_deg: f64,
     /// The plant every contestant flies (with `"rotors"`, every controller's `(T, τ)` goes
     /// through the firmware's mixer and the rotors).
-    pub plant: crate::fly::scenario::PlantKind,
+    pub plant: crate::model::scenario::PlantKind,
     /// Definitions.
     pub definitions: String,
     /// Bounds and limits.

@@ -5,7 +5,7 @@ use controller_core::{
     certify, Certificate, FilterStart, Gains, Limits, Trajectory, TrajectoryConstants, Vehicle,
 };
 
-use crate::fly::scenario::Scenario;
+use crate::model::scenario::Scenario;
 
 /// Vehicle, actuator limits, gains, the reference's Assumption 1 constants and where the
 /// filters start: everything the admissible states ([`super::sampling`]) and the bounds on them
@@ -53,7 +53,7 @@ impl Setup {
             &self.constants,
             self.filter_start,
         )
-        .map_err(|e| anyhow::anyhow!(crate::fly::scenario::describe(&e)))
+        .map_err(|e| anyhow::anyhow!(crate::model::scenario::describe(&e)))
         .context("certifying the set-up")
     }
 }

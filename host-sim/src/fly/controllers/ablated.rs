@@ -34,8 +34,8 @@ use nalgebra::{Quaternion, Vector3};
 use super::measure;
 use super::paper::back3;
 use super::{Command, FlightController, SwitchCounts};
-use crate::fly::scenario::Scenario;
 use crate::model::plant::RigidBodyState;
+use crate::model::scenario::Scenario;
 
 /// How the attitude error is lifted to an MRP.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -167,7 +167,7 @@ impl<T: Scalar> AblatedLaw<T> {
         let thrust_mode = scenario.thrust_mode::<T>().map_err(|e| anyhow!("{e}"))?;
         Controller::new(vehicle, gains, &trajectory.constants())
             .and_then(|mut c| c.set_thrust_mode(thrust_mode))
-            .map_err(|e| anyhow!("{}", crate::fly::scenario::describe(&e)))?;
+            .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))?;
         let lifting = match ablation.lifting {
             Lifting::Hybrid => {
                 LiftingState::Hybrid(PathLifting::new(gains.hysteresis, gains.reset_threshold))
@@ -254,8 +254,7 @@ impl<T: Scalar> AblatedLaw<T> {
                 )
             }
         };
-        let torque = controller_core::attitude_control::attitude_torque(
-            g,
+        let torque = g.attitude_torque(
             &mrp,
             &state.angular_velocity,
             &error_rotation,

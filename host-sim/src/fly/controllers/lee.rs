@@ -28,8 +28,8 @@ use controller_core::{ReferenceTrajectory, Trajectory};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 use super::{Command, FlightController, SwitchCounts};
-use crate::fly::scenario::Scenario;
 use crate::model::plant::RigidBodyState;
+use crate::model::scenario::Scenario;
 use crate::model::so3::vee_skew;
 
 /// Gains of the geometric controller.

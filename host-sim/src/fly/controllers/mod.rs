@@ -22,8 +22,8 @@ use controller_core::VehicleState;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
-use crate::fly::scenario::Scenario;
 use crate::model::plant::RigidBodyState;
+use crate::model::scenario::Scenario;
 
 /// The plant state (true, or as measured with the scenario's noise) in the controller's
 /// scalar `T`: what `controller_core::Controller::step` takes. The attitude is renormalised
@@ -112,7 +112,7 @@ impl ControllerKind {
     ///
     /// Errors: the scenario's parameters are refused by the controller (named by scenario key).
     pub fn build(self, scenario: &Scenario) -> Result<Box<dyn FlightController>> {
-        use crate::fly::scenario::Precision;
+        use crate::model::scenario::Precision;
         Ok(match (self, scenario.simulation.precision) {
             (Self::Paper, Precision::F32) => Box::new(paper::PaperLaw::<f32>::new(scenario)?),
             (Self::Paper, Precision::F64) => Box::new(paper::PaperLaw::<f64>::new(scenario)?),

@@ -9,8 +9,8 @@ use nalgebra::Vector3;
 
 use super::measure;
 use super::{Command, FlightController, SwitchCounts};
-use crate::fly::scenario::Scenario;
 use crate::model::plant::RigidBodyState;
+use crate::model::scenario::Scenario;
 
 /// `controller_core::Controller<T>` with the scenario's vehicle, gains, trajectory and
 /// `[controller]` thrust mode: samples
@@ -38,12 +38,12 @@ impl<T: Scalar> PaperLaw<T> {
     pub fn with_gains(scenario: &Scenario, gains: controller_core::Gains<T>) -> Result<Self> {
         let trajectory = scenario.trajectory::<T>();
         let controller = Controller::new(scenario.vehicle::<T>(), gains, &trajectory.constants())
-            .map_err(|e| anyhow!("{}", crate::fly::scenario::describe(&e)))?;
+            .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))?;
         let mut controller = controller;
         let mode = scenario.thrust_mode::<T>().map_err(|e| anyhow!("{e}"))?;
         controller
             .set_thrust_mode(mode)
-            .map_err(|e| anyhow!("{}", crate::fly::scenario::describe(&e)))?;
+            .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))?;
         Ok(Self {
             controller,
             trajectory,

@@ -31,8 +31,8 @@ use controller_core::{ReferenceTrajectory, Trajectory};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 use super::{Command, FlightController, SwitchCounts};
-use crate::fly::scenario::Scenario;
 use crate::model::plant::RigidBodyState;
+use crate::model::scenario::Scenario;
 
 /// Gains and limits of the cascade (units per field).
 #[derive(Clone, Copy, Debug, PartialEq)]

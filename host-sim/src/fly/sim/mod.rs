@@ -4,9 +4,7 @@
 
 use anyhow::{anyhow, Result};
 use controller_core::scalar::{to_f64, Scalar};
-use controller_core::{
-    certify, Certificate, ControlOutput, FilterStart, ReferenceSample, Trajectory,
-};
+use controller_core::{ControlOutput, ReferenceSample, Trajectory};
 use nalgebra::Vector3;
 use serde::Serialize;
 
@@ -16,12 +14,14 @@ pub use summary::{
     APriori, ConditionReport, Final, IntegralReport, Observed, PathLiftingReport, Settling, Summary,
 };
 
-use crate::bounds::certificate::{scenario_tight_bounds, tight_limits, tight_report};
+pub use crate::bounds::certificate::scenario_certificate as certificate;
+use crate::bounds::certificate::{tight_limits, tight_report};
 use crate::fly::closed_loop::{self, Wrench};
 use crate::fly::controllers::paper::{back3, PaperLaw};
-use crate::fly::scenario::{PlantKind, Precision, Scenario};
+pub use crate::fly::setup::FlightSetup;
 use crate::model::plant::RigidBodyState;
 use crate::model::rotor_plant::{MixerCounts, RotorSample};
+use crate::model::scenario::{PlantKind, Precision, Scenario};
 
 /// One controller sample: the state, the reference, the command and the law's internals.
 /// Column names carry units; angles are in rad unless named `_deg`.
@@ -129,26 +129,27 @@ impl SettleTracker {
     }
 }
 
-/// The certificate of a scenario, computed in f64 with the filters starting at zero.
-pub fn certificate(scenario: &Scenario) -> Result<Certificate<f64>> {
-    certify(
-        &scenario.vehicle(),
-        &scenario.limits(),
-        &scenario.gains(),
-        &scenario.trajectory::<f64>().constants(),
-        FilterStart::Zero,
-    )
-    .map_err(|e| anyhow!("{}", crate::fly::scenario::describe(&e)))
-}
-
 /// Runs the scenario, calling `observe` with every sample's [`Record`], and returns the summary.
 ///
 /// Errors: invalid parameters (named by scenario key), or a controller step refused (with the
 /// time and the reason).
-pub fn run_with(scenario: &Scenario, mut observe: impl FnMut(&Record)) -> Result<Summary> {
+pub fn run_with(scenario: &Scenario, observe: impl FnMut(&Record)) -> Result<Summary> {
+    run_set_up_with(scenario, &FlightSetup::new(scenario)?, observe)
+}
+
+/// [`run_with`] on a set-up already built from `scenario` ([`FlightSetup::new`]): what the
+/// run checks its samples against is computed once, by the caller.
+///
+/// Errors: a controller step refused (with the time and the reason), or the scenario's thrust
+/// interval is empty.
+pub fn run_set_up_with(
+    scenario: &Scenario,
+    setup: &FlightSetup,
+    mut observe: impl FnMut(&Record),
+) -> Result<Summary> {
     match scenario.simulation.precision {
-        Precision::F32 => run_generic::<f32>(scenario, Some(&mut observe)),
-        Precision::F64 => run_generic::<f64>(scenario, Some(&mut observe)),
+        Precision::F32 => run_generic::<f32>(scenario, setup, Some(&mut observe)),
+        Precision::F64 => run_generic::<f64>(scenario, setup, Some(&mut observe)),
     }
 }
 
@@ -157,18 +158,28 @@ pub fn run_with(scenario: &Scenario, mut observe: impl FnMut(&Record)) -> Result
 ///
 /// Errors: as [`run_with`].
 pub fn run_summary(scenario: &Scenario) -> Result<Summary> {
+    let setup = FlightSetup::new(scenario)?;
     match scenario.simulation.precision {
-        Precision::F32 => run_generic::<f32>(scenario, None),
-        Precision::F64 => run_generic::<f64>(scenario, None),
+        Precision::F32 => run_generic::<f32>(scenario, &setup, None),
+        Precision::F64 => run_generic::<f64>(scenario, &setup, None),
     }
 }
 
 /// Runs the scenario and keeps every sample.
+///
+/// Errors: as [`run_with`].
 pub fn run(scenario: &Scenario) -> Result<(Summary, Vec<Record>)> {
+    run_set_up(scenario, &FlightSetup::new(scenario)?)
+}
+
+/// [`run`] on a set-up already built from `scenario` ([`FlightSetup::new`]).
+///
+/// Errors: as [`run_set_up_with`].
+pub fn run_set_up(scenario: &Scenario, setup: &FlightSetup) -> Result<(Summary, Vec<Record>)> {
     let mut records = Vec::with_capacity(
         (scenario.simulation.duration_s / scenario.simulation.controller_period_s) as usize + 1,
     );
-    let summary = run_with(scenario, |r| records.push(r.clone()))?;
+    let summary = run_set_up_with(scenario, setup, |r| records.push(r.clone()))?;
     Ok((summary, records))
 }
 
@@ -245,12 +256,12 @@ struct LastSample {
 /// not depend on it).
 fn run_generic<T: Scalar>(
     scenario: &Scenario,
+    setup: &FlightSetup,
     mut observe: Option<&mut dyn FnMut(&Record)>,
 ) -> Result<Summary> {
-    let cert = certificate(scenario)?;
+    let (cert, tight) = (&setup.certificate, &setup.tight);
     let bounds = &cert.bounds;
-    let tight = scenario_tight_bounds(scenario)?;
-    let tight_limits = tight_limits(&tight);
+    let tight_limits = tight_limits(tight);
     let [thrust_low, thrust_high] = scenario
         .thrust_interval(bounds)
         .map_err(|e| anyhow!("{e}"))?;
@@ -368,11 +379,11 @@ fn run_generic<T: Scalar>(
     Ok(Summary {
         precision: scenario.simulation.precision,
         a_priori: a_priori(
-            &cert,
+            cert,
             &scenario.gains(),
             &scenario.trajectory::<f64>().constants(),
             (!scenario.controller.is_paper()).then_some([thrust_low, thrust_high]),
-            tight_report(&cert, &tight),
+            tight_report(cert, tight),
         ),
         observed,
         final_: Final {

@@ -6,8 +6,8 @@ use controller_core::{Certificate, Gains, TrajectoryConstants};
 use serde::Serialize;
 
 use crate::bounds::certificate::TightReport;
-use crate::fly::scenario::Precision;
 use crate::model::rotor_plant::MixerCounts;
+use crate::model::scenario::Precision;
 
 /// A condition of the certificate, for `summary.json`.
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -76,7 +76,7 @@ pub struct IntegralReport {
     /// `k_η` [1/s].
     pub k_eta: f64,
     /// The disturbance observer's gains (`null`: the integral of `z₁` alone).
-    pub observer: Option<crate::fly::scenario::ObserverConfig>,
+    pub observer: Option<crate::model::scenario::ObserverConfig>,
     /// `L = M_p + M_i` [m/s²] per inertial axis.
     pub level_sum_m_s2: [f64; 3],
     /// `2 k_η |M_i|` [m/s³], added to `U_u̇`.
@@ -197,7 +197,7 @@ pub(super) fn a_priori(
             M_i_m_s2: g.level.into(),
             rate_m_s3: g.rate.into(),
             k_eta: g.bandwidth,
-            observer: g.observer.map(|o| crate::fly::scenario::ObserverConfig {
+            observer: g.observer.map(|o| crate::model::scenario::ObserverConfig {
                 velocity_gain_1_s: o.velocity_gain,
                 disturbance_gain_1_s2: o.disturbance_gain,
                 error_limit_m: o.error_limit,

@@ -119,8 +119,8 @@ mod tests {
     use super::super::sensors::{ImuModel, MocapModel, PoseMessage};
     use super::super::setup::SilSetup;
     use super::*;
-    use crate::fly::scenario::Scenario;
     use crate::model::plant::RigidBodyState;
+    use crate::model::scenario::Scenario;
 
     fn command(command: MavCmd, p1: f32, p2: f32, p7: f32) -> MavMessage {
         MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
@@ -348,7 +348,11 @@ mod tests {
     fn loads_a_file_by_path() {
         let dir = std::env::temp_dir().join(format!("sil-scenario-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        std::fs::write(dir.join("start.toml"), crate::fly::scenario::PAPER_SCENARIO).unwrap();
+        std::fs::write(
+            dir.join("start.toml"),
+            crate::model::scenario::PAPER_SCENARIO,
+        )
+        .unwrap();
         // The paper scenario with its start read from a scenario file next to it.
         let text: String = FILES[0]
             .lines()

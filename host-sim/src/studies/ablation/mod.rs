@@ -33,7 +33,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::fly::controllers::ControllerKind;
-use crate::fly::scenario::{Precision, Scenario};
+use crate::model::scenario::{Precision, Scenario};
 use crate::output::chart::{LegendAt, Panel, Scale, Series};
 use crate::output::console::fmt_opt;
 use crate::runs::metrics::{BoundSet, RunMetrics};
@@ -103,7 +103,7 @@ pub struct AblationReport {
     /// The a-priori bounds and limits.
     pub bounds: BoundSet,
     /// The plant every run flies (`"ideal"` or `"rotors"`).
-    pub plant: crate::fly::scenario::PlantKind,
+    pub plant: crate::model::scenario::PlantKind,
     /// Hysteresis ablation.
     pub hysteresis: Vec<HysteresisRow>,
     /// Filter ablation.

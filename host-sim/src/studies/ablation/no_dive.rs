@@ -24,10 +24,10 @@ use serde::Serialize;
 
 use crate::fly::closed_loop::fly;
 use crate::fly::controllers::ControllerKind;
-use crate::fly::scenario::{
+use crate::model::plant::RigidBodyState;
+use crate::model::scenario::{
     ControllerConfig, HeadingConfig, Scenario, ThrustKind, TrajectoryConfig,
 };
-use crate::model::plant::RigidBodyState;
 use crate::runs::metrics::{Convergence, MetricsAccumulator, WindowMax};
 use crate::runs::runner::bound_set;
 use crate::runs::sampler::{run_seed, Sampler, SamplerRadii, HALF_TURN_AXES};

@@ -12,8 +12,11 @@ use super::options::CampaignOptions;
 use super::output::{write_campaign, CampaignReport};
 use super::partial::{write_partial, CampaignSetup, PartialResult, SHARD_FORMAT};
 use crate::output::console::fmt_opt;
+use crate::runs::metrics::BoundSet;
 use crate::runs::metrics::Convergence;
-use crate::runs::runner::{bound_set, run_campaign, run_campaign_runs, CampaignConfig, RunResult};
+use crate::runs::runner::{
+    bound_set, run_campaign_runs, run_campaign_runs_within, CampaignConfig, RunResult,
+};
 use crate::runs::sampler::SamplerRadii;
 use crate::runs::stats::summarise;
 
@@ -79,13 +82,14 @@ pub fn run_command(args: &CampaignOptions) -> Result<()> {
         );
         return Ok(());
     }
-    let results = run_campaign(&config)?;
+    let bounds = bound_set(&config.scenario)?;
+    let results = run_campaign_runs_within(&config, 0..config.runs, bounds)?;
     let wall = start.elapsed().as_secs_f64();
     let timing = format!(
         "wall time {wall:.1} s ({:.1} runs/s)",
         config.runs as f64 / wall.max(f64::MIN_POSITIVE)
     );
-    finish(&config, &results, &args.out, args.plots, &timing)
+    finish(&config, bounds, &results, &args.out, args.plots, &timing)
 }
 
 /// `host-sim campaign merge`: combines the shards in `dirs` ([`merge_dirs`]) and writes the
@@ -98,12 +102,15 @@ pub fn merge_command(dirs: &[PathBuf], out: &Path, plots: bool) -> Result<()> {
         "{} shards, {:.1} s of wall time in all",
         merged.shards, merged.wall_time_s
     );
-    finish(&merged.setup.config(), &merged.results, out, plots, &timing)
+    let config = merged.setup.config();
+    let bounds = bound_set(&config.scenario)?;
+    finish(&config, bounds, &merged.results, out, plots, &timing)
 }
 
 /// Summarises the runs of the whole campaign, writes its files and prints the summary.
 fn finish(
     config: &CampaignConfig,
+    bounds: BoundSet,
     results: &[RunResult],
     out: &Path,
     plots: bool,
@@ -111,7 +118,7 @@ fn finish(
 ) -> Result<()> {
     let nominal = !config.scenario.perturbations.violates_model();
     let stats = summarise(results, nominal);
-    let report = CampaignReport::new(config, bound_set(&config.scenario)?, stats);
+    let report = CampaignReport::new(config, bounds, stats);
     let files = write_campaign(out, &report, results, plots)?;
     let r = &report.results;
     let checked = if nominal { &r.nominal } else { &r.perturbed };

@@ -174,8 +174,8 @@ pub fn setup_difference(a: &CampaignSetup, b: &CampaignSetup) -> Option<String> 
 
 /// The scenario's top-level tables (`[simulation]`, `[perturbations]`, ...) that differ.
 fn scenario_tables_differing(
-    a: &crate::fly::scenario::Scenario,
-    b: &crate::fly::scenario::Scenario,
+    a: &crate::model::scenario::Scenario,
+    b: &crate::model::scenario::Scenario,
 ) -> String {
     let (Ok(serde_json::Value::Object(a)), Ok(serde_json::Value::Object(b))) =
         (serde_json::to_value(a), serde_json::to_value(b))
@@ -202,7 +202,7 @@ fn scenario_tables_differing(
 mod tests {
     use super::*;
     use crate::fly::controllers::ControllerKind;
-    use crate::fly::scenario::Scenario;
+    use crate::model::scenario::Scenario;
     use crate::runs::metrics::Convergence;
     use crate::runs::sampler::SamplerRadii;
 

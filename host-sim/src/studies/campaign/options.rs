@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::{bail, Result};
 
 use crate::fly::controllers::ControllerKind;
-use crate::fly::scenario::{ControllerOverrides, PlantKind, Precision, Scenario};
+use crate::model::scenario::{ControllerOverrides, PlantKind, Precision, Scenario};
 
 /// Options shared by the campaign, the ablations and the comparison: the base scenario and the
 /// seed.

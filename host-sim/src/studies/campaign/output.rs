@@ -47,12 +47,12 @@ pub struct CampaignReport {
     /// Controller period \[s\].
     pub controller_period_s: f64,
     /// Controller precision.
-    pub precision: crate::fly::scenario::Precision,
+    pub precision: crate::model::scenario::Precision,
     /// The plant flown (`"ideal"` or `"rotors"`).
-    pub plant: crate::fly::scenario::PlantKind,
+    pub plant: crate::model::scenario::PlantKind,
     /// The law's `[controller]` options (absent: the paper's law, `T = m|u|`).
-    #[serde(skip_serializing_if = "crate::fly::scenario::ControllerConfig::is_paper")]
-    pub controller_options: crate::fly::scenario::ControllerConfig,
+    #[serde(skip_serializing_if = "crate::model::scenario::ControllerConfig::is_paper")]
+    pub controller_options: crate::model::scenario::ControllerConfig,
     /// Commands clipped to the physical limits before the plant.
     pub clip_to_limits: bool,
     /// The perturbations of every run.

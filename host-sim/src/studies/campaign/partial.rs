@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use super::shard::Shard;
 use crate::fly::controllers::ControllerKind;
-use crate::fly::scenario::Scenario;
+use crate::model::scenario::Scenario;
 use crate::runs::metrics::Convergence;
 use crate::runs::runner::{CampaignConfig, RunResult};
 use crate::runs::sampler::SamplerRadii;
@@ -52,7 +52,7 @@ pub struct CampaignSetup {
 mod scenario_toml {
     use serde::{de::Error as _, ser::Error as _, Deserialize, Deserializer, Serializer};
 
-    use crate::fly::scenario::Scenario;
+    use crate::model::scenario::Scenario;
 
     pub fn serialize<S: Serializer>(scenario: &Scenario, s: S) -> Result<S::Ok, S::Error> {
         s.serialize_str(&toml::to_string(scenario).map_err(S::Error::custom)?)

@@ -8,7 +8,7 @@ use anyhow::Result;
 use serde::Serialize;
 
 use crate::fly::controllers::ControllerKind;
-use crate::fly::scenario::{PlantKind, Precision};
+use crate::model::scenario::{PlantKind, Precision};
 use crate::studies::campaign::{
     run_campaign, stats::Distribution, BaseOptions, CampaignConfig, Convergence, SamplerRadii,
 };

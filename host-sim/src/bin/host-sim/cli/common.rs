@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
-use host_sim::fly::scenario::{ControllerOverrides, PlantKind, Precision, Scenario, ThrustKind};
+use host_sim::model::scenario::{ControllerOverrides, PlantKind, Precision, Scenario, ThrustKind};
 use host_sim::studies::campaign::BaseOptions;
 
 /// Controller scalar type (the command line's spelling of [`Precision`]).

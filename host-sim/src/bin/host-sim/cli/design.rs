@@ -6,13 +6,13 @@ use anyhow::Result;
 use clap::Args;
 use host_sim::design::{
     integral::IntegralSpec,
-    run::{Fallback, DEFAULT_DURATION_S, DEFAULT_EVALUATIONS},
+    options::{Fallback, DEFAULT_DURATION_S, DEFAULT_EVALUATIONS},
     run_design,
     tight::BoundsKind,
     variables::AttitudeLaw,
     DesignOptions,
 };
-use host_sim::fly::scenario::ThrustKind;
+use host_sim::model::scenario::ThrustKind;
 
 /// The thrusts the firmware flies (so the ones `design` offers).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -21,6 +21,25 @@ pub enum DesignThrust {
     Norm,
     /// The no-dive thrust with a certified floor.
     VerticalPriority,
+}
+
+/// The attitude feedbacks `design` searches (the library's [`AttitudeLaw`], named on the
+/// command line).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DesignLaw {
+    /// The paper's law (Section V): one feedback torque level on every axis.
+    Paper,
+    /// Tilt priority (docs/tilt-priority.md): per-axis levels, yaw's small.
+    TiltPriority,
+}
+
+/// The bounds that certify a design (the library's [`BoundsKind`], named on the command line).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DesignBounds {
+    /// Lemma 1 and Theorem 2 as the paper writes them.
+    Paper,
+    /// The tight a-priori bounds.
+    Tight,
 }
 
 /// Options of `host-sim design`.
@@ -51,14 +70,14 @@ pub struct DesignArgs {
     pub duration_s: Option<f64>,
     /// Attitude feedback to search: `paper` (one feedback torque level on every axis) or
     /// `tilt-priority` (per-axis levels, yaw's small; docs/tilt-priority.md).
-    #[arg(long, value_enum, default_value_t = AttitudeLaw::Paper)]
-    pub law: AttitudeLaw,
+    #[arg(long, value_enum, default_value_t = DesignLaw::Paper)]
+    pub law: DesignLaw,
     /// Bounds that certify Theorem 2's torque condition and the box fit: `paper` (Lemma 1 and
     /// Theorem 2 as written; the firmware re-checks them on board) or `tight` (the tight
     /// a-priori bounds, docs/tight-bounds.md; no firmware file unless the paper's certificate
     /// and box fit, which the firmware re-checks, pass too).
-    #[arg(long, value_enum, default_value_t = BoundsKind::Paper)]
-    pub bounds: BoundsKind,
+    #[arg(long, value_enum, default_value_t = DesignBounds::Paper)]
+    pub bounds: DesignBounds,
     /// Design without the bounded integral action (the paper's law alone). By default the
     /// design carries it (docs/integral-action.md), sized to cover `--integral-mass-error` and
     /// `--integral-force-fraction`; every bound is then the extended one, and the flight file
@@ -124,8 +143,14 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         margin: args.margin,
         evaluations: args.evaluations,
         duration_s: args.duration_s.unwrap_or(DEFAULT_DURATION_S),
-        law: args.law,
-        bounds: args.bounds,
+        law: match args.law {
+            DesignLaw::Paper => AttitudeLaw::Paper,
+            DesignLaw::TiltPriority => AttitudeLaw::TiltPriority,
+        },
+        bounds: match args.bounds {
+            DesignBounds::Paper => BoundsKind::Paper,
+            DesignBounds::Tight => BoundsKind::Tight,
+        },
         integral,
         thrust: match args.thrust {
             DesignThrust::Norm => ThrustKind::Norm,

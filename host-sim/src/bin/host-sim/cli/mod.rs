@@ -19,7 +19,7 @@ mod sil;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
-use host_sim::fly::scenario::PAPER_SCENARIO;
+use host_sim::model::scenario::PAPER_SCENARIO;
 
 use run::RunArgs;
 

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
-use host_sim::fly::scenario::Scenario;
+use host_sim::model::scenario::Scenario;
 use host_sim::output::console::human_summary;
 
 use super::common::{PlantArgs, PrecisionArg, ThrustArgs};
@@ -73,15 +73,16 @@ pub fn run(args: &RunArgs) -> Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(&name));
 
-    let certificate = host_sim::fly::sim::certificate(&scenario)?;
+    let setup = host_sim::fly::setup::FlightSetup::new(&scenario)?;
+    let certificate = &setup.certificate;
     if let Err(v) = certificate.require_feasible() {
         eprintln!(
             "host-sim: WARNING: the a-priori guarantees do not all apply to this scenario: {v}.\n\
              host-sim: WARNING: the conditions are sufficient, not necessary; the run proceeds. \
              Violated conditions are listed in the summary."
         );
-        let tight = host_sim::bounds::certificate::scenario_tight_bounds(&scenario)?;
-        let report = host_sim::bounds::certificate::tight_report(&certificate, &tight).conditions;
+        let report =
+            host_sim::bounds::certificate::tight_report(certificate, &setup.tight).conditions;
         for c in report.iter().filter(|c| !c.holds_paper) {
             eprintln!(
                 "host-sim: {}: {} (tight bound {:.4} vs tau_max {:.4}; docs/tight-bounds.md).",
@@ -92,7 +93,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
             );
         }
     }
-    let (summary, records) = host_sim::fly::sim::run(&scenario)?;
+    let (summary, records) = host_sim::fly::sim::run_set_up(&scenario, &setup)?;
     let s = &scenario.simulation;
     let header = format!(
         "Scenario: {title}; controller precision {:?}, {} s at {:.0} Hz, {}plant RK4 step {} s{}{}{}",

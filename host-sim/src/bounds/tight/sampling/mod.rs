@@ -472,8 +472,7 @@ impl AdmissibleState {
         let d = desired_attitude(&out.u, &out.u_dot, &out.u_ddot, &nu, &nu_dot, &nu_ddot)?;
         let rotation = rotation_from_mrp(&self.mrp_error);
         let omega = self.omega_error + rotation.transpose() * d.angular_velocity;
-        let torque = controller_core::attitude_control::attitude_torque(
-            &setup.gains,
+        let torque = setup.gains.attitude_torque(
             &self.mrp_error,
             &omega,
             &rotation,

@@ -29,7 +29,7 @@ use serde::Serialize;
 use crate::fly::closed_loop::fly;
 use crate::fly::controllers::paper::PaperLaw;
 use crate::fly::controllers::FlightController;
-use crate::fly::scenario::{Precision, Scenario};
+use crate::model::scenario::{Precision, Scenario};
 use crate::output::console::fmt_opt;
 use crate::runs::metrics::{BoundSet, Convergence, MetricsAccumulator, RunMetrics};
 use crate::runs::runner::bound_set;
@@ -249,7 +249,7 @@ pub fn extended_certificate(
         &scenario.trajectory::<f64>().constants(),
         FilterStart::Zero,
     )
-    .map_err(|e| anyhow!("{}", crate::fly::scenario::describe(&e)))
+    .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))
 }
 
 /// The bounds samples are checked against with the integral action on: the extended

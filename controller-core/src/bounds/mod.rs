@@ -9,10 +9,14 @@
 
 use nalgebra::Vector3;
 
+use crate::condition::strictly_less;
+pub use crate::condition::{Condition, Violation};
+use crate::gains::Gains;
 use crate::integral_stability::{local_stability_conditions, STABILITY_CONDITION_COUNT};
-use crate::params::{Gains, Limits, ParameterError, Vehicle};
+use crate::parameter_error::ParameterError;
 use crate::reference::TrajectoryConstants;
 use crate::scalar::{lit, to_f64, Scalar};
+use crate::vehicle::{Limits, Vehicle};
 
 /// Where the filter states start; Lemma 1's `U_l` depends on it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -21,57 +25,6 @@ pub enum FilterStart {
     Zero,
     /// Any `x_f(0) ∈ M_p 𝔹⁶_∞`: `U_l = 1`.
     InSaturationBox,
-}
-
-/// One inequality of the paper, with both sides.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Condition<T: Scalar> {
-    /// Stable identifier, e.g. `"theorem2.torque_max_yaw"`.
-    pub name: &'static str,
-    /// The inequality as written, with the paper's label.
-    pub statement: &'static str,
-    /// Left-hand side (the larger side when the condition holds).
-    pub lhs: T,
-    /// Right-hand side.
-    pub rhs: T,
-    /// Whether `lhs > rhs` (or `lhs ≥ rhs` for non-strict conditions) holds.
-    pub holds: bool,
-}
-
-impl<T: Scalar> Condition<T> {
-    /// The strict inequality `lhs > rhs` named `name`, stated as `statement`.
-    pub fn strict(name: &'static str, statement: &'static str, lhs: T, rhs: T) -> Self {
-        Self {
-            name,
-            statement,
-            lhs,
-            rhs,
-            holds: lhs > rhs,
-        }
-    }
-}
-
-/// A violated condition: its name, statement and numbers.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Violation {
-    /// Identifier of the condition.
-    pub name: &'static str,
-    /// The inequality as written.
-    pub statement: &'static str,
-    /// Left-hand side value.
-    pub lhs: f64,
-    /// Right-hand side value.
-    pub rhs: f64,
-}
-
-impl core::fmt::Display for Violation {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(
-            f,
-            "infeasible: {} violated ({}): lhs = {:.6}, rhs = {:.6}",
-            self.name, self.statement, self.lhs, self.rhs
-        )
-    }
 }
 
 /// The bounds of Lemma 1 evaluated with the Assumption 1 constants (`U*` quantities).
@@ -216,11 +169,6 @@ fn feedforward_torque_bound<T: Scalar>(inertia: &Vector3<T>, accel: T, rate: T) 
         let (j, k) = ((i + 1) % 3, (i + 2) % 3);
         inertia[i] * accel + lit::<T>(0.5) * (inertia[j] - inertia[k]).abs() * rate * rate
     })
-}
-
-/// `a < b`, false when either is NaN (so refusals catch NaN too).
-pub(crate) fn strictly_less<T: Scalar>(a: T, b: T) -> bool {
-    a.partial_cmp(&b) == Some(core::cmp::Ordering::Less)
 }
 
 /// The refusal when `M_p + M_i,z < g − K_a3` fails (extended Theorem 1: `T_min` would not be
@@ -499,9 +447,7 @@ pub fn certify<T: Scalar>(
 }
 
 #[cfg(test)]
-#[path = "bounds_tests.rs"]
 mod tests;
 
 #[cfg(test)]
-#[path = "bounds_integral_tests.rs"]
 mod integral_tests;

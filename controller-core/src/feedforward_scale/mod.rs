@@ -23,7 +23,7 @@
 //! action alone takes the constant part. `μ` adapts only near the reference (every
 //! `|z₁,i| ≤ z̄_μ`): in a large transient `η` moves with the transient, not with a mass error.
 //! The observer's model subtracts what both estimates compensate, `η + μ a`
-//! ([`modelled_compensation`]).
+//! ([`crate::integral::modelled_compensation`]).
 //!
 //! **Output.** `μ_f`, `μ̇_f = −k_η (μ_f − μ)`, `μ̈_f = −k_η (μ̇_f − μ̇)`: the same output filter as
 //! `η` (its bandwidth `k_η`), exact propagation, closed-form derivatives.
@@ -38,10 +38,8 @@
 
 use nalgebra::Vector3;
 
-use crate::integral::{
-    advance_clamped, clamped_rate, estimate_step, filtered_rate_bound, IntegralState,
-};
-use crate::params::{positive, ParameterError};
+use crate::clamped_estimate::{advance_clamped, clamped_rate, estimate_step, filtered_rate_bound};
+use crate::parameter_error::{positive, ParameterError};
 use crate::reference::{ReferenceSample, TrajectoryConstants};
 use crate::scalar::{lit, to_f64, Scalar};
 
@@ -219,16 +217,5 @@ impl<T: Scalar> FeedforwardScaleGains<T> {
     }
 }
 
-/// The disturbance the observer's model subtracts [m/s²], inertial: `η + μ p̈_d`, the two
-/// estimates together (`μ = 0` without the feedforward scale).
-pub fn modelled_compensation<T: Scalar>(
-    integral: &IntegralState<T>,
-    scale: &FeedforwardScaleState<T>,
-    acceleration: &Vector3<T>,
-) -> Vector3<T> {
-    integral.estimate + acceleration * scale.estimate
-}
-
 #[cfg(test)]
-#[path = "feedforward_scale_tests.rs"]
 mod tests;

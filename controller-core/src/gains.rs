@@ -1,34 +1,16 @@
-//! Vehicle, actuator limits and gains, with their validation.
+//! All controller gains (Table I) and the extensions' options, with their validation, and the
+//! torque law the gains select.
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
-use crate::attitude_control::AttitudeGains;
+use crate::attitude_control::{AttitudeGains, TorqueOutput};
 use crate::integral::IntegralGains;
+use crate::parameter_error::{positive, ParameterError};
 use crate::position::PositionGains;
 use crate::reference::TrajectoryConstants;
 use crate::scalar::{lit, to_f64, Scalar};
 use crate::tilt_priority::TiltPriorityGains;
 use crate::velocity_limit::VelocityLimit;
-
-/// Rigid-body parameters of eq:FullDynamics.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Vehicle<T: Scalar> {
-    /// Mass `m` \[kg\].
-    pub mass: T,
-    /// Diagonal of the inertia `J = diag(J₁₁, J₂₂, J₃₃)` [kg m²], body frame.
-    pub inertia: Vector3<T>,
-    /// Gravitational acceleration `g` [m/s²].
-    pub gravity: T,
-}
-
-/// Physical actuation limits `Ω_T`, `Ω_τ` (Section III).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Limits<T: Scalar> {
-    /// Maximum thrust `T_max` \[N\].
-    pub thrust_max: T,
-    /// Per-axis maximum torque `τ_max` [N m], body frame.
-    pub torque_max: Vector3<T>,
-}
 
 /// All controller gains (Table I).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -50,28 +32,6 @@ pub struct Gains<T: Scalar> {
     /// Velocity-limited position feedback (extension, docs/velocity-limit.md): `None` is the
     /// paper's `ubar_p = −σ_p(k_p z₁ + k_v z₂)`, bit for bit.
     pub velocity_limit: Option<VelocityLimit<T>>,
-}
-
-impl<T: Scalar> Vehicle<T> {
-    /// The quadrotor of Section VI: `m = 0.460 kg`, `J = diag(2.24, 2.9, 5.3)·10⁻³ kg m²`,
-    /// `g = 9.81 m/s²` (the value that reproduces the paper's `T ∈ [3.51, 6.19] N`).
-    pub fn paper() -> Self {
-        Self {
-            mass: lit(0.460),
-            inertia: Vector3::new(lit(2.24e-3), lit(2.9e-3), lit(5.3e-3)),
-            gravity: lit(9.81),
-        }
-    }
-}
-
-impl<T: Scalar> Limits<T> {
-    /// Section VI: `T_max = 7 N`, `τ_max = (0.5, 0.5, 0.5) N m`.
-    pub fn paper() -> Self {
-        Self {
-            thrust_max: lit(7.0),
-            torque_max: Vector3::repeat(lit(0.5)),
-        }
-    }
 }
 
 impl<T: Scalar> Gains<T> {
@@ -98,101 +58,6 @@ impl<T: Scalar> Gains<T> {
             tilt_priority: None,
             velocity_limit: None,
         }
-    }
-}
-
-/// A parameter the controller refuses, with the violated requirement and its numbers.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ParameterError {
-    /// A parameter that must be finite and `> 0` is not.
-    NotPositive {
-        /// Parameter name (e.g. `"k_p"`, `"mass"`).
-        name: &'static str,
-        /// Its value.
-        value: f64,
-    },
-    /// A parameter outside an open interval `(low, high)`.
-    OutOfRange {
-        /// Parameter name.
-        name: &'static str,
-        /// Its value.
-        value: f64,
-        /// Lower end (exclusive).
-        low: f64,
-        /// Upper end (exclusive).
-        high: f64,
-    },
-    /// `M_p < g − K_a3` (Section IV) is violated: the thrust could vanish or point down.
-    SaturationTooLarge {
-        /// `M_p` [m/s²].
-        saturation: f64,
-        /// `g − K_a3` [m/s²].
-        limit: f64,
-    },
-    /// A trajectory constant is negative or not finite.
-    BadTrajectoryConstant {
-        /// Constant name (e.g. `"K_a3"`).
-        name: &'static str,
-        /// Its value.
-        value: f64,
-    },
-}
-
-impl core::fmt::Display for ParameterError {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match *self {
-            Self::NotPositive { name, value } => {
-                write!(f, "{name} must be finite and > 0, got {value}")
-            }
-            Self::OutOfRange { name, value, low, high } => {
-                write!(f, "{name} must lie in ({low}, {high}), got {value}")
-            }
-            Self::SaturationTooLarge { saturation, limit } => write!(
-                f,
-                "M_p < g - K_a3 violated (Section IV): M_p = {saturation} m/s^2, g - K_a3 = {limit} m/s^2"
-            ),
-            Self::BadTrajectoryConstant { name, value } => {
-                write!(f, "trajectory constant {name} must be finite and >= 0, got {value}")
-            }
-        }
-    }
-}
-
-pub(crate) fn positive<T: Scalar>(name: &'static str, value: T) -> Result<(), ParameterError> {
-    if value.is_finite() && value > T::zero() {
-        Ok(())
-    } else {
-        Err(ParameterError::NotPositive {
-            name,
-            value: to_f64(value),
-        })
-    }
-}
-
-impl<T: Scalar> Vehicle<T> {
-    /// Checks `m > 0`, `J_ii > 0`, `g > 0` (all finite).
-    /// Errors: [`ParameterError::NotPositive`] naming the first offender.
-    pub fn validate(&self) -> Result<(), ParameterError> {
-        positive("mass", self.mass)?;
-        for (name, j) in ["J_11", "J_22", "J_33"].iter().zip(self.inertia.iter()) {
-            positive(name, *j)?;
-        }
-        positive("gravity", self.gravity)
-    }
-}
-
-impl<T: Scalar> Limits<T> {
-    /// Checks `T_max > 0` and `τ_max,i > 0` (all finite).
-    /// Errors: [`ParameterError::NotPositive`] naming the first offender.
-    pub fn validate(&self) -> Result<(), ParameterError> {
-        positive("thrust_max", self.thrust_max)?;
-        for (name, t) in ["tau_max_1", "tau_max_2", "tau_max_3"]
-            .iter()
-            .zip(self.torque_max.iter())
-        {
-            positive(name, *t)?;
-        }
-        Ok(())
     }
 }
 
@@ -255,5 +120,40 @@ impl<T: Scalar> Gains<T> {
             });
         }
         Ok(())
+    }
+
+    /// The torque law the gains select: the paper's ([`AttitudeGains::evaluate`](crate::attitude_control::AttitudeGains::evaluate)) or, with
+    /// `self.tilt_priority` set, the per-axis tilt-priority feedback
+    /// ([`crate::TiltPriorityGains::evaluate`]). Inputs and output as [`AttitudeGains::evaluate`](crate::attitude_control::AttitudeGains::evaluate).
+    /// Source: Section V; extension, docs/tilt-priority.md.
+    #[inline]
+    pub fn attitude_torque(
+        &self,
+        mrp_error: &Vector3<T>,
+        angular_velocity: &Vector3<T>,
+        error_rotation: &Matrix3<T>,
+        desired_angular_velocity: &Vector3<T>,
+        desired_angular_acceleration: &Vector3<T>,
+        inertia: &Vector3<T>,
+    ) -> TorqueOutput<T> {
+        match &self.tilt_priority {
+            None => self.attitude.evaluate(
+                mrp_error,
+                angular_velocity,
+                error_rotation,
+                desired_angular_velocity,
+                desired_angular_acceleration,
+                inertia,
+            ),
+            Some(tilt) => tilt.evaluate(
+                &self.attitude,
+                mrp_error,
+                angular_velocity,
+                error_rotation,
+                desired_angular_velocity,
+                desired_angular_acceleration,
+                inertia,
+            ),
+        }
     }
 }

@@ -31,8 +31,7 @@
 
 use nalgebra::Vector3;
 
-use crate::params::{positive, ParameterError};
-use crate::position::PositionGains;
+use crate::parameter_error::{positive, ParameterError};
 use crate::saturation::tanh_saturation;
 use crate::scalar::{to_f64, Scalar};
 
@@ -92,19 +91,21 @@ impl<T: Scalar> VelocityLimit<T> {
 
     /// The feedback `ubar_p = −σ_p(k_v (z₂ + φ(z₁)))` [m/s²], inertial, each component in
     /// `(−M_p, M_p)`; `z₁` \[m\] and `z₂` [m/s] are the z-coordinates (eq:Zcoordinates) and
-    /// `gains` the position loop's (`k_p`, `k_v`, `M_p`).
+    /// `kp` [1/s²], `kv` [1/s], `saturation` (`M_p`, m/s²) the position loop's gains
+    /// ([`crate::position::PositionGains`]).
     pub fn feedback(
         &self,
-        gains: &PositionGains<T>,
+        kp: T,
+        kv: T,
+        saturation: T,
         z1: &Vector3<T>,
         z2: &Vector3<T>,
     ) -> Vector3<T> {
-        let c = gains.kp / gains.kv;
+        let c = kp / kv;
         let desired = z1.map(|x| self.profile(x, c));
-        -tanh_saturation(&((z2 + desired) * gains.kv), gains.saturation)
+        -tanh_saturation(&((z2 + desired) * kv), saturation)
     }
 }
 
 #[cfg(test)]
-#[path = "velocity_limit_tests.rs"]
 mod tests;

@@ -28,7 +28,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use crate::attitude_control::{error_and_feedforward, AttitudeGains, TorqueOutput};
-use crate::params::{positive, ParameterError};
+use crate::parameter_error::{positive, ParameterError};
 use crate::scalar::{lit, to_f64, Scalar};
 
 /// Gains of the tilt-priority feedback (extension, docs/tilt-priority.md). The radial MRP
@@ -158,5 +158,4 @@ impl<T: Scalar> TiltPriorityGains<T> {
 }
 
 #[cfg(test)]
-#[path = "tilt_priority_tests.rs"]
 mod tests;

@@ -38,8 +38,8 @@ use serde::Deserialize;
 
 use super::sensors::{ImuModel, MocapModel, PoseMessage};
 use super::setup::SilSetup;
-use crate::fly::scenario::Scenario;
 use crate::model::plant::RigidBodyState;
+use crate::model::scenario::Scenario;
 
 /// The shared sensor models (`host-sim/scenarios/sil/sensors.toml`), as TOML text.
 pub const SENSORS: &str = include_str!(concat!(
@@ -447,5 +447,4 @@ fn build(
 }
 
 #[cfg(test)]
-#[path = "scenario_file_tests.rs"]
 mod tests;

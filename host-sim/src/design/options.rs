@@ -1,0 +1,103 @@
+//! What a design run takes and scores: its options, the long-run fallback and one scored
+//! candidate.
+
+use super::certificate::Certified;
+use super::evaluate::Evaluation;
+use super::integral::IntegralSpec;
+use super::thrust::ThrustDesign;
+use super::tight::BoundsKind;
+use super::variables::{AttitudeLaw, Mapped};
+use crate::model::scenario::ThrustKind;
+use controller_core::Gains;
+use std::path::PathBuf;
+
+/// Default length of each scoring run and of the written scenario \[s\]: the paper's 30 s (the
+/// last 5 s are the limit-cycle window; campaigns judge convergence 5 s before the end).
+pub const DEFAULT_DURATION_S: f64 = 30.0;
+
+/// Shortest `--duration-s` \[s\]: twice the limit-cycle window.
+pub const MIN_DURATION_S: f64 = 2.0 * super::evaluate::TAIL_S;
+
+/// Speed limit [m/s] of the fallback design ([`Fallback::VelocityLimited`]).
+pub const FALLBACK_SPEED_LIMIT_M_S: f64 = 20.0;
+
+/// Run length \[s\] of the fallback design ([`Fallback::VelocityLimited`]).
+pub const FALLBACK_DURATION_S: f64 = 300.0;
+
+/// What `design` does when no design within the budget meets the convergence constraints.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Fallback {
+    /// Nothing: the best design is written and reported as not converging.
+    Off,
+    /// Design again, with the velocity-limited position feedback
+    /// ([`FALLBACK_SPEED_LIMIT_M_S`], docs/velocity-limit.md) on runs of
+    /// [`FALLBACK_DURATION_S`], and write that design (the CLI's default when neither
+    /// `--duration-s` nor `--speed-limit` is given): a certified design with a small `M_p`
+    /// overshoots a long fall with the paper's feedback and needs minutes to climb back.
+    VelocityLimited,
+    /// This design is that second attempt: why the first was set aside, and its wall time \[s\].
+    Taken {
+        /// The first attempt's outcome, for the report.
+        why: String,
+        /// The first attempt's wall time \[s\].
+        seconds: f64,
+    },
+}
+
+/// Default evaluation budget: sized so one preset finishes in well under 10 minutes on 2 cores
+/// (release build).
+pub const DEFAULT_EVALUATIONS: usize = 960;
+
+/// What `design` is asked.
+#[derive(Clone, Debug)]
+pub struct DesignOptions {
+    /// Vehicle file.
+    pub vehicle: PathBuf,
+    /// Scenario file whose `[trajectory]`, `[initial]` and controller period are the requested
+    /// reference; `None`: the paper's helix.
+    pub reference: Option<PathBuf>,
+    /// Seed of the optimiser.
+    pub seed: u64,
+    /// Box-fit margin, fraction of each rotor's range at both ends.
+    pub margin: f64,
+    /// Evaluation budget of the optimiser.
+    pub evaluations: usize,
+    /// Length of the scoring runs and of the written scenario \[s\] (at least
+    /// [`MIN_DURATION_S`]): the horizon a run must settle in, 5 s before its end. A vehicle whose
+    /// certified authority is small needs longer than the paper's 30 s.
+    pub duration_s: f64,
+    /// The attitude feedback searched: the paper's law or tilt priority (per-axis levels).
+    pub law: AttitudeLaw,
+    /// The bounds that certify Theorem 2's torque condition and the box fit.
+    pub bounds: BoundsKind,
+    /// `Some`: the design carries the bounded integral action sized to cover this disturbance,
+    /// certified with the extended bounds (the default, [`super::integral`]; `None` with `--no-integral`).
+    pub integral: Option<IntegralSpec>,
+    /// The thrust flown and written: the paper's `norm`, or `vertical-priority` with the lowest
+    /// floor the certified box allows ([`super::thrust`]).
+    pub thrust: ThrustKind,
+    /// `Some(V)`: the design flies the velocity-limited position feedback with speed limit `V`
+    /// [m/s] (`--speed-limit`, docs/velocity-limit.md); `None`: the paper's.
+    pub speed_limit: Option<f64>,
+    /// What to do when no design meets the convergence constraints.
+    pub fallback: Fallback,
+    /// Output directory.
+    pub out: PathBuf,
+}
+
+/// A scored candidate.
+pub struct Scored {
+    /// Its mapped gains.
+    pub mapped: Mapped,
+    /// Its certificate.
+    pub certified: Certified,
+    /// Its thrust (the floor of vertical priority depends on its box).
+    pub thrust: ThrustDesign,
+    /// Its simulations.
+    pub evaluation: Evaluation,
+}
+
+/// The gains of a report, for tests and callers.
+pub fn gains_of(s: &Scored) -> Gains<f64> {
+    s.mapped.gains
+}
