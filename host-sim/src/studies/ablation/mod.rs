@@ -22,11 +22,14 @@
 //! the core's law bit for bit when nothing is ablated); the third and fourth at the scenario's
 //! precision (the core's law itself), so the third's paper-start figure is the main run's.
 
+mod plots;
+use plots::write_plots;
+mod markdown;
+pub use markdown::markdown;
 pub mod integral;
 pub mod no_dive;
 
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use rayon::prelude::*;
@@ -34,8 +37,6 @@ use serde::Serialize;
 
 use crate::fly::controllers::ControllerKind;
 use crate::model::scenario::{Precision, Scenario};
-use crate::output::chart::{LegendAt, Panel, Scale, Series};
-use crate::output::console::fmt_opt;
 use crate::runs::metrics::{BoundSet, RunMetrics};
 use crate::runs::runner::{bound_set, run_one};
 use crate::runs::sampler::{run_seed, Sampler, SamplerRadii, HALF_TURN_AXES};
@@ -43,9 +44,6 @@ use crate::runs::stats::Distribution;
 use crate::runs::trace::{trace, TracePoint};
 use crate::studies::ablation::integral::{run_integral, IntegralReport};
 use crate::studies::ablation::no_dive::{run_no_dive, NoDiveReport};
-use crate::studies::campaign::figures::{
-    time_series_png, xy_figure, Axis, Style, XySeries, PALETTE,
-};
 use crate::studies::campaign::options::BaseOptions;
 use crate::studies::campaign::Convergence;
 
@@ -281,268 +279,6 @@ pub fn run_ablation(
         },
         traces,
     ))
-}
-
-/// The markdown report.
-pub fn markdown(report: &AblationReport, plots: &[(String, String)]) -> String {
-    let mut md = String::new();
-    let _ = writeln!(md, "# Ablations of the paper's design choices\n");
-    if !report.plant.is_ideal() {
-        let _ = writeln!(
-            md,
-            "Every run flies the {} plant: the commands go through the firmware's mixer and the \
-             rotors' motor dynamics.\n",
-            report.plant.name()
-        );
-    }
-    let _ = writeln!(
-        md,
-        "## Hysteresis: hybrid path lifting vs memoryless `q0 >= 0` lifting\n"
-    );
-    let _ = writeln!(
-        md,
-        "Seven starts exactly 180 deg from R_d(0) (axes x, y, z, xy, xz, yz, xyz), at the reference \
-         position, repeated with different noise seeds; attitude measurement noise per axis.\n"
-    );
-    let _ = writeln!(
-        md,
-        "| lifting | attitude noise [deg] | runs | switches per run (median / max) | max switches in 1 s | time to < 90 deg, median / max [s] | converged |"
-    );
-    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- |");
-    for r in &report.hysteresis {
-        let _ = writeln!(
-            md,
-            "| {} | {} | {} | {} / {} | {} | {} / {} | {}/{} |",
-            r.lifting,
-            r.attitude_noise_deg,
-            r.runs,
-            fmt_opt(r.switches_per_run.p50),
-            fmt_opt(r.switches_per_run.max),
-            r.max_switches_in_1s,
-            fmt_opt(r.time_to_90deg_s.p50),
-            fmt_opt(r.time_to_90deg_s.max),
-            r.converged,
-            r.runs
-        );
-    }
-    let _ = writeln!(
-        md,
-        "\n## Filters: filtered outer loop vs unfiltered saturated law\n"
-    );
-    let b = &report.bounds;
-    let _ = writeln!(
-        md,
-        "A-priori bounds (filtered law): |omega_d| <= U_wd, torque per axis <= ({:.3}, {:.3}, {:.3}) N m, thrust in [{:.3}, {:.3}] N.\n",
-        b.torque_max_Nm[0], b.torque_max_Nm[1], b.torque_max_Nm[2], b.thrust_min_N, b.thrust_max_N
-    );
-    let _ = writeln!(
-        md,
-        "| case | law | peak \\|omega_d\\| [rad/s] | peak \\|omega_d_dot\\| [rad/s^2] | peak \\|tau\\| x, y, z [N m] | thrust range [N] | samples outside a-priori | samples beyond limits | settling [s] |"
-    );
-    let _ = writeln!(
-        md,
-        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
-    );
-    for r in &report.filters {
-        let _ = writeln!(
-            md,
-            "| {} | {} | {:.3} | {:.2} | {:.3}, {:.3}, {:.3} | [{:.2}, {:.2}] | {} | {} | {} |",
-            r.case,
-            r.law,
-            r.omega_d_max_rad_s,
-            r.omega_d_dot_max_rad_s2,
-            r.torque_abs_max_Nm[0],
-            r.torque_abs_max_Nm[1],
-            r.torque_abs_max_Nm[2],
-            r.thrust_range_N[0],
-            r.thrust_range_N[1],
-            r.samples_outside_a_priori,
-            r.samples_beyond_limits,
-            fmt_opt(r.settling_time_s)
-        );
-    }
-    no_dive_markdown(&mut md, &report.no_dive_thrust);
-    crate::studies::ablation::integral::markdown(&mut md, &report.integral_action);
-    let _ = writeln!(md);
-    for (title, file) in plots {
-        let _ = writeln!(md, "![{title}]({file})\n");
-    }
-    md
-}
-
-fn no_dive_markdown(md: &mut String, r: &NoDiveReport) {
-    let _ = writeln!(
-        md,
-        "\n## No-dive thrust: T = m|u| vs {}\n",
-        r.no_dive.thrust.name()
-    );
-    let _ = writeln!(
-        md,
-        "Certified thrust interval with the option: [{:.3}, {:.3}] N. Flip cost (paper start \
-         minus upright start): {:.2} m with T = m|u|, {:.2} m with the option ({:.0} %).\n",
-        r.no_dive_thrust_interval_N[0],
-        r.no_dive_thrust_interval_N[1],
-        r.flip_cost_norm_m,
-        r.flip_cost_no_dive_m,
-        100.0 * r.flip_cost_no_dive_m / r.flip_cost_norm_m
-    );
-    let _ = writeln!(
-        md,
-        "| start | altitude lost, T = m\\|u\\| [m] | altitude lost, no-dive [m] | ratio | settling, T = m\\|u\\| [s] | settling, no-dive [s] |"
-    );
-    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- |");
-    for a in &r.altitude {
-        let _ = writeln!(
-            md,
-            "| {} | {:.2} | {:.2} | {:.2} | {} | {} |",
-            a.start,
-            a.altitude_loss_norm_m,
-            a.altitude_loss_no_dive_m,
-            a.altitude_loss_no_dive_m / a.altitude_loss_norm_m,
-            fmt_opt(a.settling_norm_s),
-            fmt_opt(a.settling_no_dive_s)
-        );
-    }
-    let _ = writeln!(
-        md,
-        "\nChattering: the seven 180-deg starts at hover under attitude measurement noise.\n"
-    );
-    let _ = writeln!(
-        md,
-        "| thrust | attitude noise [deg] | runs | MRP switches per s (mean) | max switches in 1 s | thrust cut-offs per s (mean) | max cut-offs in 1 s | converged |"
-    );
-    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- |");
-    for c in &r.chattering {
-        let _ = writeln!(
-            md,
-            "| {} | {} | {} | {:.3} | {} | {:.3} | {} | {}/{} |",
-            c.thrust,
-            c.attitude_noise_deg,
-            c.runs,
-            c.switches_per_s,
-            c.max_switches_in_1s,
-            c.thrust_cutoffs_per_s,
-            c.max_thrust_cutoffs_in_1s,
-            c.converged,
-            c.runs
-        );
-    }
-}
-
-fn write_plots(
-    dir: &Path,
-    report: &AblationReport,
-    traces: &Traces,
-) -> Result<Vec<(String, String)>> {
-    let mut files = Vec::new();
-    let span = traces
-        .first()
-        .and_then(|t| t.2.last())
-        .map_or(0.0..1.0, |p| 0.0..p.t_s);
-    let panels: [crate::runs::trace::PanelSpec; 3] = [
-        (
-            "filters_omega_d.png",
-            "|omega_d|, filtered vs unfiltered (paper start)",
-            "|omega_d| [rad/s]",
-            Scale::Log,
-            |p| p.omega_d_rad_s,
-        ),
-        (
-            "filters_omega_d_dot.png",
-            "|omega_d_dot|, filtered vs unfiltered (paper start)",
-            "|omega_d_dot| [rad/s^2]",
-            Scale::Log,
-            |p| p.omega_d_dot_rad_s2,
-        ),
-        (
-            "filters_torque.png",
-            "max_i |tau_i|, filtered vs unfiltered (paper start)",
-            "torque [N m]",
-            Scale::Log,
-            |p| p.torque_abs_max_Nm,
-        ),
-    ];
-    for (file, title, y_label, scale, f) in panels {
-        let mut series: Vec<Series> = traces
-            .iter()
-            .enumerate()
-            .map(|(i, (_, law, pts))| {
-                Series::line(
-                    law.label(),
-                    PALETTE[i],
-                    pts.iter().map(|p| (p.t_s, f(p))).collect(),
-                )
-            })
-            .collect();
-        if file == "filters_torque.png" {
-            let lowest = report
-                .bounds
-                .torque_max_Nm
-                .iter()
-                .copied()
-                .fold(f64::INFINITY, f64::min);
-            series.push(Series::level(
-                Some("smallest a-priori torque bound"),
-                PALETTE[5],
-                lowest,
-                &span,
-            ));
-        }
-        let panel = Panel {
-            file,
-            title: title.into(),
-            y_label: y_label.into(),
-            scale,
-            series,
-            legend_at: LegendAt::UpperRight,
-        };
-        time_series_png(&dir.join(file), &panel)?;
-        files.push((title.to_string(), file.to_string()));
-    }
-    let file = "hysteresis_switches.png";
-    let mut series: Vec<XySeries> = Vec::new();
-    for r in &report.hysteresis {
-        // +1 so that zero switches shows on the log axis.
-        let point = (
-            r.attitude_noise_deg,
-            r.switches_per_run.max.unwrap_or(0.0) + 1.0,
-        );
-        match series.iter_mut().find(|s| s.label == r.lifting) {
-            Some(s) => s.points.push(point),
-            None => series.push(XySeries {
-                label: r.lifting.clone(),
-                color: PALETTE[series.len()],
-                style: Style::Line,
-                points: vec![point],
-            }),
-        }
-    }
-    xy_figure(
-        &dir.join(file),
-        "Most switches in one 180-deg run vs attitude noise",
-        &Axis::linear("attitude noise std [deg]"),
-        &Axis::log("(switches per run + 1)"),
-        &series,
-    )?;
-    files.push(("Switches vs noise".into(), file.into()));
-    let file = "no_dive_altitude.png";
-    let r = &report.no_dive_thrust;
-    let panel = Panel {
-        file,
-        title: "Altitude from the paper's start: T = m|u| vs no-dive thrust".into(),
-        y_label: "z [m]".into(),
-        scale: Scale::Linear,
-        series: r
-            .altitude_traces
-            .iter()
-            .enumerate()
-            .map(|(i, (label, points))| Series::line(label, PALETTE[i], points.clone()))
-            .collect(),
-        legend_at: LegendAt::LowerRight,
-    };
-    time_series_png(&dir.join(file), &panel)?;
-    files.push(("Altitude, no-dive thrust".into(), file.into()));
-    Ok(files)
 }
 
 /// What the `ablation` job runs (the command line's defaults in parentheses).

@@ -1,0 +1,152 @@
+//! The ablation's Markdown page: the hysteresis and filter tables and the no-dive section.
+
+use super::*;
+use crate::output::console::fmt_opt;
+use crate::studies::ablation::no_dive::NoDiveReport;
+use std::fmt::Write as _;
+
+/// The markdown report.
+pub fn markdown(report: &AblationReport, plots: &[(String, String)]) -> String {
+    let mut md = String::new();
+    let _ = writeln!(md, "# Ablations of the paper's design choices\n");
+    if !report.plant.is_ideal() {
+        let _ = writeln!(
+            md,
+            "Every run flies the {} plant: the commands go through the firmware's mixer and the \
+             rotors' motor dynamics.\n",
+            report.plant.name()
+        );
+    }
+    let _ = writeln!(
+        md,
+        "## Hysteresis: hybrid path lifting vs memoryless `q0 >= 0` lifting\n"
+    );
+    let _ = writeln!(
+        md,
+        "Seven starts exactly 180 deg from R_d(0) (axes x, y, z, xy, xz, yz, xyz), at the reference \
+         position, repeated with different noise seeds; attitude measurement noise per axis.\n"
+    );
+    let _ = writeln!(
+        md,
+        "| lifting | attitude noise [deg] | runs | switches per run (median / max) | max switches in 1 s | time to < 90 deg, median / max [s] | converged |"
+    );
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- |");
+    for r in &report.hysteresis {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} / {} | {} | {} / {} | {}/{} |",
+            r.lifting,
+            r.attitude_noise_deg,
+            r.runs,
+            fmt_opt(r.switches_per_run.p50),
+            fmt_opt(r.switches_per_run.max),
+            r.max_switches_in_1s,
+            fmt_opt(r.time_to_90deg_s.p50),
+            fmt_opt(r.time_to_90deg_s.max),
+            r.converged,
+            r.runs
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\n## Filters: filtered outer loop vs unfiltered saturated law\n"
+    );
+    let b = &report.bounds;
+    let _ = writeln!(
+        md,
+        "A-priori bounds (filtered law): |omega_d| <= U_wd, torque per axis <= ({:.3}, {:.3}, {:.3}) N m, thrust in [{:.3}, {:.3}] N.\n",
+        b.torque_max_Nm[0], b.torque_max_Nm[1], b.torque_max_Nm[2], b.thrust_min_N, b.thrust_max_N
+    );
+    let _ = writeln!(
+        md,
+        "| case | law | peak \\|omega_d\\| [rad/s] | peak \\|omega_d_dot\\| [rad/s^2] | peak \\|tau\\| x, y, z [N m] | thrust range [N] | samples outside a-priori | samples beyond limits | settling [s] |"
+    );
+    let _ = writeln!(
+        md,
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    );
+    for r in &report.filters {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {:.3} | {:.2} | {:.3}, {:.3}, {:.3} | [{:.2}, {:.2}] | {} | {} | {} |",
+            r.case,
+            r.law,
+            r.omega_d_max_rad_s,
+            r.omega_d_dot_max_rad_s2,
+            r.torque_abs_max_Nm[0],
+            r.torque_abs_max_Nm[1],
+            r.torque_abs_max_Nm[2],
+            r.thrust_range_N[0],
+            r.thrust_range_N[1],
+            r.samples_outside_a_priori,
+            r.samples_beyond_limits,
+            fmt_opt(r.settling_time_s)
+        );
+    }
+    no_dive_markdown(&mut md, &report.no_dive_thrust);
+    crate::studies::ablation::integral::markdown(&mut md, &report.integral_action);
+    let _ = writeln!(md);
+    for (title, file) in plots {
+        let _ = writeln!(md, "![{title}]({file})\n");
+    }
+    md
+}
+
+pub(super) fn no_dive_markdown(md: &mut String, r: &NoDiveReport) {
+    let _ = writeln!(
+        md,
+        "\n## No-dive thrust: T = m|u| vs {}\n",
+        r.no_dive.thrust.name()
+    );
+    let _ = writeln!(
+        md,
+        "Certified thrust interval with the option: [{:.3}, {:.3}] N. Flip cost (paper start \
+         minus upright start): {:.2} m with T = m|u|, {:.2} m with the option ({:.0} %).\n",
+        r.no_dive_thrust_interval_N[0],
+        r.no_dive_thrust_interval_N[1],
+        r.flip_cost_norm_m,
+        r.flip_cost_no_dive_m,
+        100.0 * r.flip_cost_no_dive_m / r.flip_cost_norm_m
+    );
+    let _ = writeln!(
+        md,
+        "| start | altitude lost, T = m\\|u\\| [m] | altitude lost, no-dive [m] | ratio | settling, T = m\\|u\\| [s] | settling, no-dive [s] |"
+    );
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- |");
+    for a in &r.altitude {
+        let _ = writeln!(
+            md,
+            "| {} | {:.2} | {:.2} | {:.2} | {} | {} |",
+            a.start,
+            a.altitude_loss_norm_m,
+            a.altitude_loss_no_dive_m,
+            a.altitude_loss_no_dive_m / a.altitude_loss_norm_m,
+            fmt_opt(a.settling_norm_s),
+            fmt_opt(a.settling_no_dive_s)
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\nChattering: the seven 180-deg starts at hover under attitude measurement noise.\n"
+    );
+    let _ = writeln!(
+        md,
+        "| thrust | attitude noise [deg] | runs | MRP switches per s (mean) | max switches in 1 s | thrust cut-offs per s (mean) | max cut-offs in 1 s | converged |"
+    );
+    let _ = writeln!(md, "| --- | --- | --- | --- | --- | --- | --- | --- |");
+    for c in &r.chattering {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {:.3} | {} | {:.3} | {} | {}/{} |",
+            c.thrust,
+            c.attitude_noise_deg,
+            c.runs,
+            c.switches_per_s,
+            c.max_switches_in_1s,
+            c.thrust_cutoffs_per_s,
+            c.max_thrust_cutoffs_in_1s,
+            c.converged,
+            c.runs
+        );
+    }
+}
