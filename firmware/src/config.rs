@@ -4,90 +4,13 @@
 //! Units are SI (kg, m, N, N m, s, µs where named `_us`). Frames: body FLU (x forward, y left,
 //! z up), inertial NWU (z up); see [`crate::frames`].
 
-use controller_core::scalar::sqrt_f32;
 use controller_core::{
     Bounds, Gains, Limits, ParameterError, ReferenceTrajectory, ThrustMode, Vehicle,
 };
 
 use crate::airframe::Airframe;
+pub use crate::airframe::{Rotor, RotorConfig};
 use crate::control_rate::ControlRate;
-
-/// Position and spin of one rotor.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Rotor {
-    /// Rotor hub position `(x, y)` \[m\] in the body FLU frame (x forward, y left).
-    pub position: [f32; 2],
-    /// `+1` if the rotor spins counter-clockwise seen from above (its reaction torque on the
-    /// body is clockwise, i.e. negative about body z), `-1` if clockwise.
-    pub spin: f32,
-}
-
-/// X-quad geometry and rotor model.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RotorConfig {
-    /// The four rotors, in motor-output order (see [`crate::mixer`]).
-    pub rotors: [Rotor; 4],
-    /// Arm length \[m\]: the largest distance from the centre of mass to a hub (documentation
-    /// of the positions; [`Airframe::paper`] builds the positions from it).
-    pub arm_length: f32,
-    /// Rotor thrust coefficient `k_T` [N/(rad/s)²]: `f = k_T ϖ²`. Only the ratio
-    /// `k_Q / k_T` is used; airframes from vehicle files (which give that ratio) and
-    /// [`Airframe::paper`] set `k_T = 1`, so `drag_coefficient` is the ratio itself.
-    pub thrust_coefficient: f32,
-    /// Rotor drag-torque coefficient `k_Q` [N m/(rad/s)²]: `q = k_Q ϖ²`; the yaw torque per
-    /// newton of thrust is `k_Q / k_T` \[m\].
-    pub drag_coefficient: f32,
-    /// Smallest thrust one rotor produces when armed \[N\] (at idle throttle).
-    pub thrust_min: f32,
-    /// Largest thrust one rotor produces \[N\] (at full throttle).
-    pub thrust_max: f32,
-    /// Thrust curve factor `k ∈ [0, 1]` (PX4's THR_MDL_FAC idea): the normalised thrust
-    /// `f̂ = (f − f_min)/(f_max − f_min)` relates to the normalised command `u` by
-    /// `f̂ = k u² + (1 − k) u`.
-    pub curve_factor: f32,
-    /// Throttle [0, 1] at which an armed motor idles (produces `thrust_min`).
-    pub throttle_idle: f32,
-}
-
-impl RotorConfig {
-    /// Yaw torque per newton of rotor thrust, `k_Q / k_T` \[m\].
-    pub fn torque_per_thrust(&self) -> f32 {
-        self.drag_coefficient / self.thrust_coefficient
-    }
-
-    /// Throttle [0, 1] for a rotor thrust `f` \[N\], clamped to `[thrust_min, thrust_max]`.
-    /// Inverse of [`RotorConfig::thrust_from_throttle`] on `[throttle_idle, 1]`. A non-finite
-    /// `f` gives the idle throttle (never NaN).
-    pub fn throttle_from_thrust(&self, f: f32) -> f32 {
-        let span = self.thrust_max - self.thrust_min;
-        let mut n = (f - self.thrust_min) / span;
-        if !n.is_finite() {
-            n = 0.0;
-        }
-        let n = n.clamp(0.0, 1.0);
-        let k = self.curve_factor;
-        // Solve k u² + (1 − k) u = n for u ∈ [0, 1].
-        let u = if k < 1e-6 {
-            n
-        } else {
-            let b = 1.0 - k;
-            (-b + sqrt_f32(b * b + 4.0 * k * n)) / (2.0 * k)
-        };
-        let t = self.throttle_idle + (1.0 - self.throttle_idle) * u.clamp(0.0, 1.0);
-        if t.is_finite() {
-            t.clamp(0.0, 1.0)
-        } else {
-            self.throttle_idle
-        }
-    }
-
-    /// Rotor thrust \[N\] for an armed throttle in `[throttle_idle, 1]` (clamped).
-    pub fn thrust_from_throttle(&self, throttle: f32) -> f32 {
-        let u = ((throttle - self.throttle_idle) / (1.0 - self.throttle_idle)).clamp(0.0, 1.0);
-        let k = self.curve_factor;
-        self.thrust_min + (self.thrust_max - self.thrust_min) * (k * u * u + (1.0 - k) * u)
-    }
-}
 
 /// Time limits of the safety state machine \[µs\] and the failsafe's level-hold law.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -47,6 +47,7 @@ pub mod flight_reference;
 #[cfg(feature = "vehicle-file")]
 pub mod flight_tables;
 pub mod frames;
+pub mod gate_failure;
 pub mod ground_station;
 pub mod imu_attitude;
 pub mod link;

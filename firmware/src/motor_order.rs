@@ -11,7 +11,7 @@
 //! Spin directions are the vehicle file's: an order only places the outputs, it does not
 //! reverse a propeller.
 
-use crate::config::Rotor;
+use crate::airframe::Rotor;
 
 /// Which order the four motor outputs go in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

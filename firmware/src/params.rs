@@ -13,7 +13,7 @@
 //! candidate set-up before it takes a new value.
 
 use crate::config::FlightConfig;
-use crate::pipeline::GateFailure;
+use crate::gate_failure::GateFailure;
 
 /// Longest parameter name: MAVLink's `param_id` is 16 bytes, NUL-padded only when shorter.
 pub const NAME_LEN: usize = 16;

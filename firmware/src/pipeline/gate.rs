@@ -7,6 +7,7 @@
 //! ([`crate::mixer::Mixer::box_margin`]). Pure functions, so the boot report, the arm check and
 //! every reference change apply the very same test.
 
+pub use crate::gate_failure::GateFailure;
 use controller_core::Certificate;
 
 use crate::config::ThrustChoice;
@@ -15,18 +16,6 @@ use crate::mixer::Mixer;
 /// Name of the box-fit "condition" in refusals and events: `lhs` is the box's smallest
 /// headroom, `rhs` the required margin (fractions of the rotor thrust range).
 pub const BOX_FIT: &str = "box_fit.margin";
-
-/// The first reason a set-up is not certified: a violated certificate condition with both
-/// sides (`lhs > rhs` should hold), or [`BOX_FIT`] with the box's margin and the required one.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GateFailure {
-    /// Condition name (controller-core's, e.g. `"theorem2.torque_max_yaw"`, or [`BOX_FIT`]).
-    pub condition: &'static str,
-    /// Left-hand side (for [`BOX_FIT`]: the margin found).
-    pub lhs: f32,
-    /// Right-hand side (for [`BOX_FIT`]: the margin required).
-    pub rhs: f32,
-}
 
 /// Name of the thrust-floor "condition": `lhs` is the floor, `rhs` Theorem 1's `T_min` \[N\]
 /// (a floor above it would raise the thrust above the paper's).
