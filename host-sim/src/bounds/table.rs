@@ -8,6 +8,7 @@
 //! 1 shows the tight bound is nearly exact; Theorem 2's torque conditions are judged with both
 //! bounds ([`crate::bounds::certificate`]).
 
+use crate::output::markdown_table::{Rule, Table};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -152,24 +153,31 @@ pub fn markdown(table: &BoundsTable) -> String {
     let opt = |x: Option<f64>, f: fn(f64) -> String| x.map_or("–".into(), f);
     let mut s = String::new();
     let _ = writeln!(s, "# A-priori bounds of `{}`\n", table.scenario);
-    let _ = writeln!(
-        s,
-        "| quantity | paper (Lemma 1, Theorem 2) | tight | witness | tight / paper | witness / tight |"
+    let mut rows = Table::new(
+        &mut s,
+        &[
+            "quantity",
+            "paper (Lemma 1, Theorem 2)",
+            "tight",
+            "witness",
+            "tight / paper",
+            "witness / tight",
+        ],
+        Rule::Compact,
     );
-    let _ = writeln!(s, "|---|---|---|---|---|---|");
     for r in &table.rows {
-        let _ = writeln!(
-            s,
-            "| {} [{}] | {} | {} | {} | {:.3} | {} |",
-            // A bare `|` would end the table cell.
-            r.quantity.replace('|', "\\|"),
-            r.unit,
-            significant(r.paper),
-            significant(r.tight),
-            opt(r.witness, significant),
-            r.tight_over_paper(),
-            opt(r.witness_over_tight(), |v| format!("{v:.3}")),
-        );
+        rows.row(&[
+            format!(
+                "{} [{}]", // A bare `|` would end the table cell.
+                r.quantity.replace('|', "\\|"),
+                r.unit
+            ),
+            significant(r.paper).to_string(),
+            significant(r.tight).to_string(),
+            opt(r.witness, significant).to_string(),
+            format!("{:.3}", r.tight_over_paper()),
+            opt(r.witness_over_tight(), |v| format!("{v:.3}")).to_string(),
+        ]);
     }
     let _ = writeln!(
         s,
@@ -180,21 +188,25 @@ pub fn markdown(table: &BoundsTable) -> String {
         table.boxes.1,
         table.witness_evaluations
     );
-    let _ = writeln!(
-        s,
-        "| condition | tau_max [N m] | paper's bound | tight bound | verdict |"
+    let mut rows = Table::new(
+        &mut s,
+        &[
+            "condition",
+            "tau_max [N m]",
+            "paper's bound",
+            "tight bound",
+            "verdict",
+        ],
+        Rule::Compact,
     );
-    let _ = writeln!(s, "|---|---|---|---|---|");
     for c in &table.conditions {
-        let _ = writeln!(
-            s,
-            "| `{}` | {} | {} | {} | {} |",
-            c.name,
-            significant(c.lhs),
-            significant(c.rhs_paper),
-            significant(c.rhs_tight),
-            c.verdict()
-        );
+        rows.row(&[
+            format!("`{}`", c.name),
+            significant(c.lhs).to_string(),
+            significant(c.rhs_paper).to_string(),
+            significant(c.rhs_tight).to_string(),
+            c.verdict().to_string(),
+        ]);
     }
     s
 }

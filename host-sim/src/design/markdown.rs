@@ -1,6 +1,7 @@
 //! `design.md`: the report rendered for a reader (binding conditions, certificate, gains,
 //! objective, margins, plots), from the same [`Report`] as `design.json`.
 
+use crate::output::markdown_table::{Rule, Table};
 use std::fmt::Write as _;
 
 use super::report::Report;
@@ -94,20 +95,31 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             i.observer.as_ref().map_or(f64::NAN, |o| o.disturbance_gain_1_s2),
         );
     }
-    let _ = writeln!(
-        s,
-        "| condition | holds | lhs | rhs | slack | paper's rhs (holds) |\n|---|---|---|---|---|---|"
+    let mut table = Table::new(
+        &mut s,
+        &[
+            "condition",
+            "holds",
+            "lhs",
+            "rhs",
+            "slack",
+            "paper's rhs (holds)",
+        ],
+        Rule::Compact,
     );
     for c in &r.certificate.conditions {
         let paper = c.paper.map_or_else(
             || "–".to_owned(),
             |(rhs, holds)| format!("{rhs:.6} ({holds})"),
         );
-        let _ = writeln!(
-            s,
-            "| `{}` | {} | {:.6} | {:.6} | {:.3e} | {paper} |",
-            c.name, c.holds, c.lhs, c.rhs, c.slack
-        );
+        table.row(&[
+            format!("`{}`", c.name),
+            c.holds.to_string(),
+            format!("{:.6}", c.lhs),
+            format!("{:.6}", c.rhs),
+            format!("{:.3e}", c.slack),
+            paper,
+        ]);
     }
     let _ = writeln!(
         s,
@@ -127,12 +139,29 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
         r.limits.torque_max_Nm[2],
     );
     let g = &r.gains;
-    let _ = writeln!(
-        s,
-        "## Gains\n\n| k_p | k_v | k_f | k_s | M_p | k_theta | k_omega | M_theta | M_omega | delta | alpha |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|\n| {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4e} | {:.4e} | {:.4e} | {:.4e} | {} | {} |\n",
-        g.kp, g.kv, g.kf, g.ks, g.M_p, g.k_theta, g.k_omega, g.M_theta, g.M_omega, g.delta, g.alpha
-    );
+    let _ = writeln!(s, "## Gains\n");
+    Table::new(
+        &mut s,
+        &[
+            "k_p", "k_v", "k_f", "k_s", "M_p", "k_theta", "k_omega", "M_theta", "M_omega", "delta",
+            "alpha",
+        ],
+        Rule::Compact,
+    )
+    .row(&[
+        format!("{:.4}", g.kp),
+        format!("{:.4}", g.kv),
+        format!("{:.4}", g.kf),
+        format!("{:.4}", g.ks),
+        format!("{:.4}", g.M_p),
+        format!("{:.4e}", g.k_theta),
+        format!("{:.4e}", g.k_omega),
+        format!("{:.4e}", g.M_theta),
+        format!("{:.4e}", g.M_omega),
+        g.delta.to_string(),
+        g.alpha.to_string(),
+    ]);
+    let _ = writeln!(s);
     if let Some(t) = &g.tilt_priority {
         let _ = writeln!(
             s,
@@ -229,9 +258,14 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
         opt(o.worst_settling_180_s, "s"),
         o.altitude_loss_upside_down_m
     );
-    let _ = writeln!(
-        s,
-        "| start | settling (nominal) | settling (motor lag doubled) |\n|---|---|---|"
+    let mut table = Table::new(
+        &mut s,
+        &[
+            "start",
+            "settling (nominal)",
+            "settling (motor lag doubled)",
+        ],
+        Rule::Compact,
     );
     for (i, (name, t)) in o.settling_180_s.iter().enumerate() {
         let d = r
@@ -239,7 +273,7 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             .doubled_lag_settling_180_s
             .get(i)
             .and_then(|x| x.1);
-        let _ = writeln!(s, "| {name} | {} | {} |", opt(*t, "s"), opt(d, "s"));
+        table.row(&[name.to_string(), opt(*t, "s"), opt(d, "s")]);
     }
     if let Some(d) = &o.disturbed_hover {
         let _ = writeln!(

@@ -6,6 +6,7 @@
 pub(crate) mod chart;
 pub mod console;
 pub mod csv;
+pub mod markdown_table;
 pub mod plots;
 pub mod summary;
 

@@ -1,5 +1,6 @@
 //! The human-readable table of a bench run.
 
+use crate::output::markdown_table::{Rule, Table};
 use std::fmt::Write as _;
 
 use super::stats::Figures;
@@ -15,11 +16,19 @@ pub fn render(f: &Figures) -> String {
         f.overhead_instructions,
         f.core_hz / 1e6
     );
-    let _ = writeln!(
-        s,
-        "| step | steps | instructions min / median / max | mean | µs min / median / max (≥) | CPU at 100 Hz (worst, ≥) | CPU at 1 kHz (worst, ≥) |"
+    let mut table = Table::new(
+        &mut s,
+        &[
+            "step",
+            "steps",
+            "instructions min / median / max",
+            "mean",
+            "µs min / median / max (≥)",
+            "CPU at 100 Hz (worst, ≥)",
+            "CPU at 1 kHz (worst, ≥)",
+        ],
+        Rule::Spaced,
     );
-    let _ = writeln!(s, "| --- | --- | --- | --- | --- | --- | --- |");
     for (name, x) in [
         (
             "full step (10 IMU samples + pose frame + control_tick)",
@@ -28,20 +37,18 @@ pub fn render(f: &Figures) -> String {
         ("controller step (Controller::step)", &f.controller_step),
     ] {
         let i = &x.instructions;
-        let _ = writeln!(
-            s,
-            "| {name} | {} | {} / {} / {} | {:.0} | {:.1} / {:.1} / {:.1} | {:.2} % | {:.1} % |",
-            i.count,
-            i.min,
-            i.median,
-            i.max,
-            i.mean,
-            x.lower_bound_us[0],
-            x.lower_bound_us[1],
-            x.lower_bound_us[2],
-            x.cpu_percent_100hz,
-            x.cpu_percent_1khz
-        );
+        table.row(&[
+            name.to_string(),
+            i.count.to_string(),
+            format!("{} / {} / {}", i.min, i.median, i.max),
+            format!("{:.0}", i.mean),
+            format!(
+                "{:.1} / {:.1} / {:.1}",
+                x.lower_bound_us[0], x.lower_bound_us[1], x.lower_bound_us[2]
+            ),
+            format!("{:.2} %", x.cpu_percent_100hz),
+            format!("{:.1} %", x.cpu_percent_1khz),
+        ]);
     }
     let _ = writeln!(
         s,

@@ -4,6 +4,7 @@
 use super::*;
 use crate::fly::controllers::ControllerKind;
 use crate::output::console::fmt_opt;
+use crate::output::markdown_table::{Rule, Table};
 use std::fmt::Write as _;
 
 pub(super) fn pct(part: u64, whole: u64) -> String {
@@ -61,46 +62,75 @@ pub fn markdown(r: &CompareReport, plots: &[(String, String)]) -> String {
         md,
         "## Sanity checks of each controller on its own (hover at (0, 0, 5) m, 10 s)\n"
     );
-    let _ = writeln!(md, "| controller | hover: error at 10 s [m] | 1 m step: settling [s] | 1 m step: error at 10 s [m] | 30 deg roll: settling [s] |");
-    let _ = writeln!(md, "| --- | --- | --- | --- | --- |");
+    let mut t = Table::new(
+        &mut md,
+        &[
+            "controller",
+            "hover: error at 10 s [m]",
+            "1 m step: settling [s]",
+            "1 m step: error at 10 s [m]",
+            "30 deg roll: settling [s]",
+        ],
+        Rule::Spaced,
+    );
     for c in &r.results {
         let s = &c.sanity;
-        let _ = writeln!(
-            md,
-            "| {} | {:.2e} | {} | {:.2e} | {} |",
-            s.label,
-            s.hover_final_position_error_m,
+        t.row(&[
+            s.label.clone(),
+            format!("{:.2e}", s.hover_final_position_error_m),
             fmt_opt(s.step_settling_time_s),
-            s.step_final_position_error_m,
-            fmt_opt(s.tilt_settling_time_s)
-        );
+            format!("{:.2e}", s.step_final_position_error_m),
+            fmt_opt(s.tilt_settling_time_s),
+        ]);
     }
     let _ = writeln!(
         md,
         "\n## Convergence from 180 deg (seven axes, position offset in a 10 m ball)\n"
     );
-    let _ = writeln!(md, "| controller | converged | settling median / max [s] | time to < 90 deg median / max [s] | max switches in 1 s |");
-    let _ = writeln!(md, "| --- | --- | --- | --- | --- |");
+    let mut t = Table::new(
+        &mut md,
+        &[
+            "controller",
+            "converged",
+            "settling median / max [s]",
+            "time to < 90 deg median / max [s]",
+            "max switches in 1 s",
+        ],
+        Rule::Spaced,
+    );
     for c in &r.results {
         let h = &c.half_turns;
-        let _ = writeln!(
-            md,
-            "| {} | {}/{} | {} / {} | {} / {} | {} |",
-            c.contestant.label,
-            h.converged,
-            h.runs,
-            fmt_opt(h.settling_time_s.p50),
-            fmt_opt(h.settling_time_s.max),
-            fmt_opt(h.attitude_below_90deg_s.p50),
-            fmt_opt(h.attitude_below_90deg_s.max),
-            h.switching.max_switches_in_1s
-        );
+        t.row(&[
+            c.contestant.label.clone(),
+            format!("{}/{}", h.converged, h.runs),
+            format!(
+                "{} / {}",
+                fmt_opt(h.settling_time_s.p50),
+                fmt_opt(h.settling_time_s.max)
+            ),
+            format!(
+                "{} / {}",
+                fmt_opt(h.attitude_below_90deg_s.p50),
+                fmt_opt(h.attitude_below_90deg_s.max)
+            ),
+            h.switching.max_switches_in_1s.to_string(),
+        ]);
     }
     let _ = writeln!(md, "\n## Campaign: {} runs (the seven 180 deg starts, then Haar attitudes; offsets in balls of 10 m, 2 m/s, 2 rad/s)\n", r.runs);
-    let _ = writeln!(md, "| controller | converged | settling p50 / p90 [s] | steady-state error p50 [m] | final attitude error p50 [deg] | peak T / T_max, median run / worst run | peak \\|tau_i\\| / tau_max, median run / worst run | samples beyond limits | samples outside a-priori bounds |");
-    let _ = writeln!(
-        md,
-        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    let mut t = Table::new(
+        &mut md,
+        &[
+            "controller",
+            "converged",
+            "settling p50 / p90 [s]",
+            "steady-state error p50 [m]",
+            "final attitude error p50 [deg]",
+            "peak T / T_max, median run / worst run",
+            "peak \\|tau_i\\| / tau_max, median run / worst run",
+            "samples beyond limits",
+            "samples outside a-priori bounds",
+        ],
+        Rule::Spaced,
     );
     for c in &r.results {
         let s = &c.campaign;
@@ -120,25 +150,38 @@ pub fn markdown(r: &CompareReport, plots: &[(String, String)]) -> String {
         } else {
             "n/a".into()
         };
-        let _ = writeln!(
-            md,
-            "| {} | {:.1} % ({}/{}) | {} / {} | {} | {} | {} / {} | {} / {} | {} ({}) | {} |",
-            c.contestant.label,
-            100.0 * s.fraction_converged,
-            s.converged,
-            s.runs,
-            fmt_opt(s.settling_time_s.p50),
-            fmt_opt(s.settling_time_s.p90),
+        t.row(&[
+            c.contestant.label.clone(),
+            format!(
+                "{:.1} % ({}/{})",
+                100.0 * s.fraction_converged,
+                s.converged,
+                s.runs
+            ),
+            format!(
+                "{} / {}",
+                fmt_opt(s.settling_time_s.p50),
+                fmt_opt(s.settling_time_s.p90)
+            ),
             fmt_sci(s.steady_position_error_m.p50),
             fmt_sci(s.final_attitude_error_deg.p50),
-            ratio(s.peak_thrust_N.p50, b.limit_thrust_N),
-            ratio(s.peak_thrust_N.max, b.limit_thrust_N),
-            ratio(s.peak_torque_Nm.p50, tau_limit),
-            ratio(s.peak_torque_Nm.max, tau_limit),
-            counts.samples_beyond_limits,
-            pct(counts.samples_beyond_limits, counts.samples),
-            a_priori
-        );
+            format!(
+                "{} / {}",
+                ratio(s.peak_thrust_N.p50, b.limit_thrust_N),
+                ratio(s.peak_thrust_N.max, b.limit_thrust_N)
+            ),
+            format!(
+                "{} / {}",
+                ratio(s.peak_torque_Nm.p50, tau_limit),
+                ratio(s.peak_torque_Nm.max, tau_limit)
+            ),
+            format!(
+                "{} ({})",
+                counts.samples_beyond_limits,
+                pct(counts.samples_beyond_limits, counts.samples)
+            ),
+            a_priori,
+        ]);
     }
     if !r.plant.is_ideal() {
         let _ = writeln!(
@@ -147,8 +190,16 @@ pub fn markdown(r: &CompareReport, plots: &[(String, String)]) -> String {
              rotors cannot realise):\n",
             r.plant.name()
         );
-        let _ = writeln!(md, "| controller | samples given up | largest thrust given up [N] | largest torque given up [N m] |");
-        let _ = writeln!(md, "| --- | --- | --- | --- |");
+        let mut t = Table::new(
+            &mut md,
+            &[
+                "controller",
+                "samples given up",
+                "largest thrust given up [N]",
+                "largest torque given up [N m]",
+            ],
+            Rule::Spaced,
+        );
         for c in &r.results {
             if let Some(m) = &c.campaign.mixer {
                 let m = if m.nominal.samples > 0 {
@@ -156,16 +207,17 @@ pub fn markdown(r: &CompareReport, plots: &[(String, String)]) -> String {
                 } else {
                     &m.perturbed
                 };
-                let _ = writeln!(
-                    md,
-                    "| {} | {} of {} ({}) | {:.3} | {:.4} |",
-                    c.contestant.label,
-                    m.samples_given_up,
-                    m.samples,
-                    pct(m.samples_given_up, m.samples),
-                    m.thrust_given_up_max_N,
-                    m.torque_given_up_max_Nm
-                );
+                t.row(&[
+                    c.contestant.label.clone(),
+                    format!(
+                        "{} of {} ({})",
+                        m.samples_given_up,
+                        m.samples,
+                        pct(m.samples_given_up, m.samples)
+                    ),
+                    format!("{:.3}", m.thrust_given_up_max_N),
+                    format!("{:.4}", m.torque_given_up_max_Nm),
+                ]);
             }
         }
     }
@@ -181,22 +233,34 @@ pub fn markdown(r: &CompareReport, plots: &[(String, String)]) -> String {
         "\n## Chattering under attitude noise ({} deg per axis) at 180 deg (seven axes x 2 seeds, at the reference)\n",
         r.chattering_noise_deg
     );
-    let _ = writeln!(md, "| controller | switches per run median / max | max switches in 1 s | time to < 90 deg median / max [s] | converged |");
-    let _ = writeln!(md, "| --- | --- | --- | --- | --- |");
+    let mut t = Table::new(
+        &mut md,
+        &[
+            "controller",
+            "switches per run median / max",
+            "max switches in 1 s",
+            "time to < 90 deg median / max [s]",
+            "converged",
+        ],
+        Rule::Spaced,
+    );
     for c in &r.results {
         let s = &c.chattering;
-        let _ = writeln!(
-            md,
-            "| {} | {} / {} | {} | {} / {} | {}/{} |",
-            c.contestant.label,
-            fmt_opt(s.switching.switches_per_run.p50),
-            fmt_opt(s.switching.switches_per_run.max),
-            s.switching.max_switches_in_1s,
-            fmt_opt(s.attitude_below_90deg_s.p50),
-            fmt_opt(s.attitude_below_90deg_s.max),
-            s.converged,
-            s.runs
-        );
+        t.row(&[
+            c.contestant.label.clone(),
+            format!(
+                "{} / {}",
+                fmt_opt(s.switching.switches_per_run.p50),
+                fmt_opt(s.switching.switches_per_run.max)
+            ),
+            s.switching.max_switches_in_1s.to_string(),
+            format!(
+                "{} / {}",
+                fmt_opt(s.attitude_below_90deg_s.p50),
+                fmt_opt(s.attitude_below_90deg_s.max)
+            ),
+            format!("{}/{}", s.converged, s.runs),
+        ]);
     }
     let _ = writeln!(md, "\nLee et al.'s law has no switching (a continuous attitude error); at exactly 180 deg its e_R vanishes, so it leaves only through noise or the translational coupling.\n");
     for (title, file) in plots {

@@ -1,5 +1,6 @@
 //! The rate study as Markdown tables (`rates.md`, the README's figures).
 
+use crate::output::markdown_table::{Rule, Table};
 use std::fmt::Write as _;
 
 use super::RateStudy;
@@ -20,31 +21,38 @@ pub fn markdown(s: &RateStudy) -> String {
         o,
         "SIL (firmware pipeline, build's vehicle, sensors over MAVLink, rotors with motor lag):\n"
     );
-    let _ = writeln!(
-        o,
-        "| scenario | rate (Hz) | RMS error, last 10 s (m) | max error after {} s (m) | \
-         peak abs(tau) x / y / z (N m) | torque bound (N m) | torque margin | thrust range (N) | \
-         thrust margin (N) | mixer saturated | end |",
-        super::sil_rows::LATE_FROM_S
+    let late = format!("max error after {} s (m)", super::sil_rows::LATE_FROM_S);
+    let mut table = Table::new(
+        &mut o,
+        &[
+            "scenario",
+            "rate (Hz)",
+            "RMS error, last 10 s (m)",
+            &late,
+            "peak abs(tau) x / y / z (N m)",
+            "torque bound (N m)",
+            "torque margin",
+            "thrust range (N)",
+            "thrust margin (N)",
+            "mixer saturated",
+            "end",
+        ],
+        Rule::Compact,
     );
-    let _ = writeln!(o, "|---|---|---|---|---|---|---|---|---|---|---|");
     for r in &s.sil {
-        let _ = writeln!(
-            o,
-            "| {} | {} | {:.4} | {:.4} | {} | {} | {:.1} % | {:.2} to {:.2} | {:.2} | {:.1} % | {} |",
-            r.scenario,
-            r.rate_hz,
-            r.rms_error_last_10s_m,
-            r.max_error_late_m,
+        table.row(&[
+            r.scenario.to_string(),
+            r.rate_hz.to_string(),
+            format!("{:.4}", r.rms_error_last_10s_m),
+            format!("{:.4}", r.max_error_late_m),
             axes(r.torque_peak_Nm),
             axes(r.torque_bound_Nm),
-            100.0 * r.torque_margin,
-            r.thrust_range_N[0],
-            r.thrust_range_N[1],
-            r.thrust_margin_N,
-            100.0 * r.mixer_saturated_fraction,
-            r.final_state
-        );
+            format!("{:.1} %", 100.0 * r.torque_margin),
+            format!("{:.2} to {:.2}", r.thrust_range_N[0], r.thrust_range_N[1]),
+            format!("{:.2}", r.thrust_margin_N),
+            format!("{:.1} %", 100.0 * r.mixer_saturated_fraction),
+            r.final_state.to_string(),
+        ]);
     }
     if s.campaign.is_empty() {
         return o;
@@ -57,31 +65,42 @@ pub fn markdown(s: &RateStudy) -> String {
         s.campaign_runs,
         tau.map_or_else(|| "the vehicle's".to_string(), |t| format!("{t} s"))
     );
-    let _ = writeln!(
-        o,
-        "| rate (Hz) | converged | settling p50 / p99 (s) | steady error p50 / max (m) | \
-         peak abs(tau) x / y / z (N m) | torque margin | peak T / T_max (N) | runs outside \
-         a-priori bounds | mixer gave up | failed |"
+    let mut table = Table::new(
+        &mut o,
+        &[
+            "rate (Hz)",
+            "converged",
+            "settling p50 / p99 (s)",
+            "steady error p50 / max (m)",
+            "peak abs(tau) x / y / z (N m)",
+            "torque margin",
+            "peak T / T_max (N)",
+            "runs outside a-priori bounds",
+            "mixer gave up",
+            "failed",
+        ],
+        Rule::Compact,
     );
-    let _ = writeln!(o, "|---|---|---|---|---|---|---|---|---|---|");
     for r in &s.campaign {
-        let _ = writeln!(
-            o,
-            "| {} | {:.1} % | {} / {} | {} / {} | {} | {:.1} % | {:.2} / {:.2} | {} | {:.2} % | {} |",
-            r.rate_hz,
-            100.0 * r.converged_fraction,
-            opt(r.settling_s[0], 2),
-            opt(r.settling_s[1], 2),
-            opt(r.steady_error_m[0], 4),
-            opt(r.steady_error_m[1], 4),
+        table.row(&[
+            r.rate_hz.to_string(),
+            format!("{:.1} %", 100.0 * r.converged_fraction),
+            format!("{} / {}", opt(r.settling_s[0], 2), opt(r.settling_s[1], 2)),
+            format!(
+                "{} / {}",
+                opt(r.steady_error_m[0], 4),
+                opt(r.steady_error_m[1], 4)
+            ),
             axes(r.torque_peak_Nm),
-            100.0 * r.torque_margin,
-            r.thrust_peak_and_bound_N[0],
-            r.thrust_peak_and_bound_N[1],
-            r.runs_outside_a_priori,
-            100.0 * r.mixer_gave_up_fraction,
-            r.failed_runs
-        );
+            format!("{:.1} %", 100.0 * r.torque_margin),
+            format!(
+                "{:.2} / {:.2}",
+                r.thrust_peak_and_bound_N[0], r.thrust_peak_and_bound_N[1]
+            ),
+            r.runs_outside_a_priori.to_string(),
+            format!("{:.2} %", 100.0 * r.mixer_gave_up_fraction),
+            r.failed_runs.to_string(),
+        ]);
     }
     o
 }

@@ -2,6 +2,7 @@
 //! Markdown page.
 
 use crate::output::console::fmt_opt;
+use crate::output::markdown_table::{Rule, Table};
 use crate::runs::metrics::BoundSet;
 use crate::runs::sampler::HALF_TURN_AXES;
 use crate::runs::stats::Distribution;
@@ -107,34 +108,51 @@ pub fn markdown(md: &mut String, r: &IntegralReport) {
         }
     );
     let _ = writeln!(md, "{}\n", r.definitions);
-    let _ = writeln!(
+    let mut table = Table::new(
         md,
-        "| case | integral | runs | steady error p50 / p99, converged [mm] | steady error p50 / p99, all [mm] | converged | samples outside a-priori / above tight | 180-deg: time to < 90 deg p90 [s] | 180-deg: settling p90 [s] (settled) |"
-    );
-    let _ = writeln!(
-        md,
-        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+        &[
+            "case",
+            "integral",
+            "runs",
+            "steady error p50 / p99, converged [mm]",
+            "steady error p50 / p99, all [mm]",
+            "converged",
+            "samples outside a-priori / above tight",
+            "180-deg: time to < 90 deg p90 [s]",
+            "180-deg: settling p90 [s] (settled)",
+        ],
+        Rule::Spaced,
     );
     let mm = |v: Option<f64>| v.map_or_else(|| "-".to_string(), |x| format!("{x:.3}"));
     for row in &r.rows {
-        let _ = writeln!(
-            md,
-            "| {} | {} | {} | {} / {} | {} / {} | {:.1} % | {} / {} | {} | {} ({}/{}) |",
-            row.case,
-            if row.integral { "on" } else { "off" },
-            row.runs,
-            mm(row.steady_error_converged_mm.p50),
-            mm(row.steady_error_converged_mm.p99),
-            mm(row.steady_error_all_mm.p50),
-            mm(row.steady_error_all_mm.p99),
-            row.converged_percent,
-            row.samples_outside_a_priori,
-            row.samples_above_tight
-                .map_or_else(|| "-".to_string(), |n| n.to_string()),
+        table.row(&[
+            row.case.to_string(),
+            if row.integral { "on" } else { "off" }.to_string(),
+            row.runs.to_string(),
+            format!(
+                "{} / {}",
+                mm(row.steady_error_converged_mm.p50),
+                mm(row.steady_error_converged_mm.p99)
+            ),
+            format!(
+                "{} / {}",
+                mm(row.steady_error_all_mm.p50),
+                mm(row.steady_error_all_mm.p99)
+            ),
+            format!("{:.1} %", row.converged_percent),
+            format!(
+                "{} / {}",
+                row.samples_outside_a_priori,
+                row.samples_above_tight
+                    .map_or_else(|| "-".to_string(), |n| n.to_string())
+            ),
             fmt_opt(row.half_turn_time_to_90deg_s.p90),
-            fmt_opt(row.half_turn_settling_s.p90),
-            row.half_turn_settled,
-            HALF_TURN_AXES.len().min(row.runs)
-        );
+            format!(
+                "{} ({}/{})",
+                fmt_opt(row.half_turn_settling_s.p90),
+                row.half_turn_settled,
+                HALF_TURN_AXES.len().min(row.runs)
+            ),
+        ]);
     }
 }
