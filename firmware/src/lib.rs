@@ -38,16 +38,17 @@ pub mod app;
 pub mod built_flight;
 
 pub mod config;
-pub mod control_rate;
+pub use flight_files::control_rate;
 pub mod drivers;
 pub mod erase_watchdog;
 pub mod estimator;
 pub mod flash_store;
 pub mod flight_reference;
 #[cfg(feature = "vehicle-file")]
-pub mod flight_tables;
+pub use flight_files::flight_tables;
 pub mod frames;
 pub mod gate_failure;
+#[cfg(feature = "ground-station")]
 pub mod ground_station;
 pub mod imu_attitude;
 pub mod link;
@@ -62,4 +63,4 @@ pub mod safety;
 pub mod step_inputs;
 pub mod timing;
 #[cfg(feature = "vehicle-file")]
-pub mod vehicle_file;
+pub use flight_files::vehicle_file;

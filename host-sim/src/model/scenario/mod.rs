@@ -31,8 +31,9 @@ pub use controller::{ControllerConfig, ControllerOverrides, ThrustKind};
 pub use keys::describe;
 use serde::{Deserialize, Serialize};
 
-/// The embedded Section VI scenario, as TOML text.
-pub const PAPER_SCENARIO: &str = include_str!("../../../scenarios/paper.toml");
+/// The embedded Section VI scenario, as TOML text (`scenarios/paper.toml`, a link to the file
+/// the firmware's bench fixtures share: [`flight_files::shared::PAPER_SCENARIO`]).
+pub const PAPER_SCENARIO: &str = flight_files::shared::PAPER_SCENARIO;
 
 /// A whole scenario.
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]

@@ -41,11 +41,9 @@ use super::setup::SilSetup;
 use crate::model::plant::RigidBodyState;
 use crate::model::scenario::Scenario;
 
-/// The shared sensor models (`host-sim/scenarios/sil/sensors.toml`), as TOML text.
-pub const SENSORS: &str = include_str!(concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/scenarios/sil/sensors.toml"
-));
+/// The shared sensor models (`host-sim/scenarios/sil/sensors.toml`, a link to the file the
+/// firmware's bench fixtures share: [`flight_files::shared::SENSORS`]), as TOML text.
+pub const SENSORS: &str = flight_files::shared::SENSORS;
 
 /// How [`SENSORS`] is named in errors.
 const SENSORS_ORIGIN: &str = "host-sim/scenarios/sil/sensors.toml";

@@ -1,0 +1,168 @@
+//! The flight file's values as Rust source for `OUT_DIR/flight.rs`: literals that round like the
+//! file's decimals, and the heading, trajectory and thrust choices as constructor calls. Every
+//! refusal names the file, the key and the reason.
+
+use super::{ControllerTable, DEFAULT_THRUST_RAMP};
+use crate::flight_tables::{HeadingTable, TrajectoryTable};
+
+/// The `crate::config::ThrustChoice` expression of `[controller]` (absent: `Norm`). The floor's
+/// bound by Theorem 1's `T_min` needs the certificate and is the gate's, at boot.
+pub(super) fn thrust_source(file: &str, c: Option<&ControllerTable>) -> String {
+    let Some(c) = c else {
+        return "crate::config::ThrustChoice::Norm".to_string();
+    };
+    match c.thrust.as_str() {
+        "norm" => {
+            if c.thrust_ramp.is_some() || c.thrust_floor_N.is_some() {
+                fail(
+                    file,
+                    "controller",
+                    "thrust_ramp and thrust_floor_N are only used with thrust = \"vertical-priority\"".to_string(),
+                );
+            }
+            "crate::config::ThrustChoice::Norm".to_string()
+        }
+        "vertical-priority" => {
+            let ramp = c.thrust_ramp.unwrap_or(DEFAULT_THRUST_RAMP);
+            if !(ramp > 0.0 && ramp <= 1.0) {
+                fail(
+                    file,
+                    "controller.thrust_ramp",
+                    format!("{ramp} is not in (0, 1]"),
+                );
+            }
+            let floor = c.thrust_floor_N.unwrap_or(0.0);
+            if !(floor.is_finite() && floor >= 0.0) {
+                fail(
+                    file,
+                    "controller.thrust_floor_N",
+                    format!("{floor} is not a finite thrust >= 0 [N]"),
+                );
+            }
+            format!(
+                "crate::config::ThrustChoice::VerticalPriority {{ ramp: {}, floor: {} }}",
+                lit(ramp),
+                lit(floor)
+            )
+        }
+        other => fail(
+            file,
+            "controller.thrust",
+            format!("{other:?} is not \"norm\" or \"vertical-priority\" (the firmware's thrusts)"),
+        ),
+    }
+}
+
+pub(super) fn fail(file: &str, key: &str, reason: impl std::fmt::Display) -> ! {
+    panic!("flight file {file}: {key}: {reason}")
+}
+
+/// The `f32` the firmware flies (`x as f32`, as host-sim converts the same file), printed as
+/// the shortest decimal that gives that `f32` back.
+pub(super) fn lit(x: f64) -> String {
+    format!("{:?}f32", x as f32)
+}
+
+pub(super) fn vec3(v: [f64; 3]) -> String {
+    format!(
+        "nalgebra::Vector3::new({}, {}, {})",
+        lit(v[0]),
+        lit(v[1]),
+        lit(v[2])
+    )
+}
+
+pub(super) fn finite(file: &str, key: &str, values: &[f64]) {
+    if let Some(v) = values.iter().find(|v| !v.is_finite()) {
+        fail(file, key, format!("{v} is not finite"));
+    }
+}
+
+pub(super) fn heading_source(file: &str, h: &HeadingTable) -> String {
+    match *h {
+        HeadingTable::Constant { yaw_rad } => {
+            finite(file, "trajectory.heading.yaw_rad", &[yaw_rad]);
+            format!(
+                "controller_core::HeadingProfile::Constant {{ yaw: {} }}",
+                lit(yaw_rad)
+            )
+        }
+        HeadingTable::Sinusoidal {
+            amplitude_rad,
+            frequency_rad_s,
+            offset_rad,
+        } => {
+            finite(
+                file,
+                "trajectory.heading",
+                &[amplitude_rad, frequency_rad_s, offset_rad],
+            );
+            format!(
+                "controller_core::HeadingProfile::Sinusoidal {{ amplitude: {}, frequency: {}, \
+                 offset: {} }}",
+                lit(amplitude_rad),
+                lit(frequency_rad_s),
+                lit(offset_rad)
+            )
+        }
+    }
+}
+
+pub(super) fn trajectory_source(file: &str, t: &TrajectoryTable) -> String {
+    match t {
+        TrajectoryTable::Hover { point_m, heading } => {
+            finite(file, "trajectory.point_m", point_m);
+            format!(
+                "controller_core::ReferenceTrajectory::Hover {{ point: {}, heading: {} }}",
+                vec3(*point_m),
+                heading_source(file, heading)
+            )
+        }
+        TrajectoryTable::Helix {
+            center_m,
+            radius_m,
+            vertical_amplitude_m,
+            frequency_rad_s,
+            heading,
+        } => {
+            finite(file, "trajectory.center_m", center_m);
+            finite(
+                file,
+                "trajectory",
+                &[*radius_m, *vertical_amplitude_m, *frequency_rad_s],
+            );
+            format!(
+                "controller_core::ReferenceTrajectory::Helix {{ center: {}, radius: {}, \
+                 vertical_amplitude: {}, frequency: {}, heading: {} }}",
+                vec3(*center_m),
+                lit(*radius_m),
+                lit(*vertical_amplitude_m),
+                lit(*frequency_rad_s),
+                heading_source(file, heading)
+            )
+        }
+        TrajectoryTable::FigureEight {
+            center_m,
+            x_amplitude_m,
+            y_amplitude_m,
+            frequency_rad_s,
+            heading,
+        } => {
+            finite(file, "trajectory.center_m", center_m);
+            finite(
+                file,
+                "trajectory",
+                &[*x_amplitude_m, *y_amplitude_m, *frequency_rad_s],
+            );
+            format!(
+                "controller_core::ReferenceTrajectory::FigureEight {{ center: {}, \
+                 x_amplitude: {}, y_amplitude: {}, frequency: {}, heading: {} }}",
+                vec3(*center_m),
+                lit(*x_amplitude_m),
+                lit(*y_amplitude_m),
+                lit(*frequency_rad_s),
+                heading_source(file, heading)
+            )
+        }
+    }
+}
