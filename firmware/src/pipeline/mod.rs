@@ -19,39 +19,20 @@
 //! state, its construction and the
 //! per-sample and per-tick flow.
 
-#[cfg(test)]
-#[cfg_attr(feature = "uncertified-paper", allow(unused_imports))]
-mod arming_tests;
 mod boot;
 mod commands;
 mod events;
 mod failsafe;
 mod gate;
 mod landed;
-#[cfg(test)]
-mod link_tests;
 #[cfg(feature = "hil")]
 pub mod lockstep;
-#[cfg(all(test, feature = "hil"))]
-mod lockstep_tests;
 mod mission;
-// Built with the paper's flight file, the tests that need the default x500 file are left out;
-// their helpers and imports are then unused.
-#[cfg(test)]
-#[cfg_attr(feature = "uncertified-paper", allow(unused_imports, dead_code))]
-mod param_store_tests;
-#[cfg(test)]
-#[cfg_attr(feature = "uncertified-paper", allow(unused_imports, dead_code))]
-mod param_tests;
 mod param_text;
 mod params;
 pub mod schedule;
 mod status_messages;
 mod storage;
-#[cfg(all(test, not(feature = "uncertified-paper")))] // every test there flies the x500 file
-mod storage_command_tests;
-#[cfg(test)]
-mod storage_tests;
 mod telemetry;
 #[cfg(test)]
 #[cfg_attr(feature = "uncertified-paper", allow(dead_code))]

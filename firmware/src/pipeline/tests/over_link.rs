@@ -1,8 +1,8 @@
 //! The pipeline as a MAVLink peer: acknowledgements to the sender with the right result,
 //! message requests and intervals, signing end to end. Given/when/then, on the host.
 
-use super::*;
 use crate::link::{self, SIGNATURE};
+use crate::pipeline::*;
 use mavlink::dialects::common::{
     MavMessage, ATTITUDE_QUATERNION_DATA, COMMAND_ACK_DATA, COMMAND_LONG_DATA, HEARTBEAT_DATA,
     SETUP_SIGNING_DATA,
@@ -122,7 +122,7 @@ fn an_arm_on_an_uncertified_set_up_is_failed() {
         c.limits.torque_max[2] = torque_max_yaw;
         let mut p = FlightPipeline::new(&c).unwrap();
         assert_eq!(p.boot_report().gate.is_ok(), state == FlightState::Armed);
-        let now = super::tests::fly_ticks(&mut p, 0, 60, true);
+        let now = super::fly_ticks(&mut p, 0, 60, true);
         let arm = command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 0.0);
         p.on_link_bytes(&gcs_frame(&arm), now);
         let got: Vec<_> = acks(&mut p, now).iter().map(|a| a.result).collect();

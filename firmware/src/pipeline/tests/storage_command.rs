@@ -4,10 +4,10 @@
 
 use mavlink::dialects::common::MavResult;
 
-use super::tests::{arm_attempt, command, drain_events, sent_acks};
-use super::*;
+use super::{arm_attempt, command, drain_events, sent_acks};
 use crate::param_store::{MemoryStore, ParamStore};
 use crate::params::PARAMS;
+use crate::pipeline::*;
 
 fn acks(p: &mut FlightPipeline, now_us: u64) -> Vec<(MavCmd, MavResult)> {
     sent_acks(p, now_us)

@@ -10,10 +10,10 @@ use mavlink::dialects::common::{
 };
 use mavlink::{MavlinkVersion, MessageData};
 
-use super::tests::{arm_attempt, command, drain_events, fly_ticks, frames};
-use super::*;
+use super::{arm_attempt, command, drain_events, fly_ticks, frames};
 use crate::link;
 use crate::params::{COUNT, PARAMS};
+use crate::pipeline::*;
 use crate::safety::FlightState;
 
 /// A frame from the ground station (255, 190) to (`system`, 1).

@@ -4,10 +4,10 @@
 
 use proptest::prelude::*;
 
-use super::lockstep::Lockstep;
-use super::*;
 use crate::ground_station;
 use crate::link;
+use crate::pipeline::lockstep::Lockstep;
+use crate::pipeline::*;
 use mavlink::dialects::common::{
     HilActuatorControlsFlags, HilSensorUpdatedFlags, MavMessage, ATT_POS_MOCAP_DATA,
     HIL_ACTUATOR_CONTROLS_DATA, HIL_SENSOR_DATA, POSITION_TARGET_LOCAL_NED_DATA,

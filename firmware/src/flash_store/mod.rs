@@ -253,5 +253,4 @@ fn decode(bytes: &[u8]) -> Result<Option<MemoryStore>, Fault> {
 }
 
 #[cfg(test)]
-#[path = "flash_store_tests.rs"]
 mod tests;

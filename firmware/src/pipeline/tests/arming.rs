@@ -2,9 +2,9 @@
 //! certificate or a box that does not fit refused with the condition and its numbers, the
 //! paper's set-up only with the uncertified flag, a reference change only when certified.
 
-use super::tests::{arm_attempt, armed_pipeline, command, drain_events};
-use super::*;
+use super::{arm_attempt, armed_pipeline, command, drain_events};
 use crate::link;
+use crate::pipeline::*;
 
 /// `(condition, lhs, rhs)` of the first `ReferenceRefused` event, if any.
 fn reference_refusal(events: &[Event]) -> Option<(&'static str, f32, f32)> {

@@ -4,11 +4,11 @@
 use controller_core::reference::Trajectory;
 use controller_core::{certify, FilterStart};
 
-use super::tests::{arm_attempt, command};
-use super::*;
+use super::{arm_attempt, command};
 use crate::link;
 use crate::param_store::{save, MemoryStore, NoSuchParam, ParamStore};
 use crate::params::{ParamError, COUNT, PARAMS};
+use crate::pipeline::*;
 
 fn index_of(name: &str) -> usize {
     PARAMS.iter().position(|p| p.name == name).unwrap()

@@ -4,9 +4,9 @@
 //! without a store arm as before. Given/when/then, on the host.
 #![cfg(not(feature = "uncertified-paper"))] // the default flight file's x500
 
-use super::tests::{command, drain_events, fly_ticks, sent_acks};
-use super::*;
+use super::{command, drain_events, fly_ticks, sent_acks};
 use crate::link;
+use crate::pipeline::*;
 
 const ARM: MavCmd = MavCmd::MAV_CMD_COMPONENT_ARM_DISARM;
 
