@@ -183,7 +183,18 @@ pub struct TickInputs {
     pub landed: bool,
 }
 
-/// The state machine.
+/// The safety state machine of the module docs: the [`FlightState`] (`Disarmed`, `Armed`,
+/// `Failsafe`), the thresholds it applies ([`SafetyConfig`]: pose ages in µs, the upright
+/// cosine, the failsafe's duration) and when the failsafe began \[µs\].
+///
+/// It decides and reports, nothing more: each call ([`Supervisor::arm`], [`Supervisor::kill`],
+/// [`Supervisor::disarm`], [`Supervisor::failsafe`], [`Supervisor::tick`]) takes the time and
+/// plain inputs and returns the [`Transition`] it made, if any; the pipeline applies it to the
+/// motors and logs it. Arming checks are separate ([`check_arm`], with its [`ArmRefusal`] and
+/// remedy), as the state machine stays apart from the checks that feed it. Never fails: a call
+/// that does not apply in the current state returns `None`.
+/// Source: the project's safety rules (docs/firmware-safety.md), in the manner of PX4's
+/// commander and Crazyflie's supervisor.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Supervisor {
     cfg: SafetyConfig,
