@@ -69,7 +69,7 @@ pub struct Diagnostics<T: Scalar> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ControlOutput<T: Scalar> {
     /// Collective thrust \[N\] along the body z axis: `T = m|u|`, or as set by
-    /// [`Controller::set_thrust_mode`].
+    /// [`crate::Controller::set_thrust_mode`].
     pub thrust: T,
     /// Torque `τ` [N m], body frame.
     pub torque: Vector3<T>,

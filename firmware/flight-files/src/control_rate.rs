@@ -5,7 +5,7 @@
 //!
 //! What depends on the rate: the controller's filter propagation (exact for any sample period,
 //! `controller_core::position::FilterPropagator`), the setpoint filter (exact,
-//! [`crate::flight_reference`]) and the tick counts derived from times (the landed detector's
+//! (`firmware::flight_reference`) and the tick counts derived from times (the landed detector's
 //! confirmation). What does not: the estimator and the Mahony filter (per IMU sample), the
 //! telemetry (periods in µs) and the logs (per second of ticks).
 //!

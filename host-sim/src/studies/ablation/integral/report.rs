@@ -13,7 +13,7 @@ use serde::Serialize;
 /// One cell: a case flown with or without the integral action.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct IntegralRow {
-    /// The case's label ([`Case::name`]).
+    /// The case's label ([`super::Case::name`]).
     pub case: String,
     /// Integral action on.
     pub integral: bool,
@@ -21,7 +21,7 @@ pub struct IntegralRow {
     pub runs: usize,
     /// Runs the law refused (a non-finite sample); counted as not converged.
     pub refused: usize,
-    /// Runs converged ([`convergence_of`] the scenario).
+    /// Runs converged ([`super::convergence_of`] the scenario).
     pub converged: usize,
     /// `100 converged / runs`.
     pub converged_percent: f64,
@@ -63,7 +63,7 @@ pub struct IntegralReport {
     pub definitions: String,
     /// The integral gains flown.
     pub gains: IntegralGainsReport,
-    /// `"scenario"` (its `gains.integral`) or `"default"` ([`default_integral_gains`]).
+    /// `"scenario"` (its `gains.integral`) or `"default"` ([`super::default_integral_gains`]).
     pub gains_source: String,
     /// Bounds checked without the integral action (the paper's).
     pub bounds_without: BoundSet,
