@@ -40,12 +40,11 @@ pub mod built_flight;
 pub mod config;
 pub use flight_files::control_rate;
 pub mod drivers;
-pub mod erase_watchdog;
 pub mod estimator;
-pub mod flash_store;
 pub mod flight_reference;
 #[cfg(feature = "vehicle-file")]
 pub use flight_files::flight_tables;
+pub mod boot_report;
 pub mod frames;
 pub mod gate_failure;
 #[cfg(feature = "ground-station")]
@@ -54,13 +53,17 @@ pub mod imu_attitude;
 pub mod link;
 pub mod mixer;
 pub mod motor_order;
-pub mod param_store;
-pub mod params;
+pub mod parameters;
 pub mod pipeline;
-pub mod report;
 pub mod safety;
 #[cfg(feature = "bench-fixtures")]
 pub mod step_inputs;
 pub mod timing;
+
+// The parameter modules under the paths they had before they were gathered in [`parameters`],
+// and the boot report under its earlier name.
+pub use boot_report as report;
 #[cfg(feature = "vehicle-file")]
 pub use flight_files::vehicle_file;
+pub use parameters::table as params;
+pub use parameters::{erase_watchdog, flash_store, store as param_store};

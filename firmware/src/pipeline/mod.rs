@@ -13,7 +13,7 @@
 //! machine, [`ModeMachine`]), `landed.rs` (the landed detector, [`LandedDetector`]),
 //! `failsafe.rs` (the failsafe law), `telemetry.rs` (telemetry scheduling), `schedule.rs`
 //! (when each periodic message is due), `status_messages.rs` (what a ground station shows),
-//! `params.rs` (the MAVLink parameter protocol, each change certified like the boot set-up),
+//! `param_protocol.rs` (the MAVLink parameter protocol, each change certified like the boot set-up),
 //! `events.rs` (events, counters, status) and, with the `hil` feature, `lockstep.rs` (the
 //! processor-in-the-loop pacing rule, `lockstep::Lockstep`). This file holds the pipeline's
 //! state, its construction and the
@@ -28,8 +28,8 @@ mod landed;
 #[cfg(feature = "hil")]
 pub mod lockstep;
 mod mission;
+mod param_protocol;
 mod param_text;
-mod params;
 pub mod schedule;
 mod status_messages;
 mod storage;
@@ -43,7 +43,7 @@ pub use events::{Counters, Event, PipelineStatus};
 pub use gate::{box_margin, check as gate_check, GateFailure, BOX_FIT};
 pub use landed::{LandedDetector, LandedInputs};
 pub use mission::{Mode, ModeMachine};
-pub use params::{ParamRefusal, RestoreError, STREAM_PERIOD_US as PARAM_STREAM_PERIOD_US};
+pub use param_protocol::{ParamRefusal, RestoreError, STREAM_PERIOD_US as PARAM_STREAM_PERIOD_US};
 
 use controller_core::scalar::{finite_probe, fmax, fmin, norm};
 use controller_core::{Controller, VehicleState};
@@ -59,7 +59,7 @@ use crate::link::{Decoder, Sender};
 use crate::mixer::{MixOutput, Mixer};
 use crate::safety::{FlightState, Supervisor, TickInputs, Transition};
 use events::EventQueue;
-use params::ParamQueue;
+use param_protocol::ParamQueue;
 use schedule::Schedule;
 
 /// One IMU sample, body FLU (x forward, y left, z up: the controller's body frame).

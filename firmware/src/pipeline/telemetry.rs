@@ -1,6 +1,6 @@
 //! Telemetry scheduling: what the pipeline sends to the ground station and when. Pending
 //! command acks and status texts first, parameter replies and one streamed `PARAM_VALUE` at most
-//! ([`super::params`]), then a `HEARTBEAT` and the state
+//! ([`super::param_protocol`]), then a `HEARTBEAT` and the state
 //! (`ATTITUDE_QUATERNION`, `LOCAL_POSITION_NED`) at the rates of
 //! [`crate::config::TelemetryConfig`] or as the ground station set them ([`super::schedule`]);
 //! with the `hil` feature, each tick's motor commands and reference lead. Frames that do not fit

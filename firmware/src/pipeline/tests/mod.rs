@@ -81,7 +81,7 @@ pub(super) fn command(c: MavCmd, p1: f32, p2: f32) -> Vec<u8> {
     b[..n].to_vec()
 }
 
-/// The boot report of the paper vehicle: the certificate as in report.rs (only Theorem 2's
+/// The boot report of the paper vehicle: the certificate as in boot_report.rs (only Theorem 2's
 /// yaw condition fails), the a-priori box does not fit the rotors, 12 N of rotor thrust.
 #[test]
 fn boot_report() {
