@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The project's test command (README, "The two commands"; .ci/run calls exactly this).
-# Installs what it needs (the thumbv7em target, clippy, rustfmt, QEMU, a Python virtual environment
-# with pymavlink), then: formatting, every
-# host test (unit, property, cross-crate, end to end), clippy and rustdoc with warnings denied, the no_std
+# Installs what it needs (the thumbv7em target, clippy, rustfmt, QEMU, cargo-modules, a Python virtual
+# environment with pymavlink), then: formatting, every
+# host test (unit, property, cross-crate, end to end), the import-cycle check, clippy and rustdoc with warnings denied, the no_std
 # controller-core and the firmware built for the Cortex-M4F (thumbv7em-none-eabihf) for both
 # boards, the processor-in-the-loop flight on QEMU and the M4F instruction budget.
 # Idempotent: re-running it changes nothing that is already installed.
@@ -48,6 +48,22 @@ step "firmware built with each preset design's flight file ([controller] vertica
 for preset in crazyflie-2.1 hummingbird x500; do
   FIRMWARE_FLIGHT_FILE="host-sim/designs/$preset/firmware.toml" \
     cargo test -p firmware --lib built_config_is_certified_and_arms
+done
+
+step "no import cycle between the modules of any crate (cargo-modules 0.27.0, installed if missing)"
+# cargo-modules resolves every crate's `use` edges (rust-analyzer); tests/module_cycles.py fails on
+# a cycle between modules at any depth. (`--acyclic` itself checks items: a type and its own
+# methods would count as a cycle.) The first install builds rust-analyzer's crates: minutes.
+if [ "$(cargo modules --version 2>/dev/null)" != "cargo-modules 0.27.0" ]; then
+  rustup component add rust-src
+  cargo install cargo-modules --version 0.27.0 --locked
+fi
+module_graph=(--no-externs --no-sysroot --no-fns --no-traits --no-types --no-owns --layout dot)
+for target in "controller-core --lib" "flight-files --lib" "firmware --lib" "host-sim --lib" \
+  "host-sim --bin host-sim" "tests --lib"; do
+  read -r -a which <<<"$target"
+  cargo modules dependencies --package "${which[@]}" "${module_graph[@]}" |
+    python3 tests/module_cycles.py "$target"
 done
 
 step "clippy, warnings denied (host, all targets)"

@@ -58,6 +58,7 @@ pub mod pipeline;
 pub mod safety;
 #[cfg(feature = "bench-fixtures")]
 pub mod step_inputs;
+pub mod storage;
 pub mod timing;
 
 // The parameter modules under the paths they had before they were gathered in [`parameters`],
@@ -65,5 +66,6 @@ pub mod timing;
 pub use boot_report as report;
 #[cfg(feature = "vehicle-file")]
 pub use flight_files::vehicle_file;
+pub use parameters::store as param_store;
 pub use parameters::table as params;
-pub use parameters::{erase_watchdog, flash_store, store as param_store};
+pub use storage::{erase_watchdog, flash_store};

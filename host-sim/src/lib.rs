@@ -3,7 +3,7 @@
 //! Grouped by role:
 //! - [`model`]: what is flown: the rigid-body plant (eq:FullDynamics), the rotor-level plant,
 //!   perturbations, vehicle files, scenario files and SO(3) helpers;
-//! - [`fly`]: how one flight is flown: the closed loop, the controllers (the
+//! - [`fly`]: how one flight is flown and what it writes: the closed loop, the controllers (the
 //!   paper's law and the baselines), the set-up built once from a scenario, and the main run;
 //! - [`bounds`]: the a-priori bounds before flying: the tight bounds, the certificate beside the
 //!   paper's, and the `bounds` table;
@@ -13,7 +13,8 @@
 //!   thrust, integral action), the baseline comparison and the law-rate study;
 //! - [`design`]: gains and levels certified for a real vehicle;
 //! - [`harness`]: the firmware itself in the loop (software, processor on QEMU, M4F counts);
-//! - [`output`]: files and text written by a run (CSV, PNG, JSON, Markdown, the console summary).
+//! - [`output`]: what every report shares: one Markdown table, one figure panel of traces, PNG
+//!   files (the main run's own files are [`fly::files`]).
 //!
 //! The command line belongs to the `host-sim` binary (`src/bin/host-sim/`): the library takes
 //! plain option structs ([`harness::sil::SilOptions`], [`harness::pil::PilCommandOptions`],

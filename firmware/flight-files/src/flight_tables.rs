@@ -6,10 +6,9 @@
 //! Unknown keys are refused (`deny_unknown_fields`); the values are checked by their users
 //! (host-sim's `Scenario::validate`, the build's flight file checks).
 //!
-//! This file is compiled twice: as `firmware::flight_tables` (feature `vehicle-file`, which
-//! brings std, serde and toml) and by `firmware/build.rs` with `#[path]`, which turns the
-//! build's flight file into Rust source. So it names nothing of the firmware crate (no
-//! `crate::` paths) and uses only serde.
+//! Used by host-sim's scenario files, by the firmware library (`firmware::flight_tables`, with
+//! its `vehicle-file` feature) and by the firmware's build script through
+//! [`crate::flight_file`], which turns the build's flight file into Rust source.
 
 use serde::{Deserialize, Serialize};
 

@@ -11,7 +11,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use super::events::Counters;
 use super::landed::LandedDetector;
 use super::mission::ModeMachine;
-use super::param_protocol::ParamQueue;
+use super::param_queue::ParamQueue;
 use super::schedule::Schedule;
 use super::{gate, mahony_dt_cap, storage, FlightPipeline, GateFailure, MotorOutput};
 use crate::config::FlightConfig;

@@ -29,6 +29,7 @@ mod landed;
 pub mod lockstep;
 mod mission;
 mod param_protocol;
+mod param_queue;
 mod param_text;
 pub mod schedule;
 mod status_messages;
@@ -59,7 +60,7 @@ use crate::link::{Decoder, Sender};
 use crate::mixer::{MixOutput, Mixer};
 use crate::safety::{FlightState, Supervisor, TickInputs, Transition};
 use events::EventQueue;
-use param_protocol::ParamQueue;
+use param_queue::ParamQueue;
 use schedule::Schedule;
 
 /// One IMU sample, body FLU (x forward, y left, z up: the controller's body frame).

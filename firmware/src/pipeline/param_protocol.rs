@@ -10,7 +10,6 @@
 //! answered with the unchanged value and a STATUSTEXT naming why (the violated condition with
 //! both sides), and is logged. Unknown names and indices are answered with a STATUSTEXT only.
 
-use heapless::Deque;
 use mavlink::dialects::common::{MavParamType, MavSeverity, PARAM_VALUE_DATA, STATUSTEXT_DATA};
 use nalgebra::Vector3;
 
@@ -27,33 +26,6 @@ use crate::safety::{FlightState, Supervisor};
 /// 0.4 s, about 1.9 kB/s (37-byte frames, 50 signed): a sixth of a 115 200 baud link, leaving
 /// the rest to the state telemetry and the acks.
 pub const STREAM_PERIOD_US: u64 = 20_000;
-
-/// Pending parameter replies: single answers, a list stream's position and texts.
-pub(super) struct ParamQueue {
-    /// Indices of `PARAM_VALUE`s to send (answers to reads and sets), oldest first.
-    replies: Deque<u8, 8>,
-    /// Next index of a `PARAM_REQUEST_LIST` stream, if one is running.
-    stream_next: Option<u8>,
-    /// When the stream last sent \[µs\].
-    stream_sent_us: Option<u64>,
-    /// STATUSTEXTs of refusals and unknown names.
-    texts: Deque<Text, 4>,
-}
-
-impl ParamQueue {
-    /// Nothing pending.
-    pub(super) const fn new() -> Self {
-        Self {
-            replies: Deque::new(),
-            stream_next: None,
-            stream_sent_us: None,
-            texts: Deque::new(),
-        }
-    }
-}
-
-// The reply queue holds indices as u8.
-const _: () = assert!(COUNT <= u8::MAX as usize);
 
 /// Why a parameter change ([`FlightPipeline`]'s `PARAM_SET`, or
 /// [`FlightPipeline::restore_params`]) is not taken. Nothing changes on a refusal.

@@ -5,5 +5,6 @@
 
 pub mod closed_loop;
 pub mod controllers;
+pub mod files;
 pub mod setup;
 pub mod sim;

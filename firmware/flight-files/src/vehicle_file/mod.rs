@@ -13,10 +13,9 @@
 //! spinning each way, an invertible mixer, a thrust range above the weight), and every error
 //! names the file, the key and the reason ([`VehicleFileError`]).
 //!
-//! This file is compiled twice: as `firmware::vehicle_file` (feature `vehicle-file`, which
-//! brings std, serde and toml) and by `firmware/build.rs` with `#[path]`, which turns the
-//! build's vehicle into Rust source ([`VehicleFile::to_rust_source`]). So it names nothing of
-//! the firmware crate (no `crate::` paths) and uses only std, serde and toml.
+//! Used by host-sim, by the firmware library (`firmware::vehicle_file`, with its `vehicle-file`
+//! feature) and by the firmware's build script, which turns the build's vehicle into Rust
+//! source for the firmware crate ([`VehicleFile::to_rust_source`]).
 
 use std::fmt;
 use std::format;

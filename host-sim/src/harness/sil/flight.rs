@@ -1,17 +1,19 @@
 //! One SIL flight: the firmware's flight software against the rotor-level plant, in lockstep, with
 //! the sensors, link and failures of the scenario.
 
-use super::*;
+use super::record::{SilRecord, SilSummary};
+use super::sensors::Rng;
+use super::setup::SilSetup;
+use super::{encode, schedule, Delivery, FlightSoftware, Motors};
 use crate::model::plant::{PlantInput, RigidBody};
 use anyhow::Result;
 use firmware::link::mavlink::dialects::common::MavMessage;
 use firmware::pipeline::{BootReport, MotorOutput};
 use firmware::safety::FlightState;
 use nalgebra::{Matrix4, UnitQuaternion, Vector3, Vector4};
-use sensors::Rng;
 use std::collections::VecDeque;
 
-/// The simulation loop of [`run`] for any flight software: plant, IMU, motion capture and
+/// The simulation loop of [`run`](super::run) for any flight software: plant, IMU, motion capture and
 /// ground-station frames, motors, records (one per control tick, `observe`) and the summary.
 /// `boot` is the set-up's boot report (certificate, a-priori box fit) and `effectiveness` the
 /// mixer's matrix (rotor thrusts \[N\] → `(T [N], τ [N m])`), both from

@@ -1,7 +1,7 @@
 //! The ablation's Markdown page: the hysteresis and filter tables and the no-dive section.
 
-use super::*;
-use crate::output::console::fmt_opt;
+use super::AblationReport;
+use crate::output::fmt_opt;
 use crate::output::markdown_table::{Rule, Table};
 use crate::studies::ablation::no_dive::NoDiveReport;
 use std::fmt::Write as _;

@@ -1,6 +1,6 @@
 //! The ablation's figures.
 
-use super::*;
+use super::{AblationReport, Traces};
 use crate::output::chart::{LegendAt, Panel, Scale, Series};
 use crate::studies::campaign::figures::{
     time_series_png, xy_figure, Axis, Style, XySeries, PALETTE,

@@ -11,7 +11,7 @@ use super::merge::merge_dirs;
 use super::options::CampaignOptions;
 use super::output::{write_campaign, CampaignReport};
 use super::partial::{write_partial, CampaignSetup, PartialResult, SHARD_FORMAT};
-use crate::output::console::fmt_opt;
+use crate::output::fmt_opt;
 use crate::runs::metrics::BoundSet;
 use crate::runs::metrics::Convergence;
 use crate::runs::runner::{

@@ -11,7 +11,7 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
 use crate::output::chart::FONT;
-use crate::output::plots::{ensure_font, write_png};
+use crate::output::png::{ensure_font, write_png};
 
 /// Size of every figure \[px\].
 pub const SIZE: (u32, u32) = (900, 560);

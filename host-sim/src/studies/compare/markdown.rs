@@ -1,9 +1,9 @@
 //! The comparison's Markdown page: per-contestant tables of the nominal tasks, the campaigns and
 //! the sanity checks.
 
-use super::*;
+use super::CompareReport;
 use crate::fly::controllers::ControllerKind;
-use crate::output::console::fmt_opt;
+use crate::output::fmt_opt;
 use crate::output::markdown_table::{Rule, Table};
 use std::fmt::Write as _;
 

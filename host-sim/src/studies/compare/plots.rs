@@ -1,6 +1,6 @@
 //! The comparison's figures.
 
-use super::*;
+use super::CompareReport;
 use crate::model::scenario::Scenario;
 use crate::output::chart::{LegendAt, Panel, Scale, Series};
 use crate::runs::runner::RunResult;

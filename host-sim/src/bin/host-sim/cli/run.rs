@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
+use host_sim::fly::files::console::human_summary;
 use host_sim::model::scenario::Scenario;
-use host_sim::output::console::human_summary;
 
 use super::common::{PlantArgs, PrecisionArg, ThrustArgs};
 
@@ -134,11 +134,11 @@ pub fn run(args: &RunArgs) -> Result<()> {
         std::fs::create_dir_all(&out)?;
         let csv = out.join("timeseries.csv");
         let json = out.join("summary.json");
-        host_sim::output::write_csv(&csv, &records)?;
-        host_sim::output::write_summary(&json, &summary)?;
+        host_sim::fly::files::write_csv(&csv, &records)?;
+        host_sim::fly::files::write_summary(&json, &summary)?;
         vec![csv, json]
     } else {
-        host_sim::output::write_all(&out, &scenario, &summary, &records)?
+        host_sim::fly::files::write_all(&out, &scenario, &summary, &records)?
     };
     println!("Wrote {} files to {}:", files.len(), out.display());
     for f in &files {

@@ -1,7 +1,7 @@
 //! The integral-action ablation's report: one row per case and law, the gains flown, and its
 //! Markdown page.
 
-use crate::output::console::fmt_opt;
+use crate::output::fmt_opt;
 use crate::output::markdown_table::{Rule, Table};
 use crate::runs::metrics::BoundSet;
 use crate::runs::sampler::HALF_TURN_AXES;

@@ -26,7 +26,7 @@ pub fn write_summary(path: &Path, summary: &Summary) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::output::test_support::{synthetic_summary, temp_dir};
+    use crate::fly::files::test_support::{synthetic_summary, temp_dir};
 
     #[test]
     fn writes_pretty_json_with_the_serde_names() {

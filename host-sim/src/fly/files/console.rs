@@ -135,8 +135,3 @@ pub fn human_summary(title: &str, summary: &Summary) -> String {
     }
     s
 }
-
-/// `x.xx` or `-` (an optional figure in a report: a settling time, a percentile).
-pub fn fmt_opt(x: Option<f64>) -> String {
-    x.map_or_else(|| "-".into(), |v| format!("{v:.2}"))
-}

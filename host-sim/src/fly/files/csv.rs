@@ -26,7 +26,7 @@ pub fn write_csv(path: &Path, records: &[Record]) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::output::test_support::{synthetic_records, temp_dir};
+    use crate::fly::files::test_support::{synthetic_records, temp_dir};
 
     #[test]
     fn header_and_values_round_trip() {

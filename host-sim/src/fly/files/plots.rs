@@ -4,15 +4,14 @@
 use std::f64::consts::PI;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
 
-use anyhow::{bail, Context, Result};
+use anyhow::Result;
 use plotters::prelude::*;
-use plotters::style::{register_font, FontStyle};
 
-use super::chart::{self, Panel, Points, Scale, Series, FONT};
 use crate::fly::sim::{Record, Summary};
 use crate::model::scenario::Scenario;
+use crate::output::chart::{self, Panel, Points, Scale, Series};
+use crate::output::png::{ensure_font, write_png};
 
 /// File name of the combined figure.
 pub const OVERVIEW_FILE: &str = "overview.png";
@@ -71,32 +70,6 @@ pub fn write_plots(
     write_png(&path, PANEL_SIZE, |root| chart::draw(root, &bounds))?;
     written.push(path);
     Ok(written)
-}
-
-/// plotters' `ab_glyph` text renderer draws nothing until a font is registered; registering is
-/// global, so it happens once per process.
-pub(crate) fn ensure_font() -> Result<()> {
-    static REGISTERED: OnceLock<bool> = OnceLock::new();
-    let ok = *REGISTERED
-        .get_or_init(|| register_font(FONT, FontStyle::Normal, dejavu::sans::regular()).is_ok());
-    if !ok {
-        bail!("plotters refused the embedded DejaVu Sans font");
-    }
-    Ok(())
-}
-
-/// Creates a PNG of `size` at `path`, lets `paint` fill it, and saves it.
-pub(crate) fn write_png(
-    path: &Path,
-    size: (u32, u32),
-    paint: impl FnOnce(&DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>) -> Result<()>,
-) -> Result<()> {
-    let context = || format!("writing {}", path.display());
-    let root = BitMapBackend::new(path, size).into_drawing_area();
-    paint(&root).with_context(context)?;
-    // Saving explicitly: the backend's drop would swallow an I/O error.
-    root.present().with_context(context)?;
-    Ok(())
 }
 
 /// Reads one column of a [`Record`].
@@ -391,7 +364,7 @@ fn saturations_panel(scenario: &Scenario, records: &[Record], span: &Range<f64>)
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::output::test_support::{synthetic_records, synthetic_summary, temp_dir};
+    use crate::fly::files::test_support::{synthetic_records, synthetic_summary, temp_dir};
 
     #[test]
     fn writes_ten_non_empty_pngs() {
