@@ -45,6 +45,7 @@ impl<T: Scalar> Gains<T> {
                 kf: lit(2.0),
                 ks: lit(20.0),
                 saturation: lit(2.0),
+                saturation_shape: crate::position_saturation::PositionSaturation::Componentwise,
             },
             attitude: AttitudeGains {
                 k_mrp: lit(100.0),

@@ -160,6 +160,7 @@ mod tests {
                 kf,
                 ks,
                 saturation: 1.0,
+                saturation_shape: crate::position_saturation::PositionSaturation::Componentwise,
             },
             IntegralGains {
                 feedforward_scale: None,

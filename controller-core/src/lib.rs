@@ -9,6 +9,8 @@
 //! body-frame angular velocity; SI units (N, N m, rad, rad/s, m, s).
 //!
 //! Modules, one concept each: [`saturation`] (Definition 1), [`position`] (Section IV),
+//! [`position_saturation`] (the shape of `σ_p`: the paper's componentwise one or a norm one, an
+//! extension: docs/position-saturation.md),
 //! [`desired_attitude`] (eq:DesiredRotationMatrix, Lemma 1), [`mrp`] (Section II),
 //! [`path_lifting`] (Appendix), [`attitude_control`] (Section V), [`reference`](mod@reference)
 //! (Assumption 1's trajectories), [`bounds`] (Assumption 1, Theorems 1–2, Lemma 1),
@@ -39,6 +41,7 @@ pub mod mrp;
 pub mod parameter_error;
 pub mod path_lifting;
 pub mod position;
+pub mod position_saturation;
 pub mod reference;
 pub mod saturation;
 pub mod scalar;
@@ -66,6 +69,7 @@ pub use gains::Gains;
 pub use integral::{IntegralGains, IntegralState};
 pub use parameter_error::ParameterError;
 pub use path_lifting::JumpCounters;
+pub use position_saturation::PositionSaturation;
 pub use reference::{
     HeadingProfile, ReferenceSample, ReferenceTrajectory, Trajectory, TrajectoryConstants,
 };

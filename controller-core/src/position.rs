@@ -12,7 +12,7 @@
 
 use nalgebra::Vector3;
 
-use crate::saturation::tanh_saturation;
+use crate::position_saturation::PositionSaturation;
 use crate::scalar::Scalar;
 use crate::velocity_limit::VelocityLimit;
 
@@ -27,8 +27,12 @@ pub struct PositionGains<T: Scalar> {
     pub kf: T,
     /// `k_s` [1/s]: bandwidth of the inner filter (`u_s`).
     pub ks: T,
-    /// `M_p` [m/s²]: saturation level of `σ_p` (per component); must satisfy `M_p < g − K_a3`.
+    /// `M_p` [m/s²]: saturation level of `σ_p` (per component, or of the norm with
+    /// [`PositionSaturation::Norm`]); must satisfy `M_p < g − K_a3`.
     pub saturation: T,
+    /// Shape of `σ_p`: the paper's componentwise saturation (the default) or the norm
+    /// saturation (extension, docs/position-saturation.md).
+    pub saturation_shape: PositionSaturation,
 }
 
 /// Filter states `x_f = (u_f, u_s)` [m/s²], inertial frame.
@@ -57,7 +61,8 @@ pub struct PositionOutput<T: Scalar> {
     pub z1: Vector3<T>,
     /// `z₂` [m/s]: forward-projected velocity error (eq:Zcoordinates).
     pub z2: Vector3<T>,
-    /// `ubar_p = −σ_p(k_p z₁ + k_v z₂)` [m/s²], each component in `(−M_p, M_p)`.
+    /// `ubar_p = −σ_p(k_p z₁ + k_v z₂)` [m/s²], each component in `(−M_p, M_p)` (its norm, with
+    /// the norm shape).
     pub ubar_p: Vector3<T>,
     /// `u = u_f + g e₃ + p̈_d` [m/s²] (eq:PositionControlLaw).
     pub u: Vector3<T>,
@@ -91,7 +96,7 @@ impl<T: Scalar> PositionGains<T> {
     /// docs/velocity-limit.md), `p̃ = p − p_d` \[m\], `ṽ = v − ṗ_d` [m/s], filter states, the
     /// reference's `p̈_d`, `p_d⁽³⁾`, `p_d⁽⁴⁾`, and gravity `g` [m/s²]; all inertial. Source:
     /// Section IV, eq:PositionControlLaw, eq:FilterDynamics, eq:Zcoordinates;
-    /// `σ_p = M tanh(·/M)` as in Section VI.
+    /// `σ_p = M tanh(·/M)` as in Section VI, or the norm shape of [`PositionSaturation`].
     #[allow(clippy::too_many_arguments)]
     pub fn evaluate(
         &self,
@@ -106,8 +111,10 @@ impl<T: Scalar> PositionGains<T> {
     ) -> PositionOutput<T> {
         let (z1, z2) = self.z_coordinates(position_error, velocity_error, filter);
         let ubar_p = match limit {
-            None => -tanh_saturation(&(z1 * self.kp + z2 * self.kv), self.saturation),
-            Some(l) => l.feedback(self.kp, self.kv, self.saturation, &z1, &z2),
+            None => -self
+                .saturation_shape
+                .apply(&(z1 * self.kp + z2 * self.kv), self.saturation),
+            Some(l) => l.feedback(self, &z1, &z2),
         };
         let filter_gap = filter.u_f - filter.u_s;
         let u_f_dot = -filter_gap * self.kf;
@@ -186,6 +193,7 @@ impl<T: Scalar> FilterPropagator<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::saturation::tanh_saturation;
     use approx::assert_relative_eq;
     use proptest::prelude::*;
 
@@ -196,6 +204,7 @@ mod tests {
             kf: 2.0,
             ks: 20.0,
             saturation: 2.0,
+            saturation_shape: PositionSaturation::Componentwise,
         }
     }
 

@@ -31,6 +31,7 @@ fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOptions 
         bounds: Default::default(),
         integral: None,
         thrust: host_sim::model::scenario::ThrustKind::Norm,
+        position_saturation: Default::default(),
         speed_limit: None,
         fallback: host_sim::design::options::Fallback::Off,
         out,

@@ -48,6 +48,7 @@ fn the_default_flight_carries_designs_integral_action() {
         kf: p.kf.into(),
         ks: p.ks.into(),
         saturation: p.saturation.into(),
+        saturation_shape: p.saturation_shape,
     };
     let spec = IntegralSpec::covering(f64::from(c.vehicle.gravity), MASS_ERROR, FORCE_FRACTION)
         .expect("a valid coverage");

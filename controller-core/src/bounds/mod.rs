@@ -14,6 +14,7 @@ pub use crate::condition::{Condition, Violation};
 use crate::gains::Gains;
 use crate::integral_stability::{local_stability_conditions, STABILITY_CONDITION_COUNT};
 use crate::parameter_error::ParameterError;
+use crate::position_saturation::PositionSaturation;
 use crate::reference::TrajectoryConstants;
 use crate::scalar::{lit, to_f64, Scalar};
 use crate::vehicle::{Limits, Vehicle};
@@ -23,7 +24,8 @@ use crate::vehicle::{Limits, Vehicle};
 pub enum FilterStart {
     /// `x_f(0) = 0` (Section VI): `U_l = (k_f/k_s)^{k_f/(k_s−k_f)}` (`e⁻¹` if `k_f = k_s`).
     Zero,
-    /// Any `x_f(0) ∈ M_p 𝔹⁶_∞`: `U_l = 1`.
+    /// Any `x_f(0) ∈ M_p 𝔹⁶_∞`: `U_l = 1`. With the norm shape of `σ_p`, `u_f(0)` and `u_s(0)`
+    /// each in the ball `M_p 𝔹³` (where the law keeps them; docs/position-saturation.md).
     InSaturationBox,
 }
 
@@ -56,22 +58,27 @@ pub struct Bounds<T: Scalar> {
     /// `m(g − K_a3 − L_z)`.
     pub thrust_min: T,
     /// `T_max = m(√3 M_p + sqrt(K_a12² + (K_a3 + g)²))` \[N\] (eq:UpperBoundT); with the integral
-    /// action `m sqrt((sqrt(L_x² + L_y²) + K_a12)² + (g + K_a3 + L_z)²)`.
+    /// action `m sqrt((sqrt(L_x² + L_y²) + K_a12)² + (g + K_a3 + L_z)²)`. With the norm shape of
+    /// `σ_p` ([`PositionSaturation::Norm`]) `M_p` replaces `√3 M_p`, and with the integral action
+    /// `m(M_p + sqrt((|M_i,xy| + K_a12)² + (g + K_a3 + M_i,z)²))`.
     pub thrust_max: T,
     /// `U_l` of Lemma 1 (dimensionless).
     pub filter_overshoot: T,
-    /// `U_u̇ = 2√3 k_f U_l M_p + K_j` [m/s³]; with the integral action `+ |b|`, `b_i =
+    /// `U_u̇ = 2√3 k_f U_l M_p + K_j` [m/s³] (`2 k_f U_l M_p + K_j` with the norm shape); with
+    /// the integral action `+ |b|`, `b_i =
     /// min(2 k_η M_i,i, c R_i,i)` the reachable-set bound on `|η̇_f,i|`
     /// (`IntegralGains::filtered_rate_bound`).
     pub u_rate: T,
-    /// `U_ü = 2√3 k_f M_p (k_f U_l + k_s) + K_s` [m/s⁴]; with the integral action
+    /// `U_ü = 2√3 k_f M_p (k_f U_l + k_s) + K_s` [m/s⁴] (`2 k_f M_p (k_f U_l + k_s) + K_s` with
+    /// the norm shape); with the integral action
     /// `+ k_η |b + R_i|` (`IntegralGains::filtered_acceleration_bound`).
     pub u_acceleration: T,
     /// `U_ρ̇ = m U_u̇ / T_min` [1/s].
     pub thrust_direction_rate: T,
     /// `U_ρ̈ = m U_ü / T_min + 3 U_ρ̇²` [1/s²].
     pub thrust_direction_acceleration: T,
-    /// `L_ϖ`, lower bound of `|ϖ|` (dimensionless).
+    /// `L_ϖ`, lower bound of `|ϖ|` (dimensionless); the horizontal part of `u_f` is at most
+    /// `√2 M_p` (`M_p` with the norm shape).
     pub heading_projection_min: T,
     /// `U_υ̇ = (U_ρ̇ + K_ν̇)/L_ϖ` [1/s].
     pub heading_axis_rate: T,
@@ -231,12 +238,28 @@ pub fn certify<T: Scalar>(
     let sqrt3 = three.sqrt();
 
     // Theorem 1; extended: the horizontal and vertical parts of u are bounded separately.
-    let (thrust_min, thrust_max) = match &level_sum {
-        None => (
+    // With the norm shape u_f stays in the ball M_p 𝔹³ (a convex combination of values of
+    // ubar_p), so it adds M_p, not √3 M_p, to the rest of u (docs/position-saturation.md).
+    let norm_shape = p.saturation_shape == PositionSaturation::Norm;
+    let (thrust_min, thrust_max) = match (&level_sum, &gains.integral) {
+        (None, _) if norm_shape => (
+            m * (g - mp - ka3),
+            m * (mp + (ka12 * ka12 + (ka3 + g) * (ka3 + g)).sqrt()),
+        ),
+        (None, _) => (
             m * (g - mp - ka3),
             m * (sqrt3 * mp + (ka12 * ka12 + (ka3 + g) * (ka3 + g)).sqrt()),
         ),
-        Some(l) => {
+        (Some(l), Some(i)) if norm_shape => {
+            let mi = &i.level;
+            let horizontal = (mi.x * mi.x + mi.y * mi.y).sqrt() + ka12;
+            let vertical = g + ka3 + mi.z;
+            (
+                m * (g - ka3 - l.z),
+                m * (mp + (horizontal * horizontal + vertical * vertical).sqrt()),
+            )
+        }
+        (Some(l), _) => {
             let horizontal = (l.x * l.x + l.y * l.y).sqrt() + ka12;
             let vertical = g + ka3 + l.z;
             (
@@ -258,8 +281,10 @@ pub fn certify<T: Scalar>(
             }
         }
     };
-    let mut u_rate = two * sqrt3 * kf * filter_overshoot * mp + k.jerk;
-    let mut u_acceleration = two * sqrt3 * kf * mp * (kf * filter_overshoot + ks) + k.snap;
+    // sup |ubar_p| / M_p: √3 (the paper's cube) or 1 (the norm shape's ball).
+    let reach = p.saturation_shape.norm_factor::<T>();
+    let mut u_rate = two * reach * kf * filter_overshoot * mp + k.jerk;
+    let mut u_acceleration = two * reach * kf * mp * (kf * filter_overshoot + ks) + k.snap;
     // |η̇_f| and |η̈_f| over the states reachable from arming (crate::integral's reachable-set
     // bound, never above the whole box's 2 k_η M_i and k_η (2 k_η M_i + R_i)).
     let integral_terms = gains.integral.map(|i| {
@@ -275,9 +300,16 @@ pub fn certify<T: Scalar>(
     let rho_d = m * u_rate / thrust_min;
     let rho_dd = m * u_acceleration / thrust_min + three * rho_d * rho_d;
     let a = thrust_min / m;
-    let lateral = match &level_sum {
-        None => two * mp * mp + ka12 * ka12 + two * two.sqrt() * mp * ka12,
-        Some(l) => {
+    // The largest horizontal |u|² less K_a12² ... : (√2 M_p + K_a12)² for the cube, (M_p +
+    // K_a12)² for the ball (its horizontal part is at most M_p).
+    let lateral = match (&level_sum, &gains.integral) {
+        (None, _) if norm_shape => mp * mp + ka12 * ka12 + two * mp * ka12,
+        (None, _) => two * mp * mp + ka12 * ka12 + two * two.sqrt() * mp * ka12,
+        (Some(_), Some(i)) if norm_shape => {
+            let lxy = mp + (i.level.x * i.level.x + i.level.y * i.level.y).sqrt();
+            lxy * lxy + ka12 * ka12 + two * lxy * ka12
+        }
+        (Some(l), _) => {
             let lxy = (l.x * l.x + l.y * l.y).sqrt();
             lxy * lxy + ka12 * ka12 + two * lxy * ka12
         }
@@ -377,9 +409,11 @@ pub fn certify<T: Scalar>(
         },
         Condition {
             name: "theorem1.thrust_bound_within_actuator",
-            statement: match &level_sum {
-                None => "T_max (actuator) >= m (sqrt(3) M_p + sqrt(K_a12^2 + (K_a3 + g)^2)) (eq:UpperBoundT)",
-                Some(_) => "T_max (actuator) >= m sqrt((|L_xy| + K_a12)^2 + (g + K_a3 + L_z)^2), L = M_p + M_i (extended Theorem 1, docs/integral-action.md)",
+            statement: match (&level_sum, norm_shape) {
+                (None, false) => "T_max (actuator) >= m (sqrt(3) M_p + sqrt(K_a12^2 + (K_a3 + g)^2)) (eq:UpperBoundT)",
+                (None, true) => "T_max (actuator) >= m (M_p + sqrt(K_a12^2 + (K_a3 + g)^2)) (eq:UpperBoundT, norm-saturated ubar_p: docs/position-saturation.md)",
+                (Some(_), false) => "T_max (actuator) >= m sqrt((|L_xy| + K_a12)^2 + (g + K_a3 + L_z)^2), L = M_p + M_i (extended Theorem 1, docs/integral-action.md)",
+                (Some(_), true) => "T_max (actuator) >= m (M_p + sqrt((|M_i,xy| + K_a12)^2 + (g + K_a3 + M_i,z)^2)) (extended Theorem 1, norm-saturated ubar_p: docs/position-saturation.md)",
             },
             lhs: limits.thrust_max,
             rhs: thrust_max,
@@ -451,3 +485,6 @@ mod tests;
 
 #[cfg(test)]
 mod integral_tests;
+
+#[cfg(test)]
+mod norm_shape_tests;

@@ -139,11 +139,14 @@ impl<T: Scalar> Controller<T> {
         self.filter
     }
 
-    /// Sets the filter states; they must lie in `M_p 𝔹⁶_∞` (Lemma 1's premise).
-    /// Errors: [`ParameterError::OutOfRange`] naming `"x_f"` with the largest component.
+    /// Sets the filter states; they must lie in `M_p 𝔹⁶_∞` (Lemma 1's premise), or with the norm
+    /// shape of `σ_p` each of `u_f`, `u_s` in the ball `M_p 𝔹³` (docs/position-saturation.md).
+    /// Errors: [`ParameterError::OutOfRange`] naming `"x_f"` with the largest component (the
+    /// larger norm, with the norm shape).
     pub fn set_filter_state(&mut self, filter: FilterState<T>) -> Result<(), ParameterError> {
         let m = self.gains.position.saturation;
-        let largest = filter.u_f.amax().max(filter.u_s.amax());
+        let shape = self.gains.position.saturation_shape;
+        let largest = shape.size(&filter.u_f).max(shape.size(&filter.u_s));
         if !(largest.is_finite() && largest <= m) {
             return Err(ParameterError::OutOfRange {
                 name: "x_f",

@@ -32,7 +32,7 @@
 use nalgebra::Vector3;
 
 use crate::parameter_error::{positive, ParameterError};
-use crate::saturation::tanh_saturation;
+use crate::position::PositionGains;
 use crate::scalar::{to_f64, Scalar};
 
 /// The braking profile of the velocity-limited position feedback (extension,
@@ -90,20 +90,20 @@ impl<T: Scalar> VelocityLimit<T> {
     }
 
     /// The feedback `ubar_p = −σ_p(k_v (z₂ + φ(z₁)))` [m/s²], inertial, each component in
-    /// `(−M_p, M_p)`; `z₁` \[m\] and `z₂` [m/s] are the z-coordinates (eq:Zcoordinates) and
-    /// `kp` [1/s²], `kv` [1/s], `saturation` (`M_p`, m/s²) the position loop's gains
-    /// ([`crate::position::PositionGains`]).
+    /// `(−M_p, M_p)` (its norm, with the norm shape); `z₁` \[m\] and `z₂` [m/s] are the
+    /// z-coordinates (eq:Zcoordinates); `gains` gives `k_p` [1/s²], `k_v` [1/s], `M_p` [m/s²]
+    /// and the shape of `σ_p` ([`crate::position::PositionGains`]).
     pub fn feedback(
         &self,
-        kp: T,
-        kv: T,
-        saturation: T,
+        gains: &PositionGains<T>,
         z1: &Vector3<T>,
         z2: &Vector3<T>,
     ) -> Vector3<T> {
-        let c = kp / kv;
+        let c = gains.kp / gains.kv;
         let desired = z1.map(|x| self.profile(x, c));
-        -tanh_saturation(&((z2 + desired) * kv), saturation)
+        -gains
+            .saturation_shape
+            .apply(&((z2 + desired) * gains.kv), gains.saturation)
     }
 }
 

@@ -50,6 +50,13 @@ pub struct GainsTable {
     pub delta: f64,
     /// Reset threshold `α`.
     pub alpha: f64,
+    /// Shape of the position feedback's saturation `σ_p`: `"componentwise"` (absent: the
+    /// paper's) or `"norm"` (extension, docs/position-saturation.md).
+    #[serde(
+        default,
+        skip_serializing_if = "PositionSaturationTable::is_componentwise"
+    )]
+    pub position_saturation: PositionSaturationTable,
     /// `[gains.integral]`: the bounded integral action (absent = off, the paper's law;
     /// extension, docs/integral-action.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -62,6 +69,25 @@ pub struct GainsTable {
     /// paper's `−σ_p(k_p z₁ + k_v z₂)`; extension, docs/velocity-limit.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub velocity_limit: Option<VelocityLimitTable>,
+}
+
+/// `[gains] position_saturation`: the shape of the position feedback's saturation `σ_p`
+/// (controller-core's `PositionSaturation`).
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum PositionSaturationTable {
+    /// `M_p tanh(y_i/M_p)` per inertial component (Definition 1, Section VI).
+    #[default]
+    Componentwise,
+    /// `M_p y / sqrt(M_p² + |y|²)` (extension, docs/position-saturation.md).
+    Norm,
+}
+
+impl PositionSaturationTable {
+    /// Whether this is the paper's shape (then the key is left out when written).
+    pub fn is_componentwise(&self) -> bool {
+        *self == Self::Componentwise
+    }
 }
 
 /// `[gains.velocity_limit]`: the braking profile of the velocity-limited position feedback

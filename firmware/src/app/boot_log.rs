@@ -167,6 +167,14 @@ pub fn log_identity(config: &crate::config::FlightConfig) {
             v.speed, v.braking
         ),
     }
+    match config.gains.position.saturation_shape {
+        controller_core::PositionSaturation::Componentwise => info!(
+            "flight: position saturation: componentwise (the paper's; |ubar_p| < sqrt(3) M_p)"
+        ),
+        controller_core::PositionSaturation::Norm => {
+            info!("flight: position saturation: norm (|ubar_p| < M_p; docs/position-saturation.md)")
+        }
+    }
     if config.allow_uncertified {
         error!(
             "flight: UNCERTIFIED BUILD (feature uncertified-paper): this firmware arms set-ups \

@@ -13,7 +13,9 @@
 //! `controller_core::bounds::certify` and `Mixer::box_fit` ([`super::certificate`]).
 
 use super::integral::IntegralSpec;
-use controller_core::{certify, Bounds, FilterStart, Gains, Limits, TrajectoryConstants, Vehicle};
+use controller_core::{
+    certify, Bounds, FilterStart, Gains, Limits, PositionSaturation, TrajectoryConstants, Vehicle,
+};
 use firmware::config::RotorConfig;
 use firmware::mixer::Mixer;
 use nalgebra::{Matrix4, Vector3};
@@ -75,28 +77,49 @@ pub struct Envelope {
     pub bounds: Bounds<f64>,
 }
 
+/// What of the position law, besides `(M_p, k_f, k_s)`, enters Theorem 1's interval and
+/// Lemma 1's bounds: the integral action and the shape of `σ_p`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PositionLaw<'a> {
+    /// `Some`: the bounded integral action sized by this spec (the extended bounds,
+    /// docs/integral-action.md).
+    pub integral: Option<&'a IntegralSpec>,
+    /// The shape of `σ_p`: the paper's componentwise one or the norm one
+    /// (docs/position-saturation.md).
+    pub shape: PositionSaturation,
+}
+
+impl PositionLaw<'_> {
+    /// The paper's position law: no integral action, the componentwise `σ_p`.
+    pub fn paper() -> Self {
+        Self::default()
+    }
+}
+
 /// Probe gains: every value that does not enter the bounds of Theorem 1 / Lemma 1 is set to 1
-/// (Table I's); with `integral`, its bound terms for `k_f`, `k_s` ([`IntegralSpec::probe`]), so the
-/// bounds are the extended ones (docs/integral-action.md).
-pub fn probe_gains(mp: f64, kf: f64, ks: f64, integral: Option<&IntegralSpec>) -> Gains<f64> {
+/// (Table I's); the shape of `σ_p` from `law`; with `law.integral`, its bound terms for `k_f`,
+/// `k_s` ([`IntegralSpec::probe`]), so the bounds are the extended ones
+/// (docs/integral-action.md).
+pub fn probe_gains(mp: f64, kf: f64, ks: f64, law: PositionLaw<'_>) -> Gains<f64> {
     let mut g = Gains::<f64>::paper();
     g.position.saturation = mp;
+    g.position.saturation_shape = law.shape;
     g.position.kf = kf;
     g.position.ks = ks;
     g.hysteresis = DELTA;
     g.reset_threshold = ALPHA;
-    g.integral = integral.map(|i| i.probe(kf, ks));
+    g.integral = law.integral.map(|i| i.probe(kf, ks));
     g
 }
 
-/// Theorem 1's thrust interval and Lemma 1's feedforward torque for `(M_p, k_f, k_s)`, extended
-/// by the integral action when `integral` is `Some`. `None` when `certify` refuses the set-up
+/// Theorem 1's thrust interval and Lemma 1's feedforward torque for `(M_p, k_f, k_s)` and the
+/// position law `law` (extended by the integral action when `law.integral` is `Some`). `None` when `certify` refuses the set-up
 /// (e.g. `M_p ≥ g − K_a3`, or `M_p + M_i,z ≥ g − K_a3` with the integral action).
 pub fn envelope(
     vehicle: &Vehicle<f64>,
     constants: &TrajectoryConstants<f64>,
     (mp, kf, ks): (f64, f64, f64),
-    integral: Option<&IntegralSpec>,
+    law: PositionLaw<'_>,
 ) -> Option<Envelope> {
     // The bounds do not depend on the limits; any valid ones do.
     let limits = Limits {
@@ -106,7 +129,7 @@ pub fn envelope(
     let c = certify(
         vehicle,
         &limits,
-        &probe_gains(mp, kf, ks, integral),
+        &probe_gains(mp, kf, ks, law),
         constants,
         FilterStart::Zero,
     )
@@ -127,13 +150,13 @@ pub fn envelope_with(
     vehicle: &Vehicle<f64>,
     constants: &TrajectoryConstants<f64>,
     (mp, kf, ks): (f64, f64, f64),
-    integral: Option<&IntegralSpec>,
+    law: PositionLaw<'_>,
 ) -> Option<Envelope> {
-    let mut env = envelope(vehicle, constants, (mp, kf, ks), integral)?;
+    let mut env = envelope(vehicle, constants, (mp, kf, ks), law)?;
     if bounds == super::tight::BoundsKind::Tight {
         let rates = super::tight::rates(
             vehicle,
-            &probe_gains(mp, kf, ks, integral),
+            &probe_gains(mp, kf, ks, law),
             constants,
             super::tight::SEARCH_BOXES,
         )
@@ -186,7 +209,7 @@ pub fn iota_max_at(
     margin: f64,
     (mp, kf, ks): (f64, f64, f64),
 ) -> f64 {
-    envelope(vehicle, constants, (mp, kf, ks), None)
+    envelope(vehicle, constants, (mp, kf, ks), PositionLaw::paper())
         .map(|env| iota_max(rotors, &env, margin))
         .unwrap_or(f64::NEG_INFINITY)
 }
@@ -208,7 +231,7 @@ pub fn saturation_max(
         constants,
         (rotors, margin),
         (kf, ks),
-        None,
+        PositionLaw::paper(),
     )
 }
 
@@ -222,17 +245,17 @@ pub fn saturation_max_with(
     constants: &TrajectoryConstants<f64>,
     (rotors, margin): (&RotorSet, f64),
     (kf, ks): (f64, f64),
-    integral: Option<&IntegralSpec>,
+    law: PositionLaw<'_>,
 ) -> Option<f64> {
     // With the integral action the extended `T_min = m(g − K_a3 − M_p − M_i,z) > 0` caps `M_p`.
     let top = vehicle.gravity
         - constants.vertical_acceleration
-        - integral.map_or(0.0, |i| i.level_m_s2[2]);
+        - law.integral.map_or(0.0, |i| i.level_m_s2[2]);
     if top <= 0.0 {
         return None;
     }
     let positive = |mp: f64| {
-        envelope_with(bounds, vehicle, constants, (mp, kf, ks), integral)
+        envelope_with(bounds, vehicle, constants, (mp, kf, ks), law)
             .is_some_and(|env| iota_max(rotors, &env, margin) > 0.0)
     };
     let steps = match bounds {
@@ -291,7 +314,7 @@ mod tests {
         shrunk.thrust_max = hi as f32;
         let mixer = Mixer::new(&shrunk).unwrap();
         for (mp, kf, ks) in [(0.3, 0.3, 0.6), (0.5, 0.5, 1.5), (1.5, 0.3, 1.0)] {
-            let env = envelope(&vehicle, &k, (mp, kf, ks), None).unwrap();
+            let env = envelope(&vehicle, &k, (mp, kf, ks), PositionLaw::paper()).unwrap();
             let closed = iota_max(&set, &env, margin);
             let fits = |iota: f64| {
                 let tau = (env.feedforward.add_scalar(iota)).map(|x| x as f32);

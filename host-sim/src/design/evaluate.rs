@@ -9,7 +9,11 @@
 //! - robustness: the seven starts again with the motor time constant doubled;
 //! - with the integral action (`design` (unless `--no-integral`)): the disturbance it covers, at hover from
 //!   rest, upright: the plant's mass raised by the covered fraction `e` and a constant force of
-//!   the covered fraction `f` of the plant's weight pushing down ([`disturbed_hover`]).
+//!   the covered fraction `f` of the plant's weight pushing down ([`disturbed_hover`]);
+//! - the nominal tasks an engineer judges a controller by, as `compare` flies them
+//!   ([`crate::studies::compare::sanity`]): a 1 m horizontal step and a 30° roll from hover,
+//!   10 s each; they weigh in the objective (an unsettled task counts
+//!   [`UNSETTLED_TASK_S`]) but are no constraint.
 //!
 //! A run *converges* when it has settled by `duration − 5 s` and the attitude error stays below
 //! 1° over the last 5 s (no limit cycle).
@@ -26,6 +30,7 @@ use crate::model::scenario::Scenario;
 use crate::runs::metrics::{Convergence, MetricsAccumulator};
 use crate::runs::runner::paper_bound_set;
 use crate::runs::sampler::{Sampler, SamplerRadii, HALF_TURN_AXES};
+use crate::studies::compare::{sanity, Contestant, SanityRow};
 
 /// The end window checked for a limit cycle \[s\].
 pub const TAIL_S: f64 = 5.0;
@@ -36,6 +41,11 @@ pub const ALTITUDE_WEIGHT_S_PER_M: f64 = 1.0;
 /// Objective weight of the worst settling time with the motor time constant doubled: a design
 /// that only just converges with the doubled lag has no margin left for the campaigns' offsets.
 pub const DOUBLED_LAG_WEIGHT: f64 = 0.5;
+/// Objective weight of each nominal task's settling time (the 1 m step and the 30° roll): the
+/// agility a pilot sees, which the worst-case terms above do not measure.
+pub const NOMINAL_TASK_WEIGHT: f64 = 2.0;
+/// What an unsettled nominal task counts in the objective \[s\]: twice its 10 s run.
+pub const UNSETTLED_TASK_S: f64 = 20.0;
 /// Cost floor of a design that fails a convergence constraint.
 pub const PENALTY: f64 = 1000.0;
 
@@ -202,11 +212,52 @@ pub struct Evaluation {
     pub upside_down: Trial,
     /// With the integral action: the disturbed hover ([`disturbed_hover`]).
     pub disturbed_hover: Option<Trial>,
+    /// The nominal tasks (hover, 1 m step, 30° roll; [`crate::studies::compare::sanity`]).
+    pub nominal_tasks: SanityRow,
+}
+
+/// The nominal tasks' term of the objective \[s\]: the step's and the roll's settling times
+/// (each [`UNSETTLED_TASK_S`] when unsettled), weighted by [`NOMINAL_TASK_WEIGHT`].
+pub fn nominal_task_cost(row: &SanityRow) -> f64 {
+    let settled = |t: Option<f64>| t.unwrap_or(UNSETTLED_TASK_S);
+    NOMINAL_TASK_WEIGHT * (settled(row.step_settling_time_s) + settled(row.tilt_settling_time_s))
+}
+
+/// The nominal tasks flown by the baselines on the design's `scenario` (its vehicle, plant and
+/// motor lag): Lee et al. (2010) and the PX4-style cascade, as `compare` labels them, each
+/// checked against the design's bounds (the baselines have none of their own). Errors: a
+/// controller refused the scenario.
+pub fn baseline_tasks(scenario: &Scenario) -> Result<Vec<SanityRow>> {
+    let bounds = paper_bound_set(scenario)?;
+    [("lee", ControllerKind::Lee), ("px4", ControllerKind::Px4)]
+        .into_par_iter()
+        .map(|(label, controller)| {
+            let c = Contestant {
+                label: label.into(),
+                controller,
+                clip: scenario.simulation.clip_to_limits,
+                integral: false,
+            };
+            sanity(scenario, &c, bounds)
+        })
+        .collect()
+}
+
+/// The nominal tasks of the design's `scenario` (its plant, gains, thrust and motor lag), the
+/// samples checked against its own bounds. Errors: the controller refused the scenario.
+pub fn nominal_tasks(scenario: &Scenario) -> Result<SanityRow> {
+    let design = Contestant {
+        label: "design".into(),
+        controller: ControllerKind::Paper,
+        clip: scenario.simulation.clip_to_limits,
+        integral: true,
+    };
+    sanity(scenario, &design, paper_bound_set(scenario)?)
 }
 
 /// Scores a design: `worst settling [s] + 0.5 × worst settling with the motor time constant
-/// doubled [s] + 1 s/m × altitude lost [m]` (`+` the disturbed hover's settling time \[s\] with
-/// `integral`) when every run
+/// doubled [s] + 1 s/m × altitude lost [m] + 2 × (1 m step's + 30° roll's settling [s])`
+/// (`+` the disturbed hover's settling time \[s\] with `integral`) when every run
 /// converges, else `PENALTY + 100 × (runs not converged) + 10 ln(1 + altitude lost [m]) +
 /// Σ ln(1 + final position error [m])` over the nominal 180° starts (and the disturbed hover).
 /// `scenario` and `hover` fly the vehicle's motor time constant `tau_m` \[s\].
@@ -216,16 +267,21 @@ pub fn evaluate(
     (tau_m, integral): (f64, Option<&super::integral::IntegralSpec>),
     trace: bool,
 ) -> Result<Evaluation> {
-    let (nominal, upside) = rayon::join(
+    let ((nominal, upside), tasks) = rayon::join(
         || {
-            half_turns(
-                &super::flight::with_motor_lag(scenario, tau_m, tau_m),
-                trace,
+            rayon::join(
+                || {
+                    half_turns(
+                        &super::flight::with_motor_lag(scenario, tau_m, tau_m),
+                        trace,
+                    )
+                },
+                || upside_down(&super::flight::with_motor_lag(hover, tau_m, tau_m), trace),
             )
         },
-        || upside_down(&super::flight::with_motor_lag(hover, tau_m, tau_m), trace),
+        || nominal_tasks(&super::flight::with_motor_lag(scenario, tau_m, tau_m)),
     );
-    let (nominal, upside) = (nominal?, upside?);
+    let (nominal, upside, tasks) = (nominal?, upside?, tasks?);
     let disturbed = integral
         .map(|spec| {
             disturbed_hover(
@@ -269,6 +325,7 @@ pub fn evaluate(
                     .as_ref()
                     .and_then(|t| t.settling_time_s)
                     .unwrap_or(0.0)
+                + nominal_task_cost(&tasks)
         }
         // Graded, so the optimiser can climb towards feasibility: fewer failures first, then
         // less altitude lost and smaller final errors.
@@ -294,6 +351,7 @@ pub fn evaluate(
         doubled_lag: doubled,
         upside_down: upside,
         disturbed_hover: disturbed,
+        nominal_tasks: tasks,
     })
 }
 

@@ -2,7 +2,7 @@
 //! its numbers: a rotor set that cannot hover or give the needed authority, an integral action
 //! that cannot be covered, and the binding condition of a certificate that fails.
 
-use super::authority::RotorSet;
+use super::authority::{PositionLaw, RotorSet};
 use super::certificate::{certify_design_with, Certified};
 use super::integral::IntegralSpec;
 use super::reference::Reference;
@@ -16,24 +16,24 @@ pub(crate) fn binding_condition(
     vehicle: &DesignVehicle,
     set: &RotorSet,
     (margin, law, bounds): (f64, AttitudeLaw, BoundsKind),
-    integral: Option<&IntegralSpec>,
+    position: PositionLaw<'_>,
     r: &Reference,
 ) -> Option<String> {
     let constants = r.constants();
     let hover = iota_floor(
         vehicle,
         set,
-        (margin, bounds, integral),
+        (margin, bounds, position),
         &controller_core::TrajectoryConstants::zero(),
     );
-    let floor = iota_floor(vehicle, set, (margin, bounds, integral), &constants);
+    let floor = iota_floor(vehicle, set, (margin, bounds, position), &constants);
     if floor < AUTHORITY_SHARE * hover {
         let env = super::authority::envelope_with(
             bounds,
             &vehicle.body,
             &constants,
             (1e-6, 0.3, 0.45),
-            integral,
+            position,
         );
         let detail = env.map_or_else(String::new, |env| {
             format!(
@@ -67,7 +67,8 @@ pub(crate) fn binding_condition(
         rotors: set,
         margin,
         bounds,
-        integral,
+        integral: position.integral,
+        shape: position.shape,
         speed_limit: None,
     };
     let Some(m) = map(&ctx, &probe) else {
@@ -136,7 +137,7 @@ pub(crate) fn refuse_impossible(vehicle: &DesignVehicle) -> Result<RotorSet> {
     let hover = iota_floor(
         vehicle,
         &set,
-        (0.0, BoundsKind::Paper, None),
+        (0.0, BoundsKind::Paper, PositionLaw::paper()),
         &controller_core::TrajectoryConstants::zero(),
     );
     if hover <= 0.0 {
@@ -204,7 +205,7 @@ pub const AUTHORITY_SHARE: f64 = 0.75;
 pub(crate) fn iota_floor(
     vehicle: &DesignVehicle,
     set: &RotorSet,
-    (margin, bounds, integral): (f64, BoundsKind, Option<&IntegralSpec>),
+    (margin, bounds, position): (f64, BoundsKind, PositionLaw<'_>),
     constants: &controller_core::TrajectoryConstants<f64>,
 ) -> f64 {
     super::authority::envelope_with(
@@ -212,7 +213,7 @@ pub(crate) fn iota_floor(
         &vehicle.body,
         constants,
         (1e-6, 0.3, 0.45),
-        integral,
+        position,
     )
     .map_or(f64::NEG_INFINITY, |env| {
         super::authority::iota_max(set, &env, margin)

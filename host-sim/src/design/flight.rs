@@ -23,6 +23,14 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
         k_theta: g.attitude.k_mrp,
         k_omega: g.attitude.k_omega,
         M_p: g.position.saturation,
+        position_saturation: match g.position.saturation_shape {
+            controller_core::PositionSaturation::Componentwise => {
+                firmware::flight_tables::PositionSaturationTable::Componentwise
+            }
+            controller_core::PositionSaturation::Norm => {
+                firmware::flight_tables::PositionSaturationTable::Norm
+            }
+        },
         M_theta: g.attitude.mrp_saturation,
         M_omega: g.attitude.omega_saturation,
         delta: g.hysteresis,

@@ -275,6 +275,29 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             .and_then(|x| x.1);
         table.row(&[name.to_string(), opt(*t, "s"), opt(d, "s")]);
     }
+    s.push_str(
+        "\nNominal tasks from hover (10 s runs, as `host-sim compare` flies them), the design \
+         beside the baselines on the same vehicle, plant and motor lag (what the certificate \
+         costs):\n\n",
+    );
+    let mut tasks = Table::new(
+        &mut s,
+        &[
+            "controller (same vehicle, plant, motor lag)",
+            "1 m step: settling",
+            "1 m step: error at 10 s",
+            "30 deg roll: settling",
+        ],
+        Rule::Compact,
+    );
+    for row in &o.nominal_tasks {
+        tasks.row(&[
+            row.label.clone(),
+            opt(row.step_settling_time_s, "s"),
+            format!("{:.2e} m", row.step_final_position_error_m),
+            opt(row.tilt_settling_time_s, "s"),
+        ]);
+    }
     if let Some(d) = &o.disturbed_hover {
         let _ = writeln!(
             s,

@@ -8,7 +8,7 @@ use super::thrust::ThrustDesign;
 use super::tight::BoundsKind;
 use super::variables::{AttitudeLaw, Mapped};
 use crate::model::scenario::ThrustKind;
-use controller_core::Gains;
+use controller_core::{Gains, PositionSaturation};
 use std::path::PathBuf;
 
 /// Default length of each scoring run and of the written scenario \[s\]: the paper's 30 s (the
@@ -76,6 +76,9 @@ pub struct DesignOptions {
     /// The thrust flown and written: the paper's `norm`, or `vertical-priority` with the lowest
     /// floor the certified box allows ([`super::thrust`]).
     pub thrust: ThrustKind,
+    /// The shape of the position feedback's saturation `σ_p` searched and written
+    /// (`--position-saturation`, docs/position-saturation.md).
+    pub position_saturation: PositionSaturation,
     /// `Some(V)`: the design flies the velocity-limited position feedback with speed limit `V`
     /// [m/s] (`--speed-limit`, docs/velocity-limit.md); `None`: the paper's.
     pub speed_limit: Option<f64>,

@@ -4,7 +4,8 @@
 use serde::Serialize;
 
 use super::evaluate::{
-    Trial, ALTITUDE_WEIGHT_S_PER_M, DOUBLED_LAG_WEIGHT, TAIL_ATTITUDE_DEG, TAIL_S,
+    Trial, ALTITUDE_WEIGHT_S_PER_M, DOUBLED_LAG_WEIGHT, NOMINAL_TASK_WEIGHT, TAIL_ATTITUDE_DEG,
+    TAIL_S, UNSETTLED_TASK_S,
 };
 use super::flight::{gains_config, limits_config};
 use super::options::{DesignOptions, Scored};
@@ -12,6 +13,7 @@ use super::reference::Reference;
 use super::variables::Choices;
 use super::vehicle::DesignVehicle;
 use crate::model::scenario::{GainsConfig, LimitsConfig, TrajectoryConfig};
+use crate::studies::compare::SanityRow;
 
 /// One condition of the certificate.
 #[derive(Clone, Debug, Serialize)]
@@ -102,6 +104,10 @@ pub struct ObjectiveEntry {
     /// down, from rest; `design::evaluate::disturbed_hover`): settling time \[s\] (`null`: not
     /// settled) and the altitude lost \[m\]. `null` without the integral action.
     pub disturbed_hover: Option<DisturbedEntry>,
+    /// The nominal tasks (hover, 1 m step, 30° roll, 10 s each, as `compare` flies them): the
+    /// design's row first, then the baselines' (Lee et al., the PX4-style cascade) on the same
+    /// vehicle, plant and motor lag.
+    pub nominal_tasks: Vec<SanityRow>,
     /// Every constraint met (all runs converge, nominal and doubled motor lag, and the disturbed
     /// hover with the integral action).
     pub constraints_met: bool,
@@ -218,7 +224,7 @@ impl Report {
         (requested, certified, scale, binding): (&Reference, &Reference, f64, Option<&str>),
         choices: Choices,
         best: &Scored,
-        lag_max: Option<f64>,
+        (lag_max, baselines): (Option<f64>, Vec<SanityRow>),
         evaluations: usize,
         wall_time_s: f64,
     ) -> Self {
@@ -295,7 +301,9 @@ impl Report {
                 definition: format!(
                     "worst settling time over the seven 180 degree starts [s] + {DOUBLED_LAG_WEIGHT} x the same \
                      with the motor time constant doubled [s] + {ALTITUDE_WEIGHT_S_PER_M} s/m x \
-                     altitude lost recovering from upside down at hover [m] (+ the disturbed hover's \
+                     altitude lost recovering from upside down at hover [m] + {NOMINAL_TASK_WEIGHT} x the \
+                     settling times [s] of the 1 m step and of the 30 degree roll from hover (10 s runs; \
+                     {UNSETTLED_TASK_S} s when unsettled) (+ the disturbed hover's \
                      settling time [s] with the integral action), on the scenario's plant \
                      with the vehicle's motor time constant and the controller's sample-and-hold; \
                      settled: |p - p_d| < 5 cm and attitude error < 2 deg until the end; constraint: \
@@ -311,6 +319,9 @@ impl Report {
                     altitude_loss_m: t.altitude_loss_m,
                     final_position_error_m: t.final_position_error_m,
                 }),
+                nominal_tasks: std::iter::once(e.nominal_tasks.clone())
+                    .chain(baselines)
+                    .collect(),
                 constraints_met: e.feasible,
                 authority: AuthorityEntry {
                     thrust_interval_over_weight: [b.thrust_min, b.thrust_max]

@@ -6,8 +6,9 @@ use std::time::Instant;
 use anyhow::{bail, Context as _, Result};
 use controller_core::Bounds;
 
+use super::authority::PositionLaw;
 use super::certificate::Certified;
-use super::evaluate::{evaluate, largest_converging_lag, PENALTY};
+use super::evaluate::{baseline_tasks, evaluate, largest_converging_lag, PENALTY};
 use super::feasibility::*;
 use super::flight::{scenarios, FlightSettings};
 use super::optimise::minimise;
@@ -169,11 +170,15 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
     if let Some(spec) = integral {
         refuse_uncoverable(&vehicle, &set, spec)?;
     }
+    let position = PositionLaw {
+        integral,
+        shape: o.position_saturation,
+    };
     let binding = binding_condition(
         &vehicle,
         &set,
         (o.margin, o.law, o.bounds),
-        integral,
+        position,
         &requested,
     );
     let (reference, scale) = match &binding {
@@ -184,7 +189,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
                 vehicle.name
             );
             let s = largest_certifiable_scale(&requested, |r| {
-                binding_condition(&vehicle, &set, (o.margin, o.law, o.bounds), integral, r)
+                binding_condition(&vehicle, &set, (o.margin, o.law, o.bounds), position, r)
                     .is_none()
             })
             .with_context(|| {
@@ -206,6 +211,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         margin: o.margin,
         bounds: o.bounds,
         integral,
+        shape: o.position_saturation,
         speed_limit: o.speed_limit,
     };
     ThrustDesign::check_flown(o.thrust).map_err(anyhow::Error::msg)?;
@@ -276,6 +282,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         },
     )?;
     let lag_max = largest_converging_lag(&scenario, vehicle.motor_time_constant_s);
+    let baselines = baseline_tasks(&scenario)?;
     let earlier_s = match &o.fallback {
         Fallback::Taken { seconds, .. } => *seconds,
         _ => 0.0,
@@ -286,7 +293,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         (&requested, &reference, scale, binding.as_deref()),
         Choices::from_unit(&optimum.x),
         &best,
-        lag_max,
+        (lag_max, baselines),
         optimum.evaluations,
         earlier_s + started.elapsed().as_secs_f64(),
     );

@@ -264,7 +264,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
     put(format!(
         "/// `[gains]` (Table I names).\npub(crate) fn gains() -> controller_core::Gains<f32> {{\n    \
          controller_core::Gains {{\n        \
-         position: controller_core::position::PositionGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {} }},\n        \
+         position: controller_core::position::PositionGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {}, saturation_shape: controller_core::PositionSaturation::{:?} }},\n        \
          attitude: controller_core::attitude_control::AttitudeGains {{ k_mrp: {}, k_omega: {}, mrp_saturation: {}, omega_saturation: {} }},\n        \
          hysteresis: {},\n        reset_threshold: {},\n        integral: {},\n        tilt_priority: {},\n        velocity_limit: {},\n    }}\n}}",
         lit(g.kp),
@@ -272,6 +272,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         lit(g.kf),
         lit(g.ks),
         lit(g.M_p),
+        g.position_saturation,
         lit(g.k_theta),
         lit(g.k_omega),
         lit(g.M_theta),

@@ -39,12 +39,14 @@
 //! `z̈₁ = ubar_p = −σ_p(k_p z₁ + k_v ż₁)`, so `k_p = ω_p²`, `k_v = 2 ζ_p ω_p` (Table I: `ω_p = 3`,
 //! `ζ_p = 1`).
 
-use controller_core::{Gains, TiltPriorityGains, TrajectoryConstants, Vehicle, VelocityLimit};
+use controller_core::{
+    Gains, PositionSaturation, TiltPriorityGains, TrajectoryConstants, Vehicle, VelocityLimit,
+};
 use nalgebra::Vector3;
 
 use super::authority::{
-    envelope_with, iota_max_along, mrp_factor, probe_gains, saturation_max_with, RotorSet, ALPHA,
-    DELTA,
+    envelope_with, iota_max_along, mrp_factor, probe_gains, saturation_max_with, PositionLaw,
+    RotorSet, ALPHA, DELTA,
 };
 use super::integral::IntegralSpec;
 
@@ -241,9 +243,21 @@ pub struct Context<'a> {
     /// `Some`: the design carries the bounded integral action sized by this spec, and every
     /// bound is the extended one ([`super::integral`]).
     pub integral: Option<&'a IntegralSpec>,
+    /// The shape of the position feedback's saturation `σ_p` (docs/position-saturation.md).
+    pub shape: PositionSaturation,
     /// `Some(V)`: the velocity-limited position feedback with speed limit `V` [m/s] and braking
     /// [`BRAKING_SHARE`] `× M_p` (`--speed-limit`, docs/velocity-limit.md).
     pub speed_limit: Option<f64>,
+}
+
+impl Context<'_> {
+    /// The position law's options that enter the bounds (integral action, shape of `σ_p`).
+    pub fn position_law(&self) -> PositionLaw<'_> {
+        PositionLaw {
+            integral: self.integral,
+            shape: self.shape,
+        }
+    }
 }
 
 /// Braking acceleration of the velocity-limited feedback, as a share of `M_p`: the profile
@@ -306,13 +320,14 @@ fn tilt_gains(
 /// is not certifiable on this vehicle), or when with the integral action no `k_i` makes the
 /// linearised loop stable ([`IntegralSpec::gains`]).
 pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
+    let law = ctx.position_law();
     let mp_max = saturation_max_with(
         ctx.bounds,
         ctx.vehicle,
         ctx.constants,
         (ctx.rotors, ctx.margin),
         (c.kf, c.ks),
-        ctx.integral,
+        law,
     )?;
     let mp = mp_max * c.saturation_fraction;
     let env = envelope_with(
@@ -320,7 +335,7 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
         ctx.vehicle,
         ctx.constants,
         (mp, c.kf, c.ks),
-        ctx.integral,
+        law,
     )?;
     let direction = Vector3::new(1.0, 1.0, c.tilt.map_or(1.0, |t| t.yaw_share));
     let i_max = iota_max_along(ctx.rotors, &env, ctx.margin, &direction);
@@ -331,7 +346,7 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     let j = ctx.vehicle.inertia.min();
     let w = c.attitude_frequency_rad_s;
     let wp = c.position_frequency_rad_s;
-    let mut g = probe_gains(mp, c.kf, c.ks, ctx.integral);
+    let mut g = probe_gains(mp, c.kf, c.ks, law);
     g.position.kp = wp * wp;
     g.position.kv = 2.0 * c.position_damping * wp;
     if let Some(spec) = ctx.integral {

@@ -46,18 +46,23 @@ fn crazyflie_on_the_paper_helix() -> (
 fn every_point_of_the_box_is_certified() {
     use crate::design::certificate::certify_design;
     let (v, set, constants) = crazyflie_on_the_paper_helix();
-    let ctx = Context {
-        vehicle: &v.body,
-        constants: &constants,
-        rotors: &set,
-        margin: 0.05,
-        bounds: Default::default(),
-        integral: None,
-        speed_limit: None,
-    };
     let mut rng = crate::runs::sampler::seeded_rng(11);
-    for law in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority] {
-        for _ in 0..200 {
+    let shapes = [PositionSaturation::Componentwise, PositionSaturation::Norm];
+    for (law, shape) in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority]
+        .into_iter()
+        .flat_map(|l| shapes.map(|s| (l, s)))
+    {
+        let ctx = Context {
+            vehicle: &v.body,
+            constants: &constants,
+            rotors: &set,
+            margin: 0.05,
+            bounds: Default::default(),
+            integral: None,
+            shape,
+            speed_limit: None,
+        };
+        for _ in 0..100 {
             let x = random_point(&mut rng, law);
             let choices = Choices::from_unit(&x);
             let m = map(&ctx, &choices).expect("the paper helix is usable on the Crazyflie");
@@ -65,6 +70,7 @@ fn every_point_of_the_box_is_certified() {
                 m.gains.tilt_priority.is_some(),
                 law == AttitudeLaw::TiltPriority
             );
+            assert_eq!(m.gains.position.saturation_shape, shape);
             let c = certify_design(&v.body, &v.rotors, &m.gains, &constants, 0.05).unwrap();
             assert!(
                 c.ok(),
@@ -108,6 +114,7 @@ fn every_point_is_certified_with_the_tight_bounds() {
         margin: 0.05,
         bounds: BoundsKind::Tight,
         integral: None,
+        shape: PositionSaturation::Componentwise,
         speed_limit: None,
     };
     let mut rng = crate::runs::sampler::seeded_rng(12);

@@ -163,6 +163,13 @@ impl<T: Scalar> AblatedLaw<T> {
                  only; remove [gains.velocity_limit] to compare them (docs/velocity-limit.md)"
             );
         }
+        if gains.position.saturation_shape != controller_core::PositionSaturation::Componentwise {
+            bail!(
+                "gains.position_saturation: the ablated controllers fly the paper's componentwise \
+                 saturation only; remove position_saturation to compare them \
+                 (docs/position-saturation.md)"
+            );
+        }
         // Same validation as the core (the constructed controller is then dropped).
         let thrust_mode = scenario.thrust_mode::<T>().map_err(|e| anyhow!("{e}"))?;
         Controller::new(vehicle, gains, &trajectory.constants())

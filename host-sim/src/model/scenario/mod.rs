@@ -15,8 +15,8 @@ use std::path::Path;
 use anyhow::{anyhow, Context, Result};
 use controller_core::scalar::{lit, Scalar};
 use controller_core::{
-    Gains, HeadingProfile, IntegralGains, Limits, ReferenceTrajectory, TiltPriorityGains, Vehicle,
-    VelocityLimit,
+    Gains, HeadingProfile, IntegralGains, Limits, PositionSaturation, ReferenceTrajectory,
+    TiltPriorityGains, Vehicle, VelocityLimit,
 };
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -77,7 +77,7 @@ pub type VehicleConfig = VehicleTable;
 pub use firmware::flight_tables::{
     GainsTable as GainsConfig, HeadingTable as HeadingConfig, IntegralTable as IntegralConfig,
     LimitsTable as LimitsConfig, ObserverTable as ObserverConfig,
-    TrajectoryTable as TrajectoryConfig,
+    PositionSaturationTable as PositionSaturationConfig, TrajectoryTable as TrajectoryConfig,
 };
 
 /// `[initial]`.
@@ -282,6 +282,10 @@ impl Scenario {
         out.position.kf = lit(g.kf);
         out.position.ks = lit(g.ks);
         out.position.saturation = lit(g.M_p);
+        out.position.saturation_shape = match g.position_saturation {
+            PositionSaturationConfig::Componentwise => PositionSaturation::Componentwise,
+            PositionSaturationConfig::Norm => PositionSaturation::Norm,
+        };
         out.attitude.k_mrp = lit(g.k_theta);
         out.attitude.k_omega = lit(g.k_omega);
         out.attitude.mrp_saturation = lit(g.M_theta);

@@ -13,24 +13,23 @@ mod plots;
 use plots::write_plots;
 mod markdown;
 pub use markdown::markdown;
+pub mod sanity;
+pub use sanity::{sanity, SanityRow};
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use nalgebra::Vector3;
 use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::fly::controllers::ControllerKind;
-use crate::model::plant::RigidBodyState;
-use crate::model::scenario::{HeadingConfig, Scenario, TrajectoryConfig};
-use crate::runs::metrics::{BoundSet, RunMetrics};
+use crate::model::scenario::Scenario;
+use crate::runs::metrics::BoundSet;
 use crate::runs::runner::{bound_set, run_one, RunResult};
 use crate::runs::sampler::{run_seed, Sampler, SamplerRadii, HALF_TURN_AXES};
 use crate::runs::stats::{summarise, CampaignStats};
-use crate::runs::trace::trace;
 use crate::studies::ablation::integral::convergence_of;
 use crate::studies::campaign::options::BaseOptions;
-use crate::studies::campaign::{run_campaign, CampaignConfig, Convergence};
+use crate::studies::campaign::{run_campaign, CampaignConfig};
 
 /// One contestant: a controller, whether the plant clips its commands, and whether the
 /// paper's law flies the scenario's bounded integral action.
@@ -84,21 +83,6 @@ pub fn contestants(scenario: &Scenario) -> Vec<Contestant> {
     list
 }
 
-/// Hover and step checks of one contestant.
-#[derive(Clone, Debug, Serialize)]
-pub struct SanityRow {
-    /// Contestant.
-    pub label: String,
-    /// Hover: position error after 10 s \[m\].
-    pub hover_final_position_error_m: f64,
-    /// 1 m horizontal step: settling time \[s\].
-    pub step_settling_time_s: Option<f64>,
-    /// 1 m horizontal step: position error after 10 s \[m\].
-    pub step_final_position_error_m: f64,
-    /// 30° roll step: settling time \[s\].
-    pub tilt_settling_time_s: Option<f64>,
-}
-
 /// One contestant's results.
 #[derive(Clone, Debug, Serialize)]
 pub struct ContestantResult {
@@ -139,44 +123,6 @@ pub struct CompareReport {
 
 /// Attitude noise of the chattering comparison [deg per axis].
 pub const CHATTER_NOISE_DEG: f64 = 2.0;
-
-/// Hover, 1 m step and 30° tilt from hover at (0, 0, 5) m, 10 s each.
-fn sanity(base: &Scenario, c: &Contestant, bounds: BoundSet) -> Result<SanityRow> {
-    let mut s = c.scenario(base);
-    s.trajectory = TrajectoryConfig::Hover {
-        point_m: [0.0, 0.0, 5.0],
-        heading: HeadingConfig::Constant { yaw_rad: 0.0 },
-    };
-    s.simulation.duration_s = 10.0;
-    let conv = Convergence {
-        after_s: 10.0,
-        ..Convergence::default()
-    };
-    let at = |p: Vector3<f64>, attitude| RigidBodyState {
-        position: p,
-        velocity: Vector3::zeros(),
-        attitude,
-        angular_velocity: Vector3::zeros(),
-    };
-    let hover_point = Vector3::new(0.0, 0.0, 5.0);
-    let level = nalgebra::UnitQuaternion::identity();
-    let run = |initial: RigidBodyState| -> Result<RunMetrics> {
-        Ok(trace(&s, c.controller, &initial, 0, conv, bounds)?.0)
-    };
-    let hover = run(at(hover_point, level))?;
-    let step = run(at(hover_point + Vector3::x(), level))?;
-    let tilt = run(at(
-        hover_point,
-        nalgebra::UnitQuaternion::from_euler_angles(30f64.to_radians(), 0.0, 0.0),
-    ))?;
-    Ok(SanityRow {
-        label: c.label.clone(),
-        hover_final_position_error_m: hover.final_position_error_m,
-        step_settling_time_s: step.settling_time_s,
-        step_final_position_error_m: step.final_position_error_m,
-        tilt_settling_time_s: tilt.settling_time_s,
-    })
-}
 
 fn chattering(
     base: &Scenario,

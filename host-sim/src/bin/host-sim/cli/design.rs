@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
+use controller_core::PositionSaturation;
 use host_sim::design::{
     integral::IntegralSpec,
     options::{Fallback, DEFAULT_DURATION_S, DEFAULT_EVALUATIONS},
@@ -40,6 +41,16 @@ pub enum DesignBounds {
     Paper,
     /// The tight a-priori bounds.
     Tight,
+}
+
+/// The shapes of the position feedback's saturation `design` offers (the library's
+/// `PositionSaturation`, named on the command line).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DesignPositionSaturation {
+    /// The paper's `M_p tanh(y_i/M_p)` per component: `|ubar_p| < √3 M_p`.
+    Componentwise,
+    /// `M_p y / sqrt(M_p² + |y|²)`: `|ubar_p| < M_p` (docs/position-saturation.md).
+    Norm,
 }
 
 /// Options of `host-sim design`.
@@ -108,6 +119,11 @@ pub struct DesignArgs {
     /// paper's `T = m|u|`, Theorem 1's `[T_min, T_max]`).
     #[arg(long, value_enum, default_value_t = DesignThrust::VerticalPriority)]
     pub thrust: DesignThrust,
+    /// Shape of the position feedback's saturation: `componentwise` (the paper's, each component
+    /// below `M_p`) or `norm` (`|ubar_p| < M_p`, so Theorem 1 and Lemma 1 lose the paper's √3:
+    /// docs/position-saturation.md; the Crazyflie preset's choice).
+    #[arg(long, value_enum, default_value_t = DesignPositionSaturation::Componentwise)]
+    pub position_saturation: DesignPositionSaturation,
     /// Fly the velocity-limited position feedback (docs/velocity-limit.md) with this speed limit
     /// [m/s] and braking at 0.7 of `M_p`: the same law near the reference, a braking profile
     /// instead of the paper's overshoot far from it (the certificate is unchanged). Absent: the
@@ -155,6 +171,10 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         thrust: match args.thrust {
             DesignThrust::Norm => ThrustKind::Norm,
             DesignThrust::VerticalPriority => ThrustKind::VerticalPriority,
+        },
+        position_saturation: match args.position_saturation {
+            DesignPositionSaturation::Componentwise => PositionSaturation::Componentwise,
+            DesignPositionSaturation::Norm => PositionSaturation::Norm,
         },
         speed_limit: args.speed_limit,
         fallback: if args.duration_s.is_none() && args.speed_limit.is_none() {
@@ -226,5 +246,21 @@ mod tests {
         assert!(parse(&["--no-integral"]).unwrap().no_integral);
         let e = parse(&["--no-integral", "--integral-mass-error", "0.2"]).unwrap_err();
         assert_eq!(e.kind(), clap::error::ErrorKind::ArgumentConflict);
+    }
+
+    /// Given no shape flag, when parsed, then the design keeps the paper's componentwise
+    /// saturation; `norm` selects the norm shape (docs/position-saturation.md), anything else is
+    /// refused.
+    #[test]
+    fn the_position_saturation_is_the_papers_by_default() {
+        use super::DesignPositionSaturation as Shape;
+        assert_eq!(
+            parse(&[]).unwrap().position_saturation,
+            Shape::Componentwise
+        );
+        let norm = parse(&["--position-saturation", "norm"]).unwrap();
+        assert_eq!(norm.position_saturation, Shape::Norm);
+        let e = parse(&["--position-saturation", "radial"]).unwrap_err();
+        assert_eq!(e.kind(), clap::error::ErrorKind::InvalidValue);
     }
 }

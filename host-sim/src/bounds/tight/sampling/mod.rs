@@ -9,7 +9,8 @@
 //!   `PositionGains::propagator`. With one real-eigenvalue pair the extreme points of the
 //!   reachable set are reached by bang-bang inputs with one switch (after a long hold), which
 //!   this family contains;
-//! - the current `ubar_i ∈ [−M, M]`, independent of `x_f` (`p̃`, `ṽ` are free);
+//! - the current `ubar_i ∈ [−M, M]`, independent of `x_f` (`p̃`, `ṽ` are free); with the norm
+//!   shape of `σ_p` (docs/position-saturation.md) this cube contains the ball the law reaches;
 //! - reference: `|(p̈_d1, p̈_d2)| ≤ K_a12`, `|p̈_d3| ≤ K_a3`, `|p_d⁽³⁾| ≤ K_j`, `|p_d⁽⁴⁾| ≤ K_s`,
 //!   `ν_d = (cos ψ, sin ψ)`, `ν̇_d = ψ̇ ν⊥`, `ν̈_d = ψ̈ ν⊥ − ψ̇² ν` with `|ν̇_d| ≤ K_ν̇`,
 //!   `|ν̈_d| ≤ K_ν̈`;
@@ -30,7 +31,7 @@ use controller_core::desired_attitude::{desired_attitude, DesiredAttitudeError};
 use controller_core::integral::IntegralState;
 use controller_core::mrp::rotation_from_mrp;
 use controller_core::position::{FilterState, PositionGains};
-use controller_core::FilterStart;
+use controller_core::{FilterStart, PositionSaturation};
 use nalgebra::{Vector2, Vector3};
 
 use super::setup::Setup;
@@ -432,7 +433,13 @@ impl AdmissibleState {
     /// Errors: [`DesiredAttitudeError`] if `u` is not upward (impossible for an admissible
     /// state when `M_p < g − K_a3`, which `certify` requires).
     pub fn evaluate(&self, setup: &Setup) -> Result<LawValues, DesiredAttitudeError> {
-        let p = &setup.gains.position;
+        // The componentwise shape whatever the set-up's: `ubar` is a point of the cube
+        // `M_p 𝔹³_∞`, which contains the norm shape's ball (docs/position-saturation.md), and
+        // only the value of `ubar_p` enters the law below.
+        let p = &PositionGains {
+            saturation_shape: PositionSaturation::Componentwise,
+            ..setup.gains.position
+        };
         let filter = self.filter_state(setup);
         let zero = Vector3::zeros();
         // ṽ = 0: z₂ = u_f/k_f + u_s/k_s, z₁ = p̃ + u_f/(k_f k_s); pick p̃ so that
