@@ -114,7 +114,12 @@ impl<T: Scalar> PositionGains<T> {
             None => -self
                 .saturation_shape
                 .apply(&(z1 * self.kp + z2 * self.kv), self.saturation),
-            Some(l) => l.feedback(self, &z1, &z2),
+            Some(l) => l.feedback(
+                (self.kp, self.kv),
+                (self.saturation_shape, self.saturation),
+                &z1,
+                &z2,
+            ),
         };
         let filter_gap = filter.u_f - filter.u_s;
         let u_f_dot = -filter_gap * self.kf;

@@ -32,7 +32,7 @@
 use nalgebra::Vector3;
 
 use crate::parameter_error::{positive, ParameterError};
-use crate::position::PositionGains;
+use crate::position_saturation::PositionSaturation;
 use crate::scalar::{to_f64, Scalar};
 
 /// The braking profile of the velocity-limited position feedback (extension,
@@ -91,19 +91,18 @@ impl<T: Scalar> VelocityLimit<T> {
 
     /// The feedback `ubar_p = −σ_p(k_v (z₂ + φ(z₁)))` [m/s²], inertial, each component in
     /// `(−M_p, M_p)` (its norm, with the norm shape); `z₁` \[m\] and `z₂` [m/s] are the
-    /// z-coordinates (eq:Zcoordinates); `gains` gives `k_p` [1/s²], `k_v` [1/s], `M_p` [m/s²]
-    /// and the shape of `σ_p` ([`crate::position::PositionGains`]).
+    /// z-coordinates (eq:Zcoordinates) and `kp` [1/s²], `kv` [1/s], `saturation` (`M_p`, m/s²)
+    /// and `shape` the position loop's gains ([`crate::position::PositionGains`]).
     pub fn feedback(
         &self,
-        gains: &PositionGains<T>,
+        (kp, kv): (T, T),
+        (shape, saturation): (PositionSaturation, T),
         z1: &Vector3<T>,
         z2: &Vector3<T>,
     ) -> Vector3<T> {
-        let c = gains.kp / gains.kv;
+        let c = kp / kv;
         let desired = z1.map(|x| self.profile(x, c));
-        -gains
-            .saturation_shape
-            .apply(&((z2 + desired) * gains.kv), gains.saturation)
+        -shape.apply(&((z2 + desired) * kv), saturation)
     }
 }
 

@@ -33,7 +33,11 @@ fn inside_the_linear_zone_it_is_the_papers_law() {
     let z1 = Vector3::new(0.9 * reach, -0.3 * reach, 0.0);
     let z2 = Vector3::new(-0.2, 0.7, 1.5);
     let paper = -tanh_saturation(&(z1 * g.kp + z2 * g.kv), g.saturation);
-    assert_relative_eq!(limit().feedback(&g, &z1, &z2), paper, epsilon = 1e-12);
+    assert_relative_eq!(
+        limit().feedback((g.kp, g.kv), (g.saturation_shape, g.saturation), &z1, &z2),
+        paper,
+        epsilon = 1e-12
+    );
 }
 
 /// Given the profile, then beyond the linear zone a vehicle braking at `a` from speed `φ(x)`
@@ -113,7 +117,15 @@ fn from_a_long_fall_it_comes_back_without_the_papers_overshoot() {
     let (g, l) = (gains(), limit());
     let one = |x: f64| Vector3::new(x, 0.0, 0.0);
     let paper = |z1: f64, z2: f64| -tanh_saturation(&one(g.kp * z1 + g.kv * z2), g.saturation).x;
-    let limited = |z1: f64, z2: f64| l.feedback(&g, &one(z1), &one(z2)).x;
+    let limited = |z1: f64, z2: f64| {
+        l.feedback(
+            (g.kp, g.kv),
+            (g.saturation_shape, g.saturation),
+            &one(z1),
+            &one(z2),
+        )
+        .x
+    };
     let (end_paper, lowest_paper) = fly(paper, 500.0, 30.0, 300.0);
     let (end_limited, lowest_limited) = fly(limited, 500.0, 30.0, 300.0);
     assert!(
@@ -146,7 +158,7 @@ proptest! {
     ) {
         let g = PositionGains { saturation: m, ..gains() };
         let l = VelocityLimit { speed, braking: frac * m };
-        let u = l.feedback(&g, &Vector3::from(z1), &Vector3::from(z2));
+        let u = l.feedback((g.kp, g.kv), (g.saturation_shape, g.saturation), &Vector3::from(z1), &Vector3::from(z2));
         // `≤`: tanh rounds to exactly 1 for large arguments, in f64 as in the paper's law.
         prop_assert!(u.iter().all(|c| c.abs() <= m));
         let c = g.kp / g.kv;
