@@ -433,9 +433,8 @@ impl AdmissibleState {
     /// Errors: [`DesiredAttitudeError`] if `u` is not upward (impossible for an admissible
     /// state when `M_p < g − K_a3`, which `certify` requires).
     pub fn evaluate(&self, setup: &Setup) -> Result<LawValues, DesiredAttitudeError> {
-        // The componentwise shape whatever the set-up's: `ubar` is a point of the cube
-        // `M_p 𝔹³_∞`, which contains the norm shape's ball (docs/position-saturation.md), and
-        // only the value of `ubar_p` enters the law below.
+        // Componentwise whatever the set-up's shape: `ubar` is a point of the cube, which holds
+        // the norm shape's ball, and only its value enters the law (docs/position-saturation.md).
         let p = &PositionGains {
             saturation_shape: PositionSaturation::Componentwise,
             ..setup.gains.position
