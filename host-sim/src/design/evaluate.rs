@@ -11,7 +11,7 @@
 //!   rest, upright: the plant's mass raised by the covered fraction `e` and a constant force of
 //!   the covered fraction `f` of the plant's weight pushing down ([`disturbed_hover`]);
 //! - the nominal tasks an engineer judges a controller by, as `compare` flies them
-//!   ([`crate::studies::compare::sanity`]): a 1 m horizontal step and a 30° roll from hover,
+//!   ([`crate::studies::compare::sanity()`]): a 1 m horizontal step and a 30° roll from hover,
 //!   10 s each; they weigh in the objective (an unsettled task counts
 //!   [`UNSETTLED_TASK_S`]) but are no constraint.
 //!
@@ -212,7 +212,7 @@ pub struct Evaluation {
     pub upside_down: Trial,
     /// With the integral action: the disturbed hover ([`disturbed_hover`]).
     pub disturbed_hover: Option<Trial>,
-    /// The nominal tasks (hover, 1 m step, 30° roll; [`crate::studies::compare::sanity`]).
+    /// The nominal tasks (hover, 1 m step, 30° roll; [`crate::studies::compare::sanity()`]).
     pub nominal_tasks: SanityRow,
 }
 
