@@ -76,23 +76,6 @@ impl PositionSaturation {
             Self::Norm => T::one(),
         }
     }
-
-    /// The name used in scenario and flight files (`position_saturation = "..."`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Componentwise => "componentwise",
-            Self::Norm => "norm",
-        }
-    }
-
-    /// The shape named `name` (see [`Self::name`]); `None` for any other string.
-    pub fn from_name(name: &str) -> Option<Self> {
-        match name {
-            "componentwise" => Some(Self::Componentwise),
-            "norm" => Some(Self::Norm),
-            _ => None,
-        }
-    }
 }
 
 #[cfg(test)]
@@ -167,11 +150,7 @@ mod tests {
     }
 
     #[test]
-    fn names_round_trip_and_others_are_refused() {
-        for shape in [PositionSaturation::Componentwise, PositionSaturation::Norm] {
-            assert_eq!(PositionSaturation::from_name(shape.name()), Some(shape));
-        }
-        assert_eq!(PositionSaturation::from_name("radial"), None);
+    fn the_default_is_the_papers_shape() {
         assert_eq!(
             PositionSaturation::default(),
             PositionSaturation::Componentwise

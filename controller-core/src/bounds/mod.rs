@@ -235,37 +235,31 @@ pub fn certify<T: Scalar>(
     }
     let two = lit::<T>(2.0);
     let three = lit::<T>(3.0);
-    let sqrt3 = three.sqrt();
 
-    // Theorem 1; extended: the horizontal and vertical parts of u are bounded separately.
-    // With the norm shape u_f stays in the ball M_p 𝔹³ (a convex combination of values of
-    // ubar_p), so it adds M_p, not √3 M_p, to the rest of u (docs/position-saturation.md).
+    // Theorem 1. `T_min` needs only the vertical level (`M_p`, plus `M_i,z` with the integral
+    // action). `T_max`: `|u| ≤ sup|u_f| + |g e₃ + p̈_d (+ η_f)|`, where `u_f` is a convex
+    // combination of values of ubar_p, so `sup|u_f| = reach M_p`: √3 M_p for the paper's cube,
+    // M_p for the norm shape's ball (docs/position-saturation.md). With the integral action and
+    // the paper's shape the extended bound keeps the horizontal and vertical parts of
+    // `u_f + η_f` apart instead (docs/integral-action.md).
     let norm_shape = p.saturation_shape == PositionSaturation::Norm;
-    let (thrust_min, thrust_max) = match (&level_sum, &gains.integral) {
-        (None, _) if norm_shape => (
-            m * (g - mp - ka3),
-            m * (mp + (ka12 * ka12 + (ka3 + g) * (ka3 + g)).sqrt()),
-        ),
-        (None, _) => (
-            m * (g - mp - ka3),
-            m * (sqrt3 * mp + (ka12 * ka12 + (ka3 + g) * (ka3 + g)).sqrt()),
-        ),
-        (Some(l), Some(i)) if norm_shape => {
-            let mi = &i.level;
-            let horizontal = (mi.x * mi.x + mi.y * mi.y).sqrt() + ka12;
-            let vertical = g + ka3 + mi.z;
-            (
-                m * (g - ka3 - l.z),
-                m * (mp + (horizontal * horizontal + vertical * vertical).sqrt()),
-            )
-        }
-        (Some(l), _) => {
+    let reach = p.saturation_shape.norm_factor::<T>();
+    // The estimate's box (zero without the integral action).
+    let estimate = gains.integral.map_or(Vector3::zeros(), |i| i.level);
+    let thrust_min = match &level_sum {
+        None => m * (g - mp - ka3),
+        Some(l) => m * (g - ka3 - l.z),
+    };
+    let thrust_max = match &level_sum {
+        Some(l) if !norm_shape => {
             let horizontal = (l.x * l.x + l.y * l.y).sqrt() + ka12;
             let vertical = g + ka3 + l.z;
-            (
-                m * (g - ka3 - l.z),
-                m * (horizontal * horizontal + vertical * vertical).sqrt(),
-            )
+            m * (horizontal * horizontal + vertical * vertical).sqrt()
+        }
+        _ => {
+            let horizontal = estimate.xy().norm() + ka12;
+            let vertical = g + ka3 + estimate.z;
+            m * (reach * mp + (horizontal * horizontal + vertical * vertical).sqrt())
         }
     };
 
@@ -281,8 +275,6 @@ pub fn certify<T: Scalar>(
             }
         }
     };
-    // sup |ubar_p| / M_p: √3 (the paper's cube) or 1 (the norm shape's ball).
-    let reach = p.saturation_shape.norm_factor::<T>();
     let mut u_rate = two * reach * kf * filter_overshoot * mp + k.jerk;
     let mut u_acceleration = two * reach * kf * mp * (kf * filter_overshoot + ks) + k.snap;
     // |η̇_f| and |η̈_f| over the states reachable from arming (crate::integral's reachable-set
@@ -300,19 +292,17 @@ pub fn certify<T: Scalar>(
     let rho_d = m * u_rate / thrust_min;
     let rho_dd = m * u_acceleration / thrust_min + three * rho_d * rho_d;
     let a = thrust_min / m;
-    // The largest horizontal |u|² less K_a12² ... : (√2 M_p + K_a12)² for the cube, (M_p +
-    // K_a12)² for the ball (its horizontal part is at most M_p).
-    let lateral = match (&level_sum, &gains.integral) {
-        (None, _) if norm_shape => mp * mp + ka12 * ka12 + two * mp * ka12,
-        (None, _) => two * mp * mp + ka12 * ka12 + two * two.sqrt() * mp * ka12,
-        (Some(_), Some(i)) if norm_shape => {
-            let lxy = mp + (i.level.x * i.level.x + i.level.y * i.level.y).sqrt();
-            lxy * lxy + ka12 * ka12 + two * lxy * ka12
-        }
-        (Some(l), _) => {
-            let lxy = (l.x * l.x + l.y * l.y).sqrt();
-            lxy * lxy + ka12 * ka12 + two * lxy * ka12
-        }
+    // `|u_xy|² − K_a12²` at most: the paper's `2M_p² + 2√2 M_p K_a12` for the cube; otherwise
+    // from the largest horizontal feedback `l_xy`: `|L_xy|` (the extended bound) or
+    // `M_p + |M_i,xy|` (the norm shape's ball plus the estimate's box).
+    let horizontal_feedback = match &level_sum {
+        None if !norm_shape => None,
+        Some(l) if !norm_shape => Some((l.x * l.x + l.y * l.y).sqrt()),
+        _ => Some(mp + estimate.xy().norm()),
+    };
+    let lateral = match horizontal_feedback {
+        None => two * mp * mp + ka12 * ka12 + two * two.sqrt() * mp * ka12,
+        Some(lxy) => lxy * lxy + ka12 * ka12 + two * lxy * ka12,
     };
     let heading_projection_min = a / (a * a + lateral).sqrt();
     let ups_d = (rho_d + k.heading_rate) / heading_projection_min;

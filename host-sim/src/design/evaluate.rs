@@ -267,29 +267,21 @@ pub fn evaluate(
     (tau_m, integral): (f64, Option<&super::integral::IntegralSpec>),
     trace: bool,
 ) -> Result<Evaluation> {
+    // Both scenarios with the vehicle's own motor lag, built once for every run below.
+    let lagged = super::flight::with_motor_lag(scenario, tau_m, tau_m);
+    let lagged_hover = super::flight::with_motor_lag(hover, tau_m, tau_m);
     let ((nominal, upside), tasks) = rayon::join(
         || {
             rayon::join(
-                || {
-                    half_turns(
-                        &super::flight::with_motor_lag(scenario, tau_m, tau_m),
-                        trace,
-                    )
-                },
-                || upside_down(&super::flight::with_motor_lag(hover, tau_m, tau_m), trace),
+                || half_turns(&lagged, trace),
+                || upside_down(&lagged_hover, trace),
             )
         },
-        || nominal_tasks(&super::flight::with_motor_lag(scenario, tau_m, tau_m)),
+        || nominal_tasks(&lagged),
     );
     let (nominal, upside, tasks) = (nominal?, upside?, tasks?);
     let disturbed = integral
-        .map(|spec| {
-            disturbed_hover(
-                &super::flight::with_motor_lag(hover, tau_m, tau_m),
-                spec,
-                trace,
-            )
-        })
+        .map(|spec| disturbed_hover(&lagged_hover, spec, trace))
         .transpose()?;
     let disturbed_failures = usize::from(disturbed.as_ref().is_some_and(|t| !t.converged));
     let nominal_failures = nominal.iter().filter(|t| !t.converged).count();

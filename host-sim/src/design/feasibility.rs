@@ -67,8 +67,7 @@ pub(crate) fn binding_condition(
         rotors: set,
         margin,
         bounds,
-        integral: position.integral,
-        shape: position.shape,
+        position,
         speed_limit: None,
     };
     let Some(m) = map(&ctx, &probe) else {

@@ -82,7 +82,7 @@ fn score(
     let evaluation = evaluate(
         &scenario,
         &hover,
-        (vehicle.motor_time_constant_s, ctx.integral),
+        (vehicle.motor_time_constant_s, ctx.position.integral),
         trace,
     )
     .map_err(|_| 10.0 * PENALTY)?;
@@ -210,8 +210,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         rotors: &set,
         margin: o.margin,
         bounds: o.bounds,
-        integral,
-        shape: o.position_saturation,
+        position,
         speed_limit: o.speed_limit,
     };
     ThrustDesign::check_flown(o.thrust).map_err(anyhow::Error::msg)?;

@@ -39,16 +39,13 @@
 //! `z̈₁ = ubar_p = −σ_p(k_p z₁ + k_v ż₁)`, so `k_p = ω_p²`, `k_v = 2 ζ_p ω_p` (Table I: `ω_p = 3`,
 //! `ζ_p = 1`).
 
-use controller_core::{
-    Gains, PositionSaturation, TiltPriorityGains, TrajectoryConstants, Vehicle, VelocityLimit,
-};
+use controller_core::{Gains, TiltPriorityGains, TrajectoryConstants, Vehicle, VelocityLimit};
 use nalgebra::Vector3;
 
 use super::authority::{
     envelope_with, iota_max_along, mrp_factor, probe_gains, saturation_max_with, PositionLaw,
     RotorSet, ALPHA, DELTA,
 };
-use super::integral::IntegralSpec;
 
 /// Number of decision variables of the paper's attitude law.
 pub const DIMENSION: usize = 9;
@@ -240,24 +237,13 @@ pub struct Context<'a> {
     pub margin: f64,
     /// The bounds that certify the torque condition and the box fit.
     pub bounds: super::tight::BoundsKind,
-    /// `Some`: the design carries the bounded integral action sized by this spec, and every
-    /// bound is the extended one ([`super::integral`]).
-    pub integral: Option<&'a IntegralSpec>,
-    /// The shape of the position feedback's saturation `σ_p` (docs/position-saturation.md).
-    pub shape: PositionSaturation,
+    /// The position law's options that enter the bounds: the bounded integral action (`Some`:
+    /// sized by this spec, every bound the extended one, [`super::integral`]) and the shape of
+    /// `σ_p` (docs/position-saturation.md).
+    pub position: PositionLaw<'a>,
     /// `Some(V)`: the velocity-limited position feedback with speed limit `V` [m/s] and braking
     /// [`BRAKING_SHARE`] `× M_p` (`--speed-limit`, docs/velocity-limit.md).
     pub speed_limit: Option<f64>,
-}
-
-impl Context<'_> {
-    /// The position law's options that enter the bounds (integral action, shape of `σ_p`).
-    pub fn position_law(&self) -> PositionLaw<'_> {
-        PositionLaw {
-            integral: self.integral,
-            shape: self.shape,
-        }
-    }
 }
 
 /// Braking acceleration of the velocity-limited feedback, as a share of `M_p`: the profile
@@ -320,7 +306,7 @@ fn tilt_gains(
 /// is not certifiable on this vehicle), or when with the integral action no `k_i` makes the
 /// linearised loop stable ([`IntegralSpec::gains`]).
 pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
-    let law = ctx.position_law();
+    let law = ctx.position;
     let mp_max = saturation_max_with(
         ctx.bounds,
         ctx.vehicle,
@@ -349,7 +335,7 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     let mut g = probe_gains(mp, c.kf, c.ks, law);
     g.position.kp = wp * wp;
     g.position.kv = 2.0 * c.position_damping * wp;
-    if let Some(spec) = ctx.integral {
+    if let Some(spec) = law.integral {
         g.integral = Some(spec.gains(&g.position)?);
     }
     g.attitude.k_mrp = 16.0 * j * w * w;

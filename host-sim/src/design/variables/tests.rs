@@ -1,4 +1,5 @@
 use super::*;
+use controller_core::PositionSaturation;
 
 #[test]
 fn unit_box_round_trips() {
@@ -58,8 +59,10 @@ fn every_point_of_the_box_is_certified() {
             rotors: &set,
             margin: 0.05,
             bounds: Default::default(),
-            integral: None,
-            shape,
+            position: PositionLaw {
+                integral: None,
+                shape,
+            },
             speed_limit: None,
         };
         for _ in 0..100 {
@@ -113,8 +116,7 @@ fn every_point_is_certified_with_the_tight_bounds() {
         rotors: &set,
         margin: 0.05,
         bounds: BoundsKind::Tight,
-        integral: None,
-        shape: PositionSaturation::Componentwise,
+        position: PositionLaw::paper(),
         speed_limit: None,
     };
     let mut rng = crate::runs::sampler::seeded_rng(12);
