@@ -304,7 +304,7 @@ fn tilt_gains(
 
 /// Maps `choices` to gains. `None` when no positive `ι` exists for `(k_f, k_s)` (the reference
 /// is not certifiable on this vehicle), or when with the integral action no `k_i` makes the
-/// linearised loop stable ([`IntegralSpec::gains`]).
+/// linearised loop stable ([`super::integral::IntegralSpec::gains`]).
 pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     let law = ctx.position;
     let mp_max = saturation_max_with(
