@@ -21,7 +21,8 @@
 //! estimates of the integral action), [`thrust`] (the paper's `T = m|u|` or the no-dive projection),
 //! [`tilt_priority`] (per-axis attitude feedback levels, an extension: docs/tilt-priority.md),
 //! [`velocity_limit`] (a braking profile in the position feedback, an extension:
-//! docs/velocity-limit.md), and
+//! docs/velocity-limit.md), [`waypoint_path`] (a reference through a mission's stops with
+//! closed-form Assumption 1 constants, so a mission is certified before it is flown), and
 //! [`controller`] which composes them.
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
@@ -50,6 +51,7 @@ pub mod tilt_priority;
 pub mod trig;
 pub mod vehicle;
 pub mod velocity_limit;
+pub mod waypoint_path;
 
 /// The parameter types under the path they had before the split into [`gains`], [`vehicle`] and
 /// [`parameter_error`] (kept for the firmware and the host tools that import them from here).

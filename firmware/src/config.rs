@@ -58,6 +58,15 @@ pub struct ReferenceConfig {
     pub takeoff_reached_distance: f32,
     /// Land target: this far below the arming height \[m\] so the vehicle settles on the ground.
     pub land_undershoot: f32,
+    /// Uploaded missions: the peak speed of each leg \[m/s\] ([`controller_core::waypoint_path`]).
+    pub mission_speed: f32,
+    /// Uploaded missions: the peak acceleration of each leg \[m/s²\].
+    pub mission_acceleration: f32,
+    /// Uploaded missions: the peak yaw rate of each leg \[rad/s\].
+    pub mission_yaw_rate: f32,
+    /// Uploaded missions: a waypoint whose item gives no acceptance radius (param2 = 0) is
+    /// reached within this distance \[m\].
+    pub mission_acceptance_radius: f32,
 }
 
 /// The landed detector: when the vehicle counts as on the ground, at the end of a landing or
@@ -290,6 +299,10 @@ impl FlightConfig {
                 takeoff_height_max: 100.0,
                 takeoff_reached_distance: 0.1,
                 land_undershoot: 0.3,
+                mission_speed: 0.5,
+                mission_acceleration: 0.1,
+                mission_yaw_rate: 0.07,
+                mission_acceptance_radius: 0.3,
             },
             landed: LandedConfig {
                 height: 0.08,

@@ -111,6 +111,68 @@ pub fn param_set(name: &str, value: f32) -> MavMessage {
     })
 }
 
+/// `MISSION_COUNT`: an upload of `count` mission items follows (`MAV_MISSION_TYPE_MISSION`).
+pub fn mission_count(count: u16) -> MavMessage {
+    MavMessage::MISSION_COUNT(mavlink::dialects::common::MISSION_COUNT_DATA {
+        count,
+        target_system: TARGET_SYSTEM,
+        target_component: TARGET_COMPONENT,
+    })
+}
+
+/// `MISSION_ITEM_INT` number `seq` in `MAV_FRAME_LOCAL_NED`: `command` at `ned` (north, east,
+/// down \[m\]) with param1 `hold` \[s\], param2 `radius` \[m\] and param4 `yaw_deg` \[deg, NED\].
+pub fn mission_item_local(
+    seq: u16,
+    command: MavCmd,
+    ned: [f32; 3],
+    hold: f32,
+    radius: f32,
+    yaw_deg: f32,
+) -> MavMessage {
+    MavMessage::MISSION_ITEM_INT(mavlink::dialects::common::MISSION_ITEM_INT_DATA {
+        param1: hold,
+        param2: radius,
+        param3: 0.0,
+        param4: yaw_deg,
+        x: libm::roundf(ned[0] * 1e4) as i32,
+        y: libm::roundf(ned[1] * 1e4) as i32,
+        z: ned[2],
+        seq,
+        command,
+        target_system: TARGET_SYSTEM,
+        target_component: TARGET_COMPONENT,
+        frame: MavFrame::MAV_FRAME_LOCAL_NED,
+        current: 0,
+        autocontinue: 1,
+    })
+}
+
+/// `MISSION_REQUEST_LIST` (the mission, type 0).
+pub fn mission_request_list() -> MavMessage {
+    MavMessage::MISSION_REQUEST_LIST(mavlink::dialects::common::MISSION_REQUEST_LIST_DATA {
+        target_system: TARGET_SYSTEM,
+        target_component: TARGET_COMPONENT,
+    })
+}
+
+/// `MISSION_REQUEST_INT` for item `seq`.
+pub fn mission_request(seq: u16) -> MavMessage {
+    MavMessage::MISSION_REQUEST_INT(mavlink::dialects::common::MISSION_REQUEST_INT_DATA {
+        seq,
+        target_system: TARGET_SYSTEM,
+        target_component: TARGET_COMPONENT,
+    })
+}
+
+/// `MISSION_CLEAR_ALL` (the mission, type 0).
+pub fn mission_clear_all() -> MavMessage {
+    MavMessage::MISSION_CLEAR_ALL(mavlink::dialects::common::MISSION_CLEAR_ALL_DATA {
+        target_system: TARGET_SYSTEM,
+        target_component: TARGET_COMPONENT,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -51,6 +51,7 @@ pub mod gate_failure;
 pub mod ground_station;
 pub mod imu_attitude;
 pub mod link;
+pub mod mission;
 pub mod mixer;
 pub mod motor_order;
 pub mod parameters;

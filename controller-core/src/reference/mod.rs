@@ -130,6 +130,22 @@ impl<T: Scalar> TrajectoryConstants<T> {
         }
     }
 
+    /// The constants of the same reference flown `factor` times slower (`t ↦ r(t/factor)`):
+    /// the k-th time derivative is divided by `factorᵏ`, so `K_a12, K_a3` by `factor²`, `K_j` by
+    /// `factor³`, `K_s` by `factor⁴`, `K_ν̇` by `factor` and `K_ν̈` (a bound on `|ν̈| ≤
+    /// |ψ̈| + ψ̇²`, both terms of order two) by `factor²`. Exact for any `factor > 0`.
+    pub fn time_scaled(&self, factor: T) -> Self {
+        let f2 = factor * factor;
+        Self {
+            horizontal_acceleration: self.horizontal_acceleration / f2,
+            vertical_acceleration: self.vertical_acceleration / f2,
+            jerk: self.jerk / (f2 * factor),
+            snap: self.snap / (f2 * f2),
+            heading_rate: self.heading_rate / factor,
+            heading_acceleration: self.heading_acceleration / f2,
+        }
+    }
+
     /// True if `sample` lies inside these bounds (with relative slack `tol` for rounding).
     /// Source: Assumption 1 (the compact set `Ω_r` and the inclusion `F_r`).
     pub fn contain(&self, sample: &ReferenceSample<T>, tol: T) -> bool {

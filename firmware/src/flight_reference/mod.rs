@@ -323,6 +323,8 @@ pub enum ReferenceMode {
         /// Start time \[µs\].
         start_us: u64,
     },
+    /// An uploaded mission: the pipeline samples its path (`crate::mission`), not this type.
+    Waypoints,
 }
 
 /// The on-board reference: a setpoint filter or the demo mission.
@@ -366,7 +368,7 @@ impl FlightReference {
     /// Constants of the reference as it stands (from now on).
     pub fn constants(&self) -> TrajectoryConstants<f32> {
         match self.mode {
-            ReferenceMode::Setpoint => self.filter.constants(),
+            ReferenceMode::Setpoint | ReferenceMode::Waypoints => self.filter.constants(),
             ReferenceMode::Helix { .. } => self.helix.constants(),
         }
     }
@@ -376,7 +378,7 @@ impl FlightReference {
     /// [`FlightReference::set_target`]).
     pub fn proposed(&self, now_us: u64, position: Vector3<f32>, yaw: f32) -> SetpointFilter {
         let base = match self.mode {
-            ReferenceMode::Setpoint => self.filter,
+            ReferenceMode::Setpoint | ReferenceMode::Waypoints => self.filter,
             ReferenceMode::Helix { .. } => {
                 let s = self.sample_at(now_us);
                 SetpointFilter::new(self.filter.rate, s.position, s.yaw(), self.filter.table)
@@ -396,6 +398,18 @@ impl FlightReference {
         self.helix.constants()
     }
 
+    /// Hands the reference over to an uploaded mission's path (sampled by the pipeline).
+    pub fn fly_waypoints(&mut self) {
+        self.mode = ReferenceMode::Waypoints;
+    }
+
+    /// The setpoint filter at rest at `position` \[m\] NWU with `yaw` \[rad\], flown from now
+    /// on (an uploaded mission hands back where its reference is).
+    pub fn hold_at(&mut self, position: Vector3<f32>, yaw: f32) {
+        self.filter = SetpointFilter::new(self.filter.rate, position, yaw, self.filter.table);
+        self.mode = ReferenceMode::Setpoint;
+    }
+
     /// Starts the demo mission at `now_us`.
     pub fn start_helix(&mut self, now_us: u64) {
         self.mode = ReferenceMode::Helix { start_us: now_us };
@@ -403,7 +417,7 @@ impl FlightReference {
 
     fn sample_at(&self, now_us: u64) -> ReferenceSample<f32> {
         match self.mode {
-            ReferenceMode::Setpoint => self.filter.sample(),
+            ReferenceMode::Setpoint | ReferenceMode::Waypoints => self.filter.sample(),
             ReferenceMode::Helix { start_us } => self
                 .helix
                 .sample(elapsed_s(now_us.saturating_sub(start_us))),

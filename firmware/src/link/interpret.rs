@@ -43,7 +43,7 @@ pub(super) struct Address {
 
 impl Address {
     /// Target system and component each ours or 0 (broadcast).
-    fn accepts(&self, system: u8, component: u8) -> bool {
+    pub(super) fn accepts(&self, system: u8, component: u8) -> bool {
         (system == 0 || system == self.system) && (component == 0 || component == self.component)
     }
 }
@@ -66,7 +66,7 @@ pub(super) fn is_command(msgid: u32) -> bool {
             | SET_POSITION_TARGET_LOCAL_NED_DATA::ID
             | SETUP_SIGNING_DATA::ID
             | PARAM_SET_DATA::ID
-    )
+    ) || super::interpret_mission::changes_mission(msgid)
 }
 
 /// Decodes and interprets the payload of message `msgid` from `sender`, for `us`.
@@ -211,7 +211,8 @@ pub(super) fn interpret(
         }
         #[cfg(feature = "hil")]
         HIL_SENSOR_DATA::ID => hil_sensor(&decode!(HIL_SENSOR_DATA), out),
-        _ => Interpretation::Ignored,
+        _ => super::interpret_mission::interpret(us, sender, msgid, payload, out)
+            .unwrap_or(Interpretation::Ignored),
     }
 }
 

@@ -41,6 +41,7 @@ pub mod crc;
 mod decoder;
 mod encode;
 mod interpret;
+mod interpret_mission;
 pub mod signing;
 #[cfg(test)]
 mod tests;
@@ -210,6 +211,13 @@ pub enum Inbound {
         tc1: i64,
         /// The requester's time \[ns\], echoed in the answer.
         ts1: i64,
+    },
+    /// A message of the mission microservice (`MISSION_*`, [`crate::mission`]).
+    Mission {
+        /// The message.
+        message: crate::mission::MissionMessage,
+        /// Who sent it (replies are addressed to it).
+        sender: Sender,
     },
     /// `PARAM_REQUEST_LIST`: send every parameter (`PARAM_VALUE`).
     ParamRequestList,

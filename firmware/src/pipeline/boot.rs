@@ -185,6 +185,12 @@ impl FlightPipeline {
             hil_time_us: None,
             #[cfg(feature = "hil")]
             hil_pending: None,
+            mission_items: heapless::Vec::new(),
+            mission_transfer: crate::mission::Transfer::new(),
+            mission_current: 0,
+            mission_run: None,
+            mission_replies: Deque::new(),
+            long_texts: Deque::new(),
         })
     }
 

@@ -29,6 +29,13 @@ pub(super) struct Refusal {
     rhs: f32,
 }
 
+impl Refusal {
+    /// Why, for logs and `STATUSTEXT`.
+    pub(super) fn reason(&self) -> &'static str {
+        self.reason
+    }
+}
+
 impl FlightPipeline {
     /// One decoded inbound message at `now_us`.
     ///
@@ -106,6 +113,7 @@ impl FlightPipeline {
                     self.refused("setpoint", &r);
                 }
             }
+            Inbound::Mission { message, sender } => self.mission_message(message, sender, now_us),
             Inbound::ParamRequestList => self.param_request_list(),
             Inbound::ParamRequestRead { id, index } => self.param_request_read(&id, index),
             Inbound::ParamSet { id, value, real32 } => self.param_set(&id, value, real32),
@@ -185,7 +193,7 @@ impl FlightPipeline {
     }
 
     /// A refusal with a reason only, that waiting does not lift.
-    fn simple(reason: &'static str) -> Refusal {
+    pub(super) fn simple(reason: &'static str) -> Refusal {
         Refusal {
             reason,
             remedy: Remedy::OtherCommand,
@@ -200,7 +208,11 @@ impl FlightPipeline {
     /// the rotors with the configured margin ([`super::gate::check`]), or when the controller
     /// refuses it. With [`crate::config::FlightConfig::allow_uncertified`] (the
     /// `uncertified-paper` build only) a failure is logged as [`Event::Uncertified`] instead.
-    fn accept(&mut self, k: &TrajectoryConstants<f32>, start: FilterStart) -> Result<(), Refusal> {
+    pub(super) fn accept(
+        &mut self,
+        k: &TrajectoryConstants<f32>,
+        start: FilterStart,
+    ) -> Result<(), Refusal> {
         let c = &self.cfg;
         let cert = match certify(&c.vehicle, &c.limits, &c.gains, k, start) {
             Ok(cert) => cert,
@@ -258,7 +270,7 @@ impl FlightPipeline {
     }
 
     /// Where the filter starts for a reference change: zero before the controller has run.
-    fn filter_start(&self) -> FilterStart {
+    pub(super) fn filter_start(&self) -> FilterStart {
         if self.mission.mode() == Mode::Idle {
             FilterStart::Zero
         } else {
@@ -275,12 +287,18 @@ impl FlightPipeline {
         now_us: u64,
         mode: Mode,
     ) -> Result<(), Refusal> {
+        self.leave_mission();
         let proposed = self.reference.proposed(now_us, target, yaw);
         let k = proposed.constants();
         self.accept(&k, self.filter_start())?;
         self.reference.set_target(proposed);
         self.set_mode(mode);
         Ok(())
+    }
+
+    /// Runs command `c`, or says why not.
+    pub(super) fn run_command(&mut self, c: Command, now_us: u64) -> Result<(), Refusal> {
+        self.command(c, now_us)
     }
 
     /// Runs command `c`, or says why not.
@@ -398,12 +416,15 @@ impl FlightPipeline {
                 .set_message_interval(id, interval_us)
                 .map_err(Self::simple),
             Command::ResetParams => self.reset_params().map_err(Self::simple),
+            // An uploaded mission is flown when one is stored; otherwise the built-in one.
+            Command::StartHelix if !self.mission_items.is_empty() => self.start_mission(now_us),
             Command::StartHelix => {
                 if state != FlightState::Armed {
                     return Err(Self::simple("not armed"));
                 }
                 let k = self.reference.helix_constants();
                 self.accept(&k, self.filter_start())?;
+                self.leave_mission();
                 self.reference.start_helix(now_us);
                 self.set_mode(Mode::Helix);
                 Ok(())
@@ -412,7 +433,8 @@ impl FlightPipeline {
     }
 
     /// `MAV_CMD_DO_SET_MODE`: custom mode 1 hovers where the vehicle is, 2 takes off, 3 lands,
-    /// 4 flies the helix, through the same checks as their own commands.
+    /// 4 flies the mission start command's mission (the uploaded one if any, else the helix),
+    /// 5 the uploaded mission, through the same checks as their own commands.
     fn set_mode_command(&mut self, custom_mode: u8, now_us: u64) -> Result<(), Refusal> {
         match custom_mode {
             1 => {
@@ -426,6 +448,7 @@ impl FlightPipeline {
             2 => self.command(Command::Takeoff { height: None }, now_us),
             3 => self.command(Command::Land, now_us),
             4 => self.command(Command::StartHelix, now_us),
+            5 => self.start_mission(now_us),
             _ => Err(Self::simple("unknown mode")),
         }
     }

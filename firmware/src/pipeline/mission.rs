@@ -29,6 +29,8 @@ pub enum Mode {
     Land,
     /// The paper's helix.
     Helix,
+    /// An uploaded mission ([`crate::mission`]).
+    Mission,
 }
 
 impl Mode {
@@ -40,6 +42,7 @@ impl Mode {
             Self::Takeoff => "takeoff",
             Self::Land => "land",
             Self::Helix => "helix",
+            Self::Mission => "mission",
         }
     }
 }

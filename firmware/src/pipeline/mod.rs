@@ -28,6 +28,8 @@ mod landed;
 #[cfg(feature = "hil")]
 pub mod lockstep;
 mod mission;
+mod mission_flight;
+mod mission_protocol;
 mod param_protocol;
 mod param_queue;
 mod param_text;
@@ -54,7 +56,7 @@ use nalgebra::{UnitQuaternion, Vector3, Vector4};
 
 use crate::config::FlightConfig;
 use crate::estimator::{micros_f32, Estimate, Estimator};
-use crate::flight_reference::{FlightReference, SupTable};
+use crate::flight_reference::{FlightReference, ReferenceMode, SupTable};
 use crate::imu_attitude::Mahony;
 use crate::link::{Decoder, Sender};
 use crate::mixer::{MixOutput, Mixer};
@@ -162,6 +164,18 @@ pub struct FlightPipeline {
     /// Tick time \[µs\] whose HIL outputs are not sent yet.
     #[cfg(feature = "hil")]
     hil_pending: Option<u64>,
+    /// The stored mission (an accepted upload; [`crate::mission`]).
+    mission_items: heapless::Vec<crate::mission::MissionItem, { crate::mission::CAPACITY }>,
+    /// The upload in progress.
+    mission_transfer: crate::mission::Transfer,
+    /// The item a mission start begins with (`MISSION_SET_CURRENT`), then the one flown.
+    mission_current: u16,
+    /// The mission being flown.
+    mission_run: Option<mission_flight::MissionRun>,
+    /// Mission-protocol replies due.
+    mission_replies: Deque<crate::mission::MissionReply, 8>,
+    /// `STATUSTEXT`s with numbers (mission refusals), formatted when queued.
+    long_texts: Deque<(MavSeverity, heapless::String<50>), 4>,
 }
 
 /// The Mahony filter's limit on its time step \[s\]: [`FlightConfig::mahony_dt_max`], or +∞
@@ -453,7 +467,14 @@ impl FlightPipeline {
     /// `None` when there is no estimate or controller, or the law failed (non-finite).
     fn fly(&mut self, now_us: u64, dt: f32, est: Option<Estimate>) -> Option<MotorOutput> {
         let e = est?;
-        let reference = self.reference.sample(now_us);
+        let (reference, end) = if self.reference.mode() == ReferenceMode::Waypoints {
+            self.mission_sample(now_us, &e.position)
+        } else {
+            (
+                self.reference.sample(now_us),
+                mission_flight::MissionEnd::Flying,
+            )
+        };
         let state = VehicleState {
             position: e.position,
             velocity: e.velocity,
@@ -485,6 +506,9 @@ impl FlightPipeline {
         let target = self.reference.filter().target().0;
         if let Some(mode) = self.mission.tick(&self.cfg.reference, &e.position, &target) {
             self.event(Event::ModeChanged { mode });
+        }
+        if let mission_flight::MissionEnd::Done { land } = end {
+            self.end_mission(land, &reference, now_us);
         }
         Some(self.mix_to_output(thrust, &torque))
     }

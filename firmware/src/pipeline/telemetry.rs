@@ -73,6 +73,13 @@ impl FlightPipeline {
             }
             self.texts.pop_front();
         }
+        if self.mission_transfer.uploading() {
+            self.mission_poll(now_us);
+        }
+        match self.mission_telemetry(&mut out[n..]) {
+            (k, true) => n += k,
+            (k, false) => return n + k,
+        }
         match self.param_telemetry(now_us, &mut out[n..]) {
             (k, true) => n += k,
             (k, false) => return n + k,

@@ -422,3 +422,14 @@ fn pose_crc_extras_are_the_dialects() {
         assert_eq!(MavMessage::extra_crc(id), extra);
     }
 }
+
+/// The mission messages did not make `Inbound` larger than a pose needs moved per frame: at
+/// most 48 bytes (the size the decoder's hot path was measured with).
+#[test]
+fn inbound_stays_small() {
+    assert!(
+        core::mem::size_of::<Inbound>() <= 48,
+        "{}",
+        core::mem::size_of::<Inbound>()
+    );
+}

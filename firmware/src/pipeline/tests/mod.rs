@@ -5,6 +5,7 @@
 mod arming;
 #[cfg(feature = "hil")]
 mod lockstep;
+mod mission;
 mod over_link;
 // Built with the paper's flight file, the tests that need the default x500 file are left out;
 // their helpers and imports are then unused.

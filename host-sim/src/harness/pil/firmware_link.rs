@@ -56,6 +56,7 @@ pub fn mode_from_custom(custom_mode: u32) -> Option<Mode> {
         Mode::Takeoff,
         Mode::Land,
         Mode::Helix,
+        Mode::Mission,
     ]
     .into_iter()
     .find(|m| *m as u32 == custom_mode)
