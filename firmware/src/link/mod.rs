@@ -8,16 +8,18 @@
 //! (`MAV_CMD_COMPONENT_ARM_DISARM` arm/disarm, with param2 = [`FORCE_DISARM_PARAM2`] (21196) a
 //! kill, with param1 = 1 and param2 = [`FORCE_ARM_PARAM2`] (2989) an explicit upside-down arm;
 //! `MAV_CMD_DO_FLIGHTTERMINATION` kill; `MAV_CMD_NAV_TAKEOFF` with param7 the height above the
-//! arming point \[m\] (NaN/0: default); `MAV_CMD_NAV_LAND`; `MAV_CMD_MISSION_START` the helix
-//! demo; `MAV_CMD_REQUEST_MESSAGE` and `MAV_CMD_SET_MESSAGE_INTERVAL` for the messages it
+//! arming point \[m\] (NaN/0: default); `MAV_CMD_NAV_LAND`; `MAV_CMD_MISSION_START` the uploaded
+//! mission, or the helix demo without one; `MAV_CMD_REQUEST_MESSAGE` and `MAV_CMD_SET_MESSAGE_INTERVAL` for the messages it
 //! sends; `MAV_CMD_DO_SET_MODE` with a custom mode; `MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES`;
 //! any other command addressed to the vehicle is answered `MAV_RESULT_UNSUPPORTED`),
 //! `SET_POSITION_TARGET_LOCAL_NED` (frame `MAV_FRAME_LOCAL_NED`, position and yaw; hover
-//! target), `SETUP_SIGNING`, `TIMESYNC` and the parameter protocol (`PARAM_REQUEST_LIST`,
+//! target), `SETUP_SIGNING`, `TIMESYNC`, the mission protocol (`MISSION_*`, [`crate::mission`]) and the parameter protocol (`PARAM_REQUEST_LIST`,
 //! `PARAM_REQUEST_READ`, `PARAM_SET`; [`crate::params`]). Out: `HEARTBEAT`,
 //! `ATTITUDE_QUATERNION`, `LOCAL_POSITION_NED`, `SYS_STATUS`, `EXTENDED_SYS_STATE`, `ATTITUDE`,
 //! `HOME_POSITION` and `AUTOPILOT_VERSION` (on request), `TIMESYNC`, `COMMAND_ACK` (to the
-//! sender), `STATUSTEXT`, `PARAM_VALUE`.
+//! sender), `STATUSTEXT`, `PARAM_VALUE`, and the mission replies (`MISSION_COUNT`,
+//! `MISSION_REQUEST_INT`, `MISSION_ITEM_INT`, `MISSION_ACK`, `MISSION_CURRENT`,
+//! `MISSION_ITEM_REACHED`).
 //!
 //! Addressing: a message with a target (commands, setpoints, `SETUP_SIGNING`, parameter
 //! messages) is used only if its target system is the vehicle's or 0 (broadcast) and its target

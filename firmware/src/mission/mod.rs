@@ -1,5 +1,5 @@
 //! Missions uploaded over MAVLink's mission microservice: the stored items ([`item`]), what the
-//! vehicle makes of them, a certified reference through their stops ([`plan`]), and the upload
+//! vehicle makes of them, a certified reference through their stops ([`mod@plan`]), and the upload
 //! state ([`transfer`]). The pipeline runs the protocol and flies the plan
 //! (`crate::pipeline`'s `mission_protocol.rs` and `mission_flight.rs`).
 //!

@@ -97,10 +97,16 @@ fn plan_refuses_far_positions_and_negative_holds() {
     let mut far = item(MavCmd::MAV_CMD_NAV_WAYPOINT, [0.0; 3], 0.0);
     far.x = i32::MAX;
     let e = plan(&[far], Vector3::zeros(), 0.0, &cfg).expect_err("refused");
-    assert_eq!((e.result, e.seq), (MavMissionResult::MAV_MISSION_INVALID, 0));
+    assert_eq!(
+        (e.result, e.seq),
+        (MavMissionResult::MAV_MISSION_INVALID, 0)
+    );
     let mut hold = item(MavCmd::MAV_CMD_NAV_WAYPOINT, [0.0; 3], 0.0);
     hold.params[0] = -1.0;
     let ok = item(MavCmd::MAV_CMD_NAV_WAYPOINT, [0.0; 3], 0.0);
     let e = plan(&[ok, hold], Vector3::zeros(), 0.0, &cfg).expect_err("refused");
-    assert_eq!((e.result, e.seq), (MavMissionResult::MAV_MISSION_INVALID_PARAM1, 1));
+    assert_eq!(
+        (e.result, e.seq),
+        (MavMissionResult::MAV_MISSION_INVALID_PARAM1, 1)
+    );
 }

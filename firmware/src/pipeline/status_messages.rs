@@ -15,9 +15,10 @@ use crate::safety::FlightState;
 
 /// What the vehicle really does (`AUTOPILOT_VERSION.capabilities`): parameters (REAL32 values,
 /// for which C-cast and bytewise encodings agree),
-/// `COMMAND_INT`, local position targets, flight termination, MAVLink 2.
+/// `COMMAND_INT`, missions as `MISSION_ITEM_INT`, local position targets, flight termination, MAVLink 2.
 pub const CAPABILITIES: MavProtocolCapability =
     MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_COMMAND_INT
+        .union(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_INT)
         .union(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_LOCAL_NED)
         .union(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_FLIGHT_TERMINATION)
         .union(MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MAVLINK2)
