@@ -9,7 +9,7 @@
 //! | tag | operation | fields | clock |
 //! |---|---|---|---|
 //! | 0 | [`Op::Bytes`]: raw link bytes | `n: u8`, `n` bytes | — |
-//! | 1 | [`Op::Frame`]: a CRC-valid MAVLink 2 frame built from fields | see [`FrameSpec`] | — |
+//! | 1 | [`Op::Frame`]: a CRC-valid MAVLink 2 frame built from fields | see [`FrameSpec`] (kind byte mod 6; kind 5 the mission protocol, [`MissionSpec`]) | — |
 //! | 2 | [`Op::Imu`]: an IMU sample, any `f32` | gyro \[rad/s\] 3×`f32`, accel \[m/s²\] 3×`f32`, `dt: u16` \[µs\] | `+dt` |
 //! | 3 | [`Op::ImuQuantised`]: an IMU sample 1 ms after the last | gyro 3×`i16` \[mrad/s\], accel 3×`i16` \[cm/s²\] | `+1000` |
 //! | 4 | [`Op::Rest`]: `n` samples of a vehicle at rest, 1 ms apart | `n: u8` | `+1000 n` |
@@ -20,9 +20,10 @@
 
 use firmware::link;
 use firmware::link::mavlink::dialects::common::{
-    HilSensorUpdatedFlags, MavCmd, MavFrame, MavMessage, PositionTargetTypemask,
-    ATT_POS_MOCAP_DATA, COMMAND_LONG_DATA, HIL_SENSOR_DATA, ODOMETRY_DATA,
-    SET_POSITION_TARGET_LOCAL_NED_DATA,
+    HilSensorUpdatedFlags, MavCmd, MavFrame, MavMessage, MavMissionResult, PositionTargetTypemask,
+    ATT_POS_MOCAP_DATA, COMMAND_LONG_DATA, HIL_SENSOR_DATA, MISSION_ACK_DATA,
+    MISSION_CLEAR_ALL_DATA, MISSION_COUNT_DATA, MISSION_ITEM_INT_DATA, MISSION_REQUEST_INT_DATA,
+    MISSION_REQUEST_LIST_DATA, ODOMETRY_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
 };
 
 /// Standard gravity \[m/s²\] of the at-rest samples ([`Op::Rest`]); the pipeline's vehicles use
@@ -40,7 +41,89 @@ pub const COMMANDS: [MavCmd; 6] = [
     MavCmd::MAV_CMD_DO_SET_MODE,
 ];
 
-/// The frame kinds of [`Op::Frame`] (kind byte mod 5) and their fields after the kind byte.
+/// The item commands a mission item ([`MissionSpec::ItemInt`], [`MissionSpec::Item`]) chooses
+/// from (index mod the length): the three the firmware plans, and one it refuses.
+pub const MISSION_COMMANDS: [MavCmd; 4] = [
+    MavCmd::MAV_CMD_NAV_WAYPOINT,
+    MavCmd::MAV_CMD_NAV_TAKEOFF,
+    MavCmd::MAV_CMD_NAV_LAND,
+    MavCmd::MAV_CMD_NAV_LOITER_UNLIM,
+];
+
+/// The `MISSION_ACK` results a [`MissionSpec::Ack`] chooses from (index mod the length).
+pub const MISSION_RESULTS: [MavMissionResult; 4] = [
+    MavMissionResult::MAV_MISSION_ACCEPTED,
+    MavMissionResult::MAV_MISSION_ERROR,
+    MavMissionResult::MAV_MISSION_DENIED,
+    MavMissionResult::MAV_MISSION_OPERATION_CANCELLED,
+];
+
+/// The messages of a [`FrameSpec::Mission`] (sub-kind byte mod 8) and their fields after the
+/// target system byte. `mission_type` is always 0 (the mission; the `mavlink` crate's structs
+/// do not carry the extension field).
+#[derive(Clone, Debug, PartialEq)]
+pub enum MissionSpec {
+    /// Sub-kind 0, `MISSION_COUNT`: `count: u16` (an upload of that many items).
+    Count {
+        /// Number of items.
+        count: u16,
+    },
+    /// Sub-kind 1, `MISSION_ITEM_INT`: `seq: u16`, command index `u8` into
+    /// [`MISSION_COMMANDS`], frame `u8` ([`mission_frame`]), `x`, `y` 2×`i32` (local: m × 10⁴),
+    /// `z` `f32` \[m\], param1..param4 4×`f32`.
+    ItemInt {
+        /// Sequence number.
+        seq: u16,
+        /// Index into [`MISSION_COMMANDS`] (mod its length).
+        command: u8,
+        /// `frame` number ([`mission_frame`]).
+        frame: u8,
+        /// `x`, `y`: local frames north, east \[m × 10⁴\]; global ones latitude, longitude.
+        xy: [i32; 2],
+        /// `z` \[m\].
+        z: f32,
+        /// param1..param4.
+        params: [f32; 4],
+    },
+    /// Sub-kind 2, `MISSION_ITEM` (the deprecated float item): as [`MissionSpec::ItemInt`] with
+    /// `x`, `y` 2×`f32` (local: m).
+    Item {
+        /// Sequence number.
+        seq: u16,
+        /// Index into [`MISSION_COMMANDS`] (mod its length).
+        command: u8,
+        /// `frame` number ([`mission_frame`]).
+        frame: u8,
+        /// `x`, `y` \[m\] (global frames: degrees).
+        xy: [f32; 2],
+        /// `z` \[m\].
+        z: f32,
+        /// param1..param4.
+        params: [f32; 4],
+    },
+    /// Sub-kind 3, `MISSION_REQUEST_INT`: `seq: u16` (a download's item).
+    RequestInt {
+        /// Sequence number.
+        seq: u16,
+    },
+    /// Sub-kind 4, `MISSION_REQUEST_LIST`: no fields.
+    RequestList,
+    /// Sub-kind 5, `MISSION_CLEAR_ALL`: no fields.
+    ClearAll,
+    /// Sub-kind 6, `MISSION_SET_CURRENT` (deprecated, still sent): `seq: u16`.
+    SetCurrent {
+        /// Sequence number.
+        seq: u16,
+    },
+    /// Sub-kind 7, `MISSION_ACK`: result index `u8` into [`MISSION_RESULTS`] (it ends or
+    /// cancels an upload).
+    Ack {
+        /// Index into [`MISSION_RESULTS`] (mod its length).
+        result: u8,
+    },
+}
+
+/// The frame kinds of [`Op::Frame`] (kind byte mod 6) and their fields after the kind byte.
 #[derive(Clone, Debug, PartialEq)]
 pub enum FrameSpec {
     /// Kind 0, `ATT_POS_MOCAP`: position \[m\] NED 3×`f32`, quaternion (w, x, y, z; FRD→NED)
@@ -96,6 +179,14 @@ pub enum FrameSpec {
         gyro: [f32; 3],
         /// `time_usec` minus the clock \[µs\].
         time_offset_us: i32,
+    },
+    /// Kind 5, the mission protocol (`MISSION_*`): sub-kind `u8` (mod 8, see [`MissionSpec`]),
+    /// target system `u8`, then the sub-kind's fields.
+    Mission {
+        /// Target system (0: broadcast; the vehicle is 1).
+        target: u8,
+        /// The message and its fields.
+        message: MissionSpec,
     },
 }
 
@@ -206,7 +297,7 @@ pub fn parse(data: &[u8]) -> Vec<Op> {
                 Op::Bytes(bytes)
             }
             1 => {
-                let spec = match r.u8() % 5 {
+                let spec = match r.u8() % 6 {
                     0 => FrameSpec::Mocap {
                         position: r.f32s(),
                         q: r.f32s(),
@@ -228,12 +319,41 @@ pub fn parse(data: &[u8]) -> Vec<Op> {
                         position: r.f32s(),
                         yaw: r.f32(),
                     },
-                    _ => FrameSpec::HilSensor {
+                    4 => FrameSpec::HilSensor {
                         fields: r.u32(),
                         accel: r.f32s(),
                         gyro: r.f32s(),
                         time_offset_us: r.i32(),
                     },
+                    _ => {
+                        let sub = r.u8() % 8;
+                        let target = r.u8();
+                        let message = match sub {
+                            0 => MissionSpec::Count { count: r.u16() },
+                            1 => MissionSpec::ItemInt {
+                                seq: r.u16(),
+                                command: r.u8(),
+                                frame: r.u8(),
+                                xy: [r.i32(), r.i32()],
+                                z: r.f32(),
+                                params: r.f32s(),
+                            },
+                            2 => MissionSpec::Item {
+                                seq: r.u16(),
+                                command: r.u8(),
+                                frame: r.u8(),
+                                xy: r.f32s(),
+                                z: r.f32(),
+                                params: r.f32s(),
+                            },
+                            3 => MissionSpec::RequestInt { seq: r.u16() },
+                            4 => MissionSpec::RequestList,
+                            5 => MissionSpec::ClearAll,
+                            6 => MissionSpec::SetCurrent { seq: r.u16() },
+                            _ => MissionSpec::Ack { result: r.u8() },
+                        };
+                        FrameSpec::Mission { target, message }
+                    }
                 };
                 Op::Frame {
                     spec,
@@ -263,6 +383,58 @@ pub fn parse(data: &[u8]) -> Vec<Op> {
 fn put_f32s(out: &mut Vec<u8>, xs: &[f32]) {
     for x in xs {
         out.extend_from_slice(&x.to_le_bytes());
+    }
+}
+
+/// Writes a [`FrameSpec::Mission`] after the kind byte's place: kind 5, sub-kind, target, fields.
+fn put_mission(out: &mut Vec<u8>, target: u8, m: &MissionSpec) {
+    let sub = match m {
+        MissionSpec::Count { .. } => 0,
+        MissionSpec::ItemInt { .. } => 1,
+        MissionSpec::Item { .. } => 2,
+        MissionSpec::RequestInt { .. } => 3,
+        MissionSpec::RequestList => 4,
+        MissionSpec::ClearAll => 5,
+        MissionSpec::SetCurrent { .. } => 6,
+        MissionSpec::Ack { .. } => 7,
+    };
+    out.extend_from_slice(&[5, sub, target]);
+    match m {
+        MissionSpec::Count { count: n }
+        | MissionSpec::RequestInt { seq: n }
+        | MissionSpec::SetCurrent { seq: n } => out.extend_from_slice(&n.to_le_bytes()),
+        MissionSpec::ItemInt {
+            seq,
+            command,
+            frame,
+            xy,
+            z,
+            params,
+        } => {
+            out.extend_from_slice(&seq.to_le_bytes());
+            out.extend_from_slice(&[*command, *frame]);
+            for v in xy {
+                out.extend_from_slice(&v.to_le_bytes());
+            }
+            put_f32s(out, &[*z]);
+            put_f32s(out, params);
+        }
+        MissionSpec::Item {
+            seq,
+            command,
+            frame,
+            xy,
+            z,
+            params,
+        } => {
+            out.extend_from_slice(&seq.to_le_bytes());
+            out.extend_from_slice(&[*command, *frame]);
+            put_f32s(out, xy);
+            put_f32s(out, &[*z]);
+            put_f32s(out, params);
+        }
+        MissionSpec::RequestList | MissionSpec::ClearAll => {}
+        MissionSpec::Ack { result } => out.push(*result),
     }
 }
 
@@ -324,6 +496,9 @@ pub fn encode(ops: &[Op]) -> Vec<u8> {
                         put_f32s(&mut out, gyro);
                         out.extend_from_slice(&time_offset_us.to_le_bytes());
                     }
+                    FrameSpec::Mission { target, message } => {
+                        put_mission(&mut out, *target, message)
+                    }
                 }
                 out.push(chunk.wrapping_sub(1) % 64);
             }
@@ -360,6 +535,109 @@ fn mav_frame(n: u8) -> MavFrame {
         20 => F::MAV_FRAME_LOCAL_FRD,
         21 => F::MAV_FRAME_LOCAL_FLU,
         _ => F::MAV_FRAME_LOCAL_NED,
+    }
+}
+
+/// A mission item's `frame`: [`mav_frame`]'s (0 is `MAV_FRAME_GLOBAL`, most numbers
+/// `MAV_FRAME_LOCAL_NED`), and 3, 5, 6 the other global frames ground stations send
+/// (`GLOBAL_RELATIVE_ALT`, `GLOBAL_INT`, `GLOBAL_RELATIVE_ALT_INT`), which the firmware refuses.
+// The `_INT` frames are deprecated (superseded by their plain names) but older ground stations
+// still send them in mission items, and the firmware's global-frame check names them.
+#[allow(deprecated)]
+pub fn mission_frame(n: u8) -> MavFrame {
+    match n {
+        3 => MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT,
+        5 => MavFrame::MAV_FRAME_GLOBAL_INT,
+        6 => MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
+        _ => mav_frame(n),
+    }
+}
+
+/// The `MISSION_*` message of a [`FrameSpec::Mission`] for system `target` (component 0).
+// MISSION_ITEM and MISSION_SET_CURRENT are deprecated in MAVLink's common set, but ground
+// stations still send them (MAVProxy's wp module, older QGroundControl) and the firmware
+// interprets them: the fuzzer must send them too.
+#[allow(deprecated)]
+fn mission_message(target: u8, m: &MissionSpec) -> MavMessage {
+    use firmware::link::mavlink::dialects::common::{MISSION_ITEM_DATA, MISSION_SET_CURRENT_DATA};
+    let command = |i: u8| MISSION_COMMANDS[usize::from(i) % MISSION_COMMANDS.len()];
+    match m {
+        MissionSpec::Count { count } => MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
+            count: *count,
+            target_system: target,
+            ..Default::default()
+        }),
+        MissionSpec::ItemInt {
+            seq,
+            command: c,
+            frame,
+            xy,
+            z,
+            params,
+        } => MavMessage::MISSION_ITEM_INT(MISSION_ITEM_INT_DATA {
+            param1: params[0],
+            param2: params[1],
+            param3: params[2],
+            param4: params[3],
+            x: xy[0],
+            y: xy[1],
+            z: *z,
+            seq: *seq,
+            command: command(*c),
+            target_system: target,
+            frame: mission_frame(*frame),
+            autocontinue: 1,
+            ..Default::default()
+        }),
+        MissionSpec::Item {
+            seq,
+            command: c,
+            frame,
+            xy,
+            z,
+            params,
+        } => MavMessage::MISSION_ITEM(MISSION_ITEM_DATA {
+            param1: params[0],
+            param2: params[1],
+            param3: params[2],
+            param4: params[3],
+            x: xy[0],
+            y: xy[1],
+            z: *z,
+            seq: *seq,
+            command: command(*c),
+            target_system: target,
+            frame: mission_frame(*frame),
+            autocontinue: 1,
+            ..Default::default()
+        }),
+        MissionSpec::RequestInt { seq } => {
+            MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
+                seq: *seq,
+                target_system: target,
+                ..Default::default()
+            })
+        }
+        MissionSpec::RequestList => MavMessage::MISSION_REQUEST_LIST(MISSION_REQUEST_LIST_DATA {
+            target_system: target,
+            ..Default::default()
+        }),
+        MissionSpec::ClearAll => MavMessage::MISSION_CLEAR_ALL(MISSION_CLEAR_ALL_DATA {
+            target_system: target,
+            ..Default::default()
+        }),
+        MissionSpec::SetCurrent { seq } => {
+            MavMessage::MISSION_SET_CURRENT(MISSION_SET_CURRENT_DATA {
+                seq: *seq,
+                target_system: target,
+                ..Default::default()
+            })
+        }
+        MissionSpec::Ack { result } => MavMessage::MISSION_ACK(MISSION_ACK_DATA {
+            target_system: target,
+            mavtype: MISSION_RESULTS[usize::from(*result) % MISSION_RESULTS.len()],
+            ..Default::default()
+        }),
     }
 }
 
@@ -431,6 +709,7 @@ pub fn message(spec: &FrameSpec, now_us: u64) -> MavMessage {
             fields_updated: HilSensorUpdatedFlags::from_bits_retain(*fields),
             ..Default::default()
         }),
+        FrameSpec::Mission { target, message } => mission_message(*target, message),
     }
 }
 
@@ -492,6 +771,76 @@ mod tests {
                 },
                 chunk: 12,
             },
+            Op::Frame {
+                spec: FrameSpec::Mission {
+                    target: 1,
+                    message: MissionSpec::Count { count: 2 },
+                },
+                chunk: 64,
+            },
+            Op::Frame {
+                spec: FrameSpec::Mission {
+                    target: 1,
+                    message: MissionSpec::ItemInt {
+                        seq: 0,
+                        command: 1,
+                        frame: 1,
+                        xy: [12_345, -7],
+                        z: -1.5,
+                        params: [0.0, 0.2, f32::NEG_INFINITY, 90.0],
+                    },
+                },
+                chunk: 5,
+            },
+            Op::Frame {
+                spec: FrameSpec::Mission {
+                    target: 0,
+                    message: MissionSpec::Item {
+                        seq: 1,
+                        command: 3,
+                        frame: 5,
+                        xy: [47.5, 8.25],
+                        z: 10.0,
+                        params: [1.0, 0.0, 0.0, f32::INFINITY],
+                    },
+                },
+                chunk: 17,
+            },
+            Op::Frame {
+                spec: FrameSpec::Mission {
+                    target: 1,
+                    message: MissionSpec::RequestInt { seq: 65_535 },
+                },
+                chunk: 2,
+            },
+            Op::Frame {
+                spec: FrameSpec::Mission {
+                    target: 1,
+                    message: MissionSpec::RequestList,
+                },
+                chunk: 64,
+            },
+            Op::Frame {
+                spec: FrameSpec::Mission {
+                    target: 9,
+                    message: MissionSpec::ClearAll,
+                },
+                chunk: 1,
+            },
+            Op::Frame {
+                spec: FrameSpec::Mission {
+                    target: 1,
+                    message: MissionSpec::SetCurrent { seq: 1 },
+                },
+                chunk: 40,
+            },
+            Op::Frame {
+                spec: FrameSpec::Mission {
+                    target: 1,
+                    message: MissionSpec::Ack { result: 3 },
+                },
+                chunk: 64,
+            },
             Op::Imu {
                 gyro: [0.1, 0.2, 0.3],
                 accel: [0.0, 0.0, 9.81],
@@ -508,6 +857,65 @@ mod tests {
             },
         ];
         assert_eq!(parse(&encode(&ops)), ops);
+    }
+
+    /// Every mission sub-kind becomes its own `MISSION_*` message, with the target system, the
+    /// item's command and frame as chosen.
+    #[test]
+    #[allow(deprecated)]
+    fn mission_specs_map_to_their_messages() {
+        let item = |int: bool| {
+            let (seq, command, frame, z, params) = (3, 2, 0, -4.0, [1.0, 2.0, 3.0, 4.0]);
+            FrameSpec::Mission {
+                target: 1,
+                message: if int {
+                    MissionSpec::ItemInt {
+                        seq,
+                        command,
+                        frame,
+                        xy: [10_000, 20_000],
+                        z,
+                        params,
+                    }
+                } else {
+                    MissionSpec::Item {
+                        seq,
+                        command,
+                        frame,
+                        xy: [1.0, 2.0],
+                        z,
+                        params,
+                    }
+                },
+            }
+        };
+        match message(&item(true), 0) {
+            MavMessage::MISSION_ITEM_INT(m) => {
+                assert_eq!((m.seq, m.x, m.y, m.z), (3, 10_000, 20_000, -4.0));
+                assert_eq!(m.command, MavCmd::MAV_CMD_NAV_LAND);
+                assert_eq!(m.frame, MavFrame::MAV_FRAME_GLOBAL);
+                assert_eq!(m.param4, 4.0);
+                assert_eq!(m.target_system, 1);
+            }
+            m => panic!("{m:?}"),
+        }
+        assert!(matches!(
+            message(&item(false), 0),
+            MavMessage::MISSION_ITEM(m) if m.x == 1.0 && m.command == MavCmd::MAV_CMD_NAV_LAND
+        ));
+        let of = |message| crate::script::message(&FrameSpec::Mission { target: 7, message }, 0);
+        assert!(matches!(of(MissionSpec::Count { count: 9 }),
+            MavMessage::MISSION_COUNT(m) if m.count == 9 && m.target_system == 7));
+        assert!(matches!(of(MissionSpec::RequestInt { seq: 4 }),
+            MavMessage::MISSION_REQUEST_INT(m) if m.seq == 4 && m.target_system == 7));
+        assert!(matches!(of(MissionSpec::RequestList),
+            MavMessage::MISSION_REQUEST_LIST(m) if m.target_system == 7));
+        assert!(matches!(of(MissionSpec::ClearAll),
+            MavMessage::MISSION_CLEAR_ALL(m) if m.target_system == 7));
+        assert!(matches!(of(MissionSpec::SetCurrent { seq: 2 }),
+            MavMessage::MISSION_SET_CURRENT(m) if m.seq == 2 && m.target_system == 7));
+        assert!(matches!(of(MissionSpec::Ack { result: 3 }),
+            MavMessage::MISSION_ACK(m) if m.mavtype == MavMissionResult::MAV_MISSION_OPERATION_CANCELLED));
     }
 
     /// A truncated input still parses: the missing bytes read as 0.

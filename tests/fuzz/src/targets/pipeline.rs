@@ -15,7 +15,9 @@
 //!   finds nothing malformed and skips no byte), signed exactly when a key is installed;
 //! - no reply is lost silently: at the end (telemetry flushed) every command received has its
 //!   `COMMAND_ACK` sent, and every state change and refusal its `STATUSTEXT`, or the loss is
-//!   counted in `replies_dropped`.
+//!   counted in `replies_dropped`; exactly so (no other ack or text) when no mission-protocol
+//!   message arrived, at least so otherwise (the mission protocol adds `STATUSTEXT`s of its own,
+//!   and the losses of its replies to the same counter).
 
 use firmware::config::FlightConfig;
 use firmware::link::mavlink::dialects::common::{COMMAND_ACK_DATA, STATUSTEXT_DATA};
@@ -51,6 +53,8 @@ struct GroundStation {
     decoder: Option<Decoder>,
     acks: u64,
     texts: u64,
+    /// Frames received per message id.
+    frames: std::collections::BTreeMap<u32, u64>,
     /// A signing key is installed: everything the vehicle sends must be signed from then on.
     keyed: bool,
 }
@@ -80,6 +84,7 @@ impl GroundStation {
                 self.keyed
             );
             let id = u32::from_le_bytes([bytes[i + 7], bytes[i + 8], bytes[i + 9], 0]);
+            *self.frames.entry(id).or_default() += 1;
             match id {
                 COMMAND_ACK_DATA::ID => self.acks += 1,
                 STATUSTEXT_DATA::ID => self.texts += 1,
@@ -139,6 +144,8 @@ struct Harness {
     ticks: u32,
     imu_calls: u32,
     commands: u64,
+    /// Mission-protocol messages received (`Inbound::Mission`).
+    missions: u64,
     texts_due: u64,
     events_lost: bool,
     /// A `SETUP_SIGNING`'s verdict was lost with its event: the shadow decoder cannot follow
@@ -147,9 +154,37 @@ struct Harness {
     /// The flight's signing rule for unsigned sensors, for the keys the shadow takes.
     accept_unsigned_sensors: bool,
     telemetry: Vec<u8>,
+    /// The counters after the last operation.
+    counters: Counters,
 }
 
 impl Harness {
+    /// The fuzzed flight, booted, with its observers.
+    fn new() -> Self {
+        let cfg = config();
+        let Ok(p) = FlightPipeline::new(&cfg) else {
+            panic!("the default build's flight does not boot");
+        };
+        let counters = p.status().counters;
+        Self {
+            p,
+            shadow: Decoder::new(cfg.system_id),
+            gcs: GroundStation::default(),
+            now: 0,
+            sequence: 0,
+            ticks: 0,
+            imu_calls: 0,
+            commands: 0,
+            missions: 0,
+            texts_due: 0,
+            events_lost: false,
+            shadow_blind: false,
+            accept_unsigned_sensors: cfg.accept_unsigned_sensors,
+            telemetry: vec![0; 2048],
+            counters,
+        }
+    }
+
     fn link(&mut self, bytes: &[u8]) {
         let dropped_before = self.p.status().counters.events_dropped;
         self.p.on_link_bytes(bytes, self.now);
@@ -172,12 +207,14 @@ impl Harness {
         }
         let verdicts_whole = self.p.status().counters.events_dropped == dropped_before;
         let mut commands = 0;
+        let mut missions = 0;
         // `Decoder::push`'s loop, with the message handled before the next byte goes in.
         let mut rest = bytes;
         while let (used, Some(m)) = self.shadow.feed(rest) {
             rest = &rest[used..];
             match m {
                 Inbound::Command { .. } | Inbound::CommandFault { .. } => commands += 1,
+                Inbound::Mission { .. } => missions += 1,
                 Inbound::SetupSigning {
                     key,
                     initial_timestamp,
@@ -206,6 +243,7 @@ impl Harness {
             }
         }
         self.commands += commands;
+        self.missions += missions;
     }
 
     /// The pipeline's pending events; a state change or a refusal is a `STATUSTEXT` due.
@@ -271,89 +309,213 @@ impl Harness {
         }
         self.take_events();
     }
-}
 
-/// Runs the target on one input; panics on a broken invariant.
-pub fn run(data: &[u8]) {
-    let cfg = config();
-    let Ok(p) = FlightPipeline::new(&cfg) else {
-        panic!("the default build's flight does not boot");
-    };
-    let mut h = Harness {
-        p,
-        shadow: Decoder::new(cfg.system_id),
-        gcs: GroundStation::default(),
-        now: 0,
-        sequence: 0,
-        ticks: 0,
-        imu_calls: 0,
-        commands: 0,
-        texts_due: 0,
-        events_lost: false,
-        shadow_blind: false,
-        accept_unsigned_sensors: cfg.accept_unsigned_sensors,
-        telemetry: vec![0; 2048],
-    };
-    let mut before = h.p.status().counters;
-    for op in script::parse(data) {
-        if h.imu_calls > MAX_IMU_SAMPLES || h.ticks > MAX_TICKS {
-            break;
+    /// Applies `op` and checks the invariants that hold after every operation; `false` (and
+    /// nothing applied) once the input's work cap is reached.
+    fn step(&mut self, op: &Op) -> bool {
+        if self.imu_calls > MAX_IMU_SAMPLES || self.ticks > MAX_TICKS {
+            return false;
         }
-        h.apply(&op);
-        let c = h.p.status().counters;
+        self.apply(op);
+        let before = self.counters;
+        let c = self.p.status().counters;
         assert!(
             monotone(&before, &c),
             "a counter went down: {before:?} -> {c:?}"
         );
-        if !h.shadow_blind {
+        if !self.shadow_blind {
             assert_eq!(
                 c.link,
-                h.shadow.counters(),
+                self.shadow.counters(),
                 "the pipeline's link counters differ from a decoder fed the same bytes"
             );
         }
         assert_eq!(
-            c.control_ticks, h.ticks,
+            c.control_ticks, self.ticks,
             "control_ticks is not the number of ticks"
         );
-        assert!(c.imu_samples >= h.imu_calls, "IMU samples not counted");
-        h.events_lost |= c.events_dropped > 0;
-        before = c;
+        assert!(c.imu_samples >= self.imu_calls, "IMU samples not counted");
+        self.events_lost |= c.events_dropped > 0;
+        self.counters = c;
+        true
     }
-    // Drain what is pending (acks and texts first; each call sends at least one frame while
-    // any is pending, and at most 16 are).
-    for _ in 0..40 {
-        if h.flush(2048) == 0 {
+
+    /// Flushes the telemetry and checks the reply accounting.
+    fn finish(mut self) {
+        // Drain what is pending (acks and texts first; each call sends at least one frame while
+        // any is pending, and at most 16 command replies, 8 mission replies and 4 mission texts
+        // are).
+        for _ in 0..40 {
+            if self.flush(2048) == 0 {
+                break;
+            }
+        }
+        let h = self;
+        let c = h.p.status().counters;
+        let replies_dropped = u64::from(c.replies_dropped);
+        assert!(
+            h.gcs.acks <= h.commands,
+            "{} acks for {} commands",
+            h.gcs.acks,
+            h.commands
+        );
+        if !h.events_lost {
+            let due = h.commands + h.texts_due;
+            let accounted = h.gcs.acks + h.gcs.texts + replies_dropped;
+            let detail = format!(
+                "{} commands and {} state changes or refusals, {} acks and {} texts sent, {} \
+                 counted as dropped, {} mission messages",
+                h.commands, h.texts_due, h.gcs.acks, h.gcs.texts, replies_dropped, h.missions
+            );
+            // The mission protocol's own texts (refusals with numbers, a land refused at a
+            // mission's end) and its dropped replies add to the right side: only the loss of a
+            // command's reply is checked then.
+            if h.missions == 0 {
+                assert_eq!(due, accounted, "a reply was lost silently: {detail}");
+            } else {
+                assert!(due <= accounted, "a reply was lost silently: {detail}");
+            }
+        }
+    }
+}
+
+/// Runs the target on one input; panics on a broken invariant.
+pub fn run(data: &[u8]) {
+    let mut h = Harness::new();
+    for op in script::parse(data) {
+        if !h.step(&op) {
             break;
         }
     }
-    let c = h.p.status().counters;
-    let replies_dropped = u64::from(c.replies_dropped);
-    assert!(
-        h.gcs.acks <= h.commands,
-        "{} acks for {} commands",
-        h.gcs.acks,
-        h.commands
-    );
-    if !h.events_lost {
-        assert_eq!(
-            h.commands + h.texts_due,
-            h.gcs.acks + h.gcs.texts + replies_dropped,
-            "a reply was lost silently: {} commands and {} state changes or refusals, \
-             {} acks and {} texts sent, {} counted as dropped",
-            h.commands,
-            h.texts_due,
-            h.gcs.acks,
-            h.gcs.texts,
-            replies_dropped
-        );
-    }
+    h.finish();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::script::{encode, FrameSpec};
+    use crate::script::{encode, FrameSpec, MissionSpec};
+    use firmware::link::mavlink::dialects::common::{
+        MISSION_ACK_DATA, MISSION_CURRENT_DATA, MISSION_ITEM_REACHED_DATA, MISSION_REQUEST_INT_DATA,
+    };
+    use firmware::pipeline::Mode;
+
+    fn frame(spec: FrameSpec) -> Op {
+        Op::Frame { spec, chunk: 64 }
+    }
+
+    fn mission(message: MissionSpec) -> Op {
+        frame(FrameSpec::Mission { target: 1, message })
+    }
+
+    /// `n` control periods (10 ms) of a vehicle at rest whose poses hold it 1 m up (NED z = -1),
+    /// each ending with a tick and a telemetry call.
+    fn at_rest_1m_up(n: usize) -> Vec<Op> {
+        let period = [
+            Op::Rest(10),
+            frame(FrameSpec::Mocap {
+                position: [0.0, 0.0, -1.0],
+                q: [1.0, 0.0, 0.0, 0.0],
+            }),
+            Op::Tick { dt: 0, room: 2047 },
+        ];
+        period.iter().cycle().take(3 * n).cloned().collect()
+    }
+
+    /// `MAV_CMD` number `command` of [`script::COMMANDS`] for the vehicle with param1 `p1`.
+    fn command(command: u8, p1: f32) -> Op {
+        frame(FrameSpec::Command {
+            command,
+            target: 1,
+            params: [p1, 0.0, 0.0],
+        })
+    }
+
+    /// A mission item in `MAV_FRAME_LOCAL_NED` (frame number 1) at NED `z` \[m\] above the
+    /// origin, with hold param1.
+    fn item(seq: u16, command: u8, z: f32, hold: f32) -> Op {
+        mission(MissionSpec::ItemInt {
+            seq,
+            command,
+            frame: 1,
+            xy: [0, 0],
+            z,
+            params: [hold, 0.0, 0.0, 0.0],
+        })
+    }
+
+    /// Sanity of the mission kind: calibrated and armed on poses 1 m up, a mission of two items
+    /// (a takeoff to that height, a waypoint there) is uploaded (`MISSION_COUNT` 2, then each
+    /// item), accepted, started with `MAV_CMD_MISSION_START`, and flown to its end (each item
+    /// reached, then a hover), every invariant checked on the way.
+    #[test]
+    fn an_uploaded_mission_is_accepted_started_and_flown() {
+        let mut ops = at_rest_1m_up(60);
+        ops.push(command(0, 1.0)); // arm
+        ops.extend(at_rest_1m_up(1));
+        ops.push(mission(MissionSpec::Count { count: 2 }));
+        ops.push(item(0, 1, -1.0, 0.0)); // takeoff
+        ops.push(item(1, 0, -1.0, 0.2)); // waypoint
+        ops.extend(at_rest_1m_up(1));
+        ops.push(command(4, 0.0)); // mission start
+        ops.extend(at_rest_1m_up(1));
+        let started = ops.len();
+        ops.extend(at_rest_1m_up(100));
+
+        let mut h = Harness::new();
+        for (i, op) in ops.iter().enumerate() {
+            assert!(h.step(op), "the work cap at operation {i}");
+            if i + 1 == started {
+                assert_eq!(
+                    h.p.status().mode,
+                    Mode::Mission,
+                    "the mission did not start"
+                );
+            }
+        }
+        assert_eq!(
+            h.p.status().mode,
+            Mode::Hover,
+            "the mission did not end in a hover"
+        );
+        let seen = |id| h.gcs.frames.get(&id).copied().unwrap_or(0);
+        assert_eq!(
+            seen(MISSION_REQUEST_INT_DATA::ID),
+            2,
+            "one request per item"
+        );
+        assert_eq!(seen(MISSION_ACK_DATA::ID), 1, "the upload's ack");
+        assert_eq!(seen(MISSION_ITEM_REACHED_DATA::ID), 2, "each item reached");
+        assert!(seen(MISSION_CURRENT_DATA::ID) >= 1);
+        assert_eq!(h.missions, 3);
+        h.finish();
+        // The same script as the target's input.
+        run(&encode(&ops));
+    }
+
+    /// Mission refusals send `STATUSTEXT`s of their own, with no command or event behind them
+    /// (here `MISSION_COUNT` beyond the capacity and a land item that is not last), and every
+    /// other mission message goes through on the ground: the reply accounting takes them (its
+    /// exact form, for inputs without mission messages, fails on this one).
+    #[test]
+    fn mission_refusals_with_texts_keep_the_reply_accounting() {
+        let mut ops = at_rest_1m_up(60);
+        ops.push(mission(MissionSpec::Count { count: 40 }));
+        ops.push(mission(MissionSpec::Count { count: 2 }));
+        ops.push(item(0, 2, 0.0, 0.0)); // land first
+        ops.push(item(1, 0, -1.0, 0.0));
+        ops.push(mission(MissionSpec::RequestList));
+        ops.push(mission(MissionSpec::SetCurrent { seq: 5 }));
+        ops.push(mission(MissionSpec::RequestInt { seq: 0 }));
+        ops.push(mission(MissionSpec::ClearAll));
+        ops.push(mission(MissionSpec::Ack { result: 3 }));
+        ops.extend(at_rest_1m_up(2));
+        let mut h = Harness::new();
+        for op in &ops {
+            assert!(h.step(op));
+        }
+        h.finish();
+        run(&encode(&ops));
+    }
 
     /// Nine arm commands during the gyro calibration, no telemetry in between: nine refusals,
     /// each an ack and a text, one more of each than their queues hold.
