@@ -102,15 +102,19 @@ if FIRMWARE_CONTROL_RATE_HZ=300 cargo check -p firmware --lib 2>/dev/null; then
   echo "the firmware built with the law at 300 Hz" >&2
   exit 1
 fi
-# The same flight file with the law at 1 kHz, set aside; then the default (100 Hz) build again.
+# The same flight file with the law at 1 kHz, set aside; the same with its UART marked as a
+# trusted wired console (the pymavlink client sets up signing over it; the default build refuses
+# that), set aside; then the default (100 Hz, untrusted) build again.
 FIRMWARE_CONTROL_RATE_HZ=1000 cargo fw-qemu
 mkdir -p "$target_dir/pil-1khz" && cp "$elf_mps2" "$target_dir/pil-1khz/"
+FIRMWARE_MAVLINK_LINK_TRUST=trusted cargo fw-qemu
+mkdir -p "$target_dir/pil-trusted" && cp "$elf_mps2" "$target_dir/pil-trusted/"
 cargo fw-qemu
 PIL_FIRMWARE_ELF="$elf_mps2" PIL_FIRMWARE_ELF_1KHZ="$target_dir/pil-1khz/firmware-mps2-an386" \
   cargo test -p tests --test pil_qemu -- --ignored --nocapture --test-threads 1
 
-step "a real MAVLink client: pymavlink (pinned, own virtual environment) as ground station and mocap bridge against the firmware on QEMU"
-bash tests/mavlink-client/run.sh "$elf_mps2"
+step "a real MAVLink client: pymavlink (pinned, own virtual environment) as ground station and mocap bridge against the firmware on QEMU; a stranger's SETUP_SIGNING refused on the default (untrusted) link, signing set up over a trusted one"
+bash tests/mavlink-client/run.sh "$elf_mps2" "$target_dir/pil-trusted/firmware-mps2-an386"
 
 step "Cortex-M4F instruction counts of the control step, f32 on ARM vs host, budget"
 bash firmware/qemu/bench.sh

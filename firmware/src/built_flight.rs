@@ -5,6 +5,7 @@
 
 use crate::airframe::Airframe;
 use crate::config::{FlightConfig, FlightIdentity, ReferenceConfig};
+use crate::link::LinkTrust;
 use crate::motor_order::MotorOrder;
 
 /// The generated items: `FILE`, `airframe()`, `limits()`, `gains()`, `mission()`, `MARGIN`,
@@ -31,6 +32,19 @@ pub const ACCEPT_UNSIGNED_SENSORS: bool = match option_env!("FIRMWARE_MAVLINK_UN
     Some(v) if bytes_eq(v.as_bytes(), b"accept") => true,
     Some(v) if bytes_eq(v.as_bytes(), b"refuse") => false,
     Some(_) => panic!("FIRMWARE_MAVLINK_UNSIGNED_SENSORS must be `accept` or `refuse`"),
+};
+
+/// Whether the board's MAVLink link is a wired console only the owner can send on: env
+/// `FIRMWARE_MAVLINK_LINK_TRUST` at build time, `untrusted` (the default: a telemetry radio, or
+/// any link a stranger may transmit on; `SETUP_SIGNING` then only signed with the key in force)
+/// or `trusted` (a cable to the owner's computer: `SETUP_SIGNING` taken unsigned, while
+/// disarmed); anything else stops the build. Say `trusted` only for a link that no radio
+/// carries: on it, anyone who can send bytes can set the key.
+pub const LINK_TRUST: LinkTrust = match option_env!("FIRMWARE_MAVLINK_LINK_TRUST") {
+    None => LinkTrust::Untrusted,
+    Some(v) if bytes_eq(v.as_bytes(), b"untrusted") => LinkTrust::Untrusted,
+    Some(v) if bytes_eq(v.as_bytes(), b"trusted") => LinkTrust::Trusted,
+    Some(_) => panic!("FIRMWARE_MAVLINK_LINK_TRUST must be `trusted` or `untrusted`"),
 };
 
 const fn bytes_eq(a: &[u8], b: &[u8]) -> bool {
@@ -90,7 +104,7 @@ impl FlightConfig {
     /// (`[design] smoothing_rate_per_s`, 0.5/s if absent), the control law's rate
     /// (`[design] control_rate_hz` or the build's `FIRMWARE_CONTROL_RATE_HZ`, 100 Hz if
     /// neither), the `[design]` fields and the MAVLink signing set-up ([`SIGNING_KEY`],
-    /// [`ACCEPT_UNSIGNED_SENSORS`]); safety,
+    /// [`ACCEPT_UNSIGNED_SENSORS`], [`LINK_TRUST`]); safety,
     /// telemetry, estimator and the other reference settings as [`FlightConfig::paper`].
     /// `allow_uncertified` is set only in the `uncertified-paper` build.
     pub fn built() -> Self {
@@ -117,6 +131,7 @@ impl FlightConfig {
                 ..paper.reference
             },
             signing_key: SIGNING_KEY,
+            link_trust: LINK_TRUST,
             accept_unsigned_sensors: ACCEPT_UNSIGNED_SENSORS,
             hil_motor_order: HIL_MOTOR_ORDER,
             ..paper

@@ -11,6 +11,7 @@ use controller_core::{
 use crate::airframe::Airframe;
 pub use crate::airframe::{Rotor, RotorConfig};
 use crate::control_rate::ControlRate;
+use crate::link::LinkTrust;
 
 /// Time limits of the safety state machine \[µs\] and the failsafe's level-hold law.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -237,9 +238,16 @@ pub struct FlightConfig {
     pub system_id: u8,
     /// MAVLink component id of this vehicle (1 = autopilot).
     pub component_id: u8,
-    /// MAVLink 2 signing key (32 bytes), or `None`: signed frames are then dropped and a key
-    /// can be installed once, while disarmed, with `SETUP_SIGNING` ([`crate::link::signing`]).
+    /// MAVLink 2 signing key (32 bytes), or `None`: signed frames are then dropped until a key
+    /// is installed with `SETUP_SIGNING`, which only a trusted link may send unsigned
+    /// ([`FlightConfig::link_trust`], [`crate::link::signing`]).
     pub signing_key: Option<[u8; 32]>,
+    /// Whether the MAVLink link is a wired console only the owner can send on
+    /// ([`LinkTrust::Trusted`]: `SETUP_SIGNING` taken unsigned, the way to install a first key
+    /// or replace a lost one) or a link a stranger may reach, such as a radio
+    /// ([`LinkTrust::Untrusted`], the default: `SETUP_SIGNING` only signed with the key in
+    /// force). Either way only while disarmed.
+    pub link_trust: LinkTrust,
     /// The order of the motor outputs in `HIL_ACTUATOR_CONTROLS` (processor in the loop):
     /// the vehicle file's, or PX4's or Betaflight's quad X order for simulators that assume it
     /// ([`crate::motor_order`]).
@@ -328,6 +336,7 @@ impl FlightConfig {
             system_id: 1,
             component_id: 1,
             signing_key: None,
+            link_trust: LinkTrust::Untrusted,
             accept_unsigned_sensors: true,
             hil_motor_order: crate::motor_order::MotorOrder::Mixer,
         }

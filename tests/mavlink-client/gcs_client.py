@@ -5,7 +5,15 @@ pymavlink plays the ground station (system 255, component 190) and the motion-ca
 it feeds the firmware a HIL_SENSOR every millisecond of simulated time (a vehicle at rest,
 level, on the ground) and an ATT_POS_MOCAP every 10 ms, waits for each control tick's
 HIL_ACTUATOR_CONTROLS, and sends a script of commands at fixed simulated times. It then
-asserts what docs/mavlink.md promises. Usage: gcs_client.py <firmware-mps2-an386 ELF>.
+asserts what docs/mavlink.md promises.
+
+Two builds, since who may set the signing key is fixed at build time (docs/mavlink.md,
+"Signing"): the default build, whose UART is untrusted like a radio, where a stranger's
+SETUP_SIGNING is refused and the owner keeps the vehicle; and the same build with
+FIRMWARE_MAVLINK_LINK_TRUST=trusted (a wired console), which flies the whole script, setting
+up signing over the link.
+
+Usage: gcs_client.py <firmware-mps2-an386 ELF> <the same built with a trusted link>.
 Exit status 0 when every check passes; each check is printed.
 """
 
@@ -23,8 +31,11 @@ GCS_SYSTEM, GCS_COMPONENT = 255, 190
 VEHICLE_SYSTEM, VEHICLE_COMPONENT = 1, 1
 TICK_US = 10_000  # the default build's law runs at 100 Hz
 END_US = 1_700_000
+STRANGER_END_US = 300_000
 KEY = bytes(range(1, 33))
 WRONG_KEY = bytes([0x5A] * 32)
+STRANGER_KEY = bytes([0x66] * 32)
+STRANGER_SYSTEM = 66
 GRAVITY = 9.80665
 TIMEOUT_S = 30.0
 
@@ -72,9 +83,9 @@ class Qemu:
         self.proc.wait()
 
 
-def sender(key=None, timestamp=0):
+def sender(key=None, timestamp=0, system=GCS_SYSTEM):
     """A pymavlink encoder as the ground station, signing with `key` when given."""
-    m = C.MAVLink(None, srcSystem=GCS_SYSTEM, srcComponent=GCS_COMPONENT)
+    m = C.MAVLink(None, srcSystem=system, srcComponent=GCS_COMPONENT)
     if key is not None:
         m.signing.secret_key = key
         m.signing.sign_outgoing = True
@@ -96,6 +107,67 @@ def command_int(mav, command, p1=0.0):
     ).pack(mav)
 
 
+def fly(elf, script, end_us, rx, received, on_sent=lambda label: None):
+    """Runs `elf` in QEMU in lockstep until `end_us` of simulated time [µs], sending the
+    sensors, the poses and at their times the frames of `script` ((time, label, function
+    giving the bytes), the function called then, so it may read what came back so far);
+    calls `on_sent(label)` after each. Appends what comes back, parsed by `rx`, to
+    `received` as it comes, as (tick [µs] of the actuator frame before it, message)."""
+    stream = sender()  # sensors and poses, unsigned throughout (accepted by default)
+    events = {}
+    for t, label, frame in script:
+        events.setdefault(t, []).append((label, frame))
+    tick = 0
+    log = tempfile.NamedTemporaryFile(prefix="defmt-", suffix=".bin", delete=False)
+    log.close()
+    qemu = Qemu(elf, log.name)
+    started = time.monotonic()
+    ticks = 0
+    try:
+        for t in range(0, end_us + 1, 1000):
+            out = bytearray()
+            for label, frame in events.get(t, []):
+                out += frame()
+                on_sent(label)
+            if t % TICK_US == 0:
+                out += stream.att_pos_mocap_encode(t, [1.0, 0.0, 0.0, 0.0], 0.0, 0.0, 0.0).pack(stream)
+            out += stream.hil_sensor_encode(
+                t, 0.0, 0.0, -GRAVITY, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 20.0, 0x3F
+            ).pack(stream)
+            qemu.send(bytes(out))
+            if t % TICK_US:
+                continue
+            deadline = time.monotonic() + TIMEOUT_S
+            answered = False
+            while not answered:
+                data = qemu.receive(max(0.0, deadline - time.monotonic()))
+                if data is None:
+                    raise SystemExit(f"QEMU exited at t = {t} us")
+                if not data and time.monotonic() >= deadline:
+                    raise SystemExit(f"no HIL_ACTUATOR_CONTROLS for t = {t} us in {TIMEOUT_S} s")
+                for m in rx.parse_buffer(data) or []:
+                    # The firmware sends each tick's actuator frame first, then that tick's
+                    # telemetry: a frame belongs to the tick of the actuator frame before it
+                    # (whatever chunks the bytes arrive in).
+                    if m.get_type() == "HIL_ACTUATOR_CONTROLS":
+                        tick = m.time_usec
+                        answered |= m.time_usec == t
+                    received.append((tick, m))
+            ticks += 1
+    finally:
+        qemu.stop()
+        os.unlink(log.name)
+    wall = time.monotonic() - started
+    print(f"pymavlink client: {end_us / 1e6:.2f} s simulated, {ticks} ticks answered, "
+          f"{len(received)} frames received, {rx.total_receive_errors} receive errors, "
+          f"{wall:.1f} s wall clock")
+
+
+def texts_between(received, t0, t1):
+    """The STATUSTEXTs received in ticks [t0, t1) [µs]."""
+    return [m.text for t, m in received if m.get_type() == "STATUSTEXT" and t0 <= t < t1]
+
+
 class Check:
     def __init__(self):
         self.failed = []
@@ -106,10 +178,54 @@ class Check:
             self.failed.append(what)
 
 
-def main():
-    elf = sys.argv[1]
+def stranger(elf, check):
+    """The default build (its UART untrusted, as a radio): a stranger on the link before the
+    owner tries to install a key, unsigned and signed; neither takes, and the owner's unsigned
+    commands are still answered."""
+    print("untrusted link (the default build): a stranger's SETUP_SIGNING")
     gcs = sender()
-    stream = sender()  # sensors and poses, unsigned throughout (accepted by default)
+    rogue = sender(system=STRANGER_SYSTEM)
+    rogue_signed = sender(STRANGER_KEY, timestamp=3_000_000, system=STRANGER_SYSTEM)
+    script = [
+        (100_000, "stranger's unsigned SETUP_SIGNING",
+         lambda: rogue.setup_signing_encode(VEHICLE_SYSTEM, VEHICLE_COMPONENT, STRANGER_KEY,
+                                            1_000_000).pack(rogue)),
+        (150_000, "stranger's SETUP_SIGNING signed with its own key",
+         lambda: rogue_signed.setup_signing_encode(VEHICLE_SYSTEM, VEHICLE_COMPONENT,
+                                                   STRANGER_KEY, 1_000_000).pack(rogue_signed)),
+        (200_000, "the owner's REQUEST_MESSAGE HEARTBEAT",
+         lambda: command_long(gcs, C.MAV_CMD_REQUEST_MESSAGE,
+                              float(C.MAVLINK_MSG_ID_HEARTBEAT))),
+    ]
+    rx = C.MAVLink(None)
+    rx.robust_parsing = True
+    received = []
+    fly(elf, script, STRANGER_END_US, rx, received)
+    bad = [m for _, m in received if m.get_type() == "BAD_DATA"]
+    check(rx.total_receive_errors == 0 and not bad,
+          f"0 parse errors ({rx.total_receive_errors} receive errors, {len(bad)} BAD_DATA)")
+    texts = texts_between(received, 100_000, 110_000)
+    check(texts == ["setup_signing: unsigned on an untrusted link"],
+          f"stranger's unsigned SETUP_SIGNING: refused, the reason sent ({texts})")
+    texts = texts_between(received, 150_000, 160_000)
+    check(not texts, f"stranger's signed SETUP_SIGNING (no key to check it): dropped ({texts})")
+    acks = [m for t, m in received if m.get_type() == "COMMAND_ACK" and 200_000 <= t < 210_000]
+    check(len(acks) == 1 and acks[0].result == C.MAV_RESULT_ACCEPTED
+          and acks[0].command == C.MAV_CMD_REQUEST_MESSAGE,
+          f"the owner's unsigned command still answered ACCEPTED "
+          f"({[(a.command, a.result) for a in acks]})")
+    # The signed flag as sent: pymavlink's get_signed() says "verified", and this client has
+    # no key to verify with.
+    flagged = [m for _, m in received if m.get_header().incompat_flags & C.MAVLINK_IFLAG_SIGNED]
+    check(received and not flagged,
+          f"no key installed: every vehicle frame unsigned ({len(flagged)} of {len(received)} "
+          f"frames signed)")
+
+
+def owner(elf, check):
+    """The build with a trusted (wired) link: the whole script, signing set up over it."""
+    print("trusted link (FIRMWARE_MAVLINK_LINK_TRUST=trusted): the ground station's script")
+    gcs = sender()
     signed = sender(KEY, timestamp=2_000_000)
     forger = sender(WRONG_KEY, timestamp=3_000_000)
     received = []  # (tick [µs] of the actuator frame before it, message)
@@ -182,71 +298,33 @@ def main():
         (1_420_000, "arm signed with the key",
          lambda: command_long(signed, C.MAV_CMD_COMPONENT_ARM_DISARM, 1.0)),
         (1_430_000, "unsigned PARAM_SET with signing on", lambda: param_set("POS_KF", 1.0)),
+        (1_440_000, "SETUP_SIGNING signed with the key while armed",
+         lambda: signed.setup_signing_encode(VEHICLE_SYSTEM, VEHICLE_COMPONENT, WRONG_KEY,
+                                             3_000_000).pack(signed)),
     ]
-    events = {}
-    for t, label, frame in script:
-        events.setdefault(t, []).append((label, frame))
 
     rx = C.MAVLink(None)
     rx.robust_parsing = True
     unsigned_after_signed = []
-    state = {"signed_seen": False, "tick": 0}
+
+    seen = {"signed": False, "looked_at": 0}
 
     def allow_unsigned(mav, msg_id):
-        # Called by pymavlink for an unsigned frame once it holds the key.
-        if state["signed_seen"]:
+        # Called by pymavlink for an unsigned frame once it holds the key: after the first
+        # signed frame (earlier in the parse order, so already in `received`) it is a failure.
+        for _, m in received[seen["looked_at"]:]:
+            seen["signed"] |= m.get_signed()
+        seen["looked_at"] = len(received)
+        if seen["signed"]:
             unsigned_after_signed.append(msg_id)
         return True
 
-    log = tempfile.NamedTemporaryFile(prefix="defmt-", suffix=".bin", delete=False)
-    log.close()
-    qemu = Qemu(elf, log.name)
-    started = time.monotonic()
-    ticks = 0
-    try:
-        for t in range(0, END_US + 1, 1000):
-            out = bytearray()
-            for label, frame in events.get(t, []):
-                out += frame()
-                if label == "SETUP_SIGNING":
-                    rx.signing.secret_key = KEY
-                    rx.signing.allow_unsigned_callback = allow_unsigned
-            if t % TICK_US == 0:
-                out += stream.att_pos_mocap_encode(t, [1.0, 0.0, 0.0, 0.0], 0.0, 0.0, 0.0).pack(stream)
-            out += stream.hil_sensor_encode(
-                t, 0.0, 0.0, -GRAVITY, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 20.0, 0x3F
-            ).pack(stream)
-            qemu.send(bytes(out))
-            if t % TICK_US:
-                continue
-            deadline = time.monotonic() + TIMEOUT_S
-            answered = False
-            while not answered:
-                data = qemu.receive(max(0.0, deadline - time.monotonic()))
-                if data is None:
-                    raise SystemExit(f"QEMU exited at t = {t} us")
-                if not data and time.monotonic() >= deadline:
-                    raise SystemExit(f"no HIL_ACTUATOR_CONTROLS for t = {t} us in {TIMEOUT_S} s")
-                for m in rx.parse_buffer(data) or []:
-                    # The firmware sends each tick's actuator frame first, then that tick's
-                    # telemetry: a frame belongs to the tick of the actuator frame before it
-                    # (whatever chunks the bytes arrive in).
-                    if m.get_type() == "HIL_ACTUATOR_CONTROLS":
-                        state["tick"] = m.time_usec
-                        answered |= m.time_usec == t
-                    received.append((state["tick"], m))
-                    if m.get_signed():
-                        state["signed_seen"] = True
-            ticks += 1
-    finally:
-        qemu.stop()
-        os.unlink(log.name)
-    wall = time.monotonic() - started
-    print(f"pymavlink client: {END_US / 1e6:.2f} s simulated, {ticks} ticks answered, "
-          f"{len(received)} frames received, {rx.total_receive_errors} receive errors, "
-          f"{wall:.1f} s wall clock")
+    def on_sent(label):
+        if label == "SETUP_SIGNING":
+            rx.signing.secret_key = KEY
+            rx.signing.allow_unsigned_callback = allow_unsigned
 
-    check = Check()
+    fly(elf, script, END_US, rx, received, on_sent)
     bad = [m for _, m in received if m.get_type() == "BAD_DATA"]
     check(rx.total_receive_errors == 0 and not bad,
           f"0 parse errors ({rx.total_receive_errors} receive errors, {len(bad)} BAD_DATA)")
@@ -344,6 +422,10 @@ def main():
     no_ack("arm signed with another key", 1_410_000)
     one_ack("arm signed with the key", 1_420_000, C.MAV_CMD_COMPONENT_ARM_DISARM,
             C.MAV_RESULT_ACCEPTED)
+    texts = texts_between(received, 1_440_000, 1_450_000)
+    check(texts == ["setup_signing: signing is set up while disarmed"],
+          f"SETUP_SIGNING signed with the key while armed: refused, the reason sent ({texts}); "
+          f"the key unchanged (below: every frame verifies with it)")
     act = [m for t, m in received if m.get_type() == "HIL_ACTUATOR_CONTROLS"]
     check(all(not (m.mode & C.MAV_MODE_FLAG_SAFETY_ARMED) for m in act if m.time_usec < 1_420_000)
           and all(m.mode & C.MAV_MODE_FLAG_SAFETY_ARMED for m in act if m.time_usec >= 1_430_000),
@@ -365,6 +447,15 @@ def main():
           "POSITION_TARGET_LOCAL_NED: type_mask 0, every field the reference's")
     sources = {(m.get_srcSystem(), m.get_srcComponent()) for _, m in received}
     check(sources == {(VEHICLE_SYSTEM, VEHICLE_COMPONENT)}, f"every frame from 1/1 ({sources})")
+
+
+def main():
+    if len(sys.argv) != 3:
+        raise SystemExit("usage: gcs_client.py <firmware-mps2-an386 ELF> "
+                         "<the same built with FIRMWARE_MAVLINK_LINK_TRUST=trusted>")
+    check = Check()
+    stranger(sys.argv[1], check)
+    owner(sys.argv[2], check)
     if check.failed:
         print(f"pymavlink client: {len(check.failed)} check(s) failed")
         return 1

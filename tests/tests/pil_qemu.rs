@@ -4,7 +4,7 @@
 //! port, in lockstep with the rotor plant. The same checks as host-sim's `sil_paper.rs` where
 //! the telemetry carries them, plus: the firmware neither crashed nor stalled (the stall
 //! timeout bounds the wall time) and its defmt log decodes and holds the boot banner: the x500,
-//! "certificate holds" and "box fits".
+//! "certificate holds", "box fits" and its UART untrusted (a `SETUP_SIGNING` must be signed).
 //!
 //! Twice: at the default 100 Hz, and with the law at 1 kHz (the same flight file built with
 //! `FIRMWARE_CONTROL_RATE_HZ=1000`), where every control step must also finish within its
@@ -235,6 +235,13 @@ fn fly_and_check(elf: PathBuf, rate_hz: f64, tag: &str) {
     assert!(line.contains("x500"), "{line}");
     let log = std::fs::read_to_string(out.join("defmt.log")).unwrap();
     assert!(log.contains("gate: certificate holds and box fits"));
+    // The default build's UART is untrusted, as a radio would be: a SETUP_SIGNING must be
+    // signed with the key in force (tests/mavlink-client checks the refusal over the link).
+    let link = log
+        .lines()
+        .find(|l| l.contains("link: ") && l.contains("SETUP_SIGNING"))
+        .expect("no link trust line");
+    assert!(link.contains("link: untrusted"), "{link}");
     // The clock the steps are timed on (and overruns judged on) is monotonic across SysTick
     // reloads: the board's boot self-check reads it back to back over 60 of them. Misreading
     // QEMU's counter at a reload made it jump 1 ms ahead and back at one reload in three, and

@@ -1,13 +1,14 @@
 //! The boot banner as defmt lines: the flight file the firmware was built with (vehicle name and
-//! source, the `[design]` fields), the set-up, its a-priori bound certificate (every condition
-//! with `lhs`, `rhs` and their ratio; a failing one blocks arming), the mixer fit of the
-//! a-priori `(T, τ)` box with its margin, the verdicts `certificate holds` / `box fits`, and
-//! refusals with the violated condition and its numbers.
+//! source, the `[design]` fields), the MAVLink link's trust and signing set-up, the set-up, its
+//! a-priori bound certificate (every condition with `lhs`, `rhs` and their ratio; a failing one
+//! blocks arming), the mixer fit of the a-priori `(T, τ)` box with its margin, the verdicts
+//! `certificate holds` / `box fits`, and refusals with the violated condition and its numbers.
 
 use controller_core::{Certificate, ParameterError};
 use defmt::{error, info, warn};
 
 use crate::config::ThrustChoice;
+use crate::link::LinkTrust;
 use crate::mixer::MixerError;
 use crate::pipeline::{BootError, BootReport};
 use crate::report::{self, Setup, Severity, Value};
@@ -184,6 +185,28 @@ pub fn log_identity(config: &crate::config::FlightConfig) {
     }
 }
 
+/// Logs the MAVLink link's trust and signing set-up: whether the build holds a key, and who
+/// may install or change one with `SETUP_SIGNING` (docs/mavlink.md, "Signing").
+pub fn log_link(config: &crate::config::FlightConfig) {
+    let key = if config.signing_key.is_some() {
+        "key from the build"
+    } else {
+        "no key yet"
+    };
+    match config.link_trust {
+        LinkTrust::Trusted => warn!(
+            "link: trusted (wired console), {=str}: SETUP_SIGNING taken unsigned while \
+             disarmed; never put this link on a radio",
+            key
+        ),
+        LinkTrust::Untrusted => info!(
+            "link: untrusted (radio or unknown), {=str}: SETUP_SIGNING taken only signed with \
+             the key in force, while disarmed",
+            key
+        ),
+    }
+}
+
 /// Logs why the pipeline refused its configuration.
 pub fn log_boot_error(e: &BootError) {
     match e {
@@ -208,6 +231,7 @@ pub fn build_pipeline(
 ) -> Option<crate::pipeline::FlightPipeline> {
     use controller_core::Trajectory;
     log_identity(config);
+    log_link(config);
     log_setup(&Setup {
         vehicle: config.vehicle,
         limits: config.limits,

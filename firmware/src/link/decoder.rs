@@ -1,13 +1,16 @@
 //! The MAVLink 2 frame parser: bytes in any chunking to checked frames (CRC, signature,
 //! addressing), never panicking, counting every failure.
 
-use mavlink::dialects::common::{MavMessage, ATT_POS_MOCAP_DATA, ODOMETRY_DATA};
+use mavlink::dialects::common::{
+    MavMessage, ATT_POS_MOCAP_DATA, ODOMETRY_DATA, SETUP_SIGNING_DATA,
+};
 use mavlink::{Message, MessageData};
 
 use super::interpret::{self, Address, Interpretation};
 use super::signing::{Check, Signing, SigningConfig, SIGNED_FLAG};
 use super::{
-    Inbound, LinkCounters, Sender, AUTOPILOT_COMPONENT, HEADER, MAX_FRAME, SIGNATURE, STX,
+    Inbound, LinkCounters, LinkTrust, Sender, SetupAuthority, AUTOPILOT_COMPONENT, HEADER,
+    MAX_FRAME, SIGNATURE, STX,
 };
 
 /// Result of looking at the head of the buffer.
@@ -28,20 +31,23 @@ pub struct Decoder {
     /// look now). Saves re-parsing the header on every byte of a frame.
     need: usize,
     address: Address,
+    /// Whether the link's medium is the owner's alone: decides who may send `SETUP_SIGNING`.
+    trust: LinkTrust,
     signing: Signing,
     counters: LinkCounters,
 }
 
 impl Decoder {
     /// A decoder for a vehicle with MAVLink system id `system_id` and component id
-    /// [`AUTOPILOT_COMPONENT`], without signing (commands and setpoints addressed to another
-    /// system or component are dropped; 0 is broadcast).
+    /// [`AUTOPILOT_COMPONENT`], without signing, on an untrusted link (commands and setpoints
+    /// addressed to another system or component are dropped; 0 is broadcast).
     pub fn new(system_id: u8) -> Self {
         Self::with_address(system_id, AUTOPILOT_COMPONENT, None)
     }
 
     /// A decoder for (`system_id`, `component_id`) with `signing` (`None`: no key; signed
-    /// frames are then dropped, see [`super::signing`]).
+    /// frames are then dropped, see [`super::signing`]), on an untrusted link
+    /// ([`Decoder::with_trust`] marks a wired one).
     pub fn with_address(system_id: u8, component_id: u8, signing: Option<SigningConfig>) -> Self {
         Self {
             buf: [0; MAX_FRAME],
@@ -51,9 +57,22 @@ impl Decoder {
                 system: system_id,
                 component: component_id,
             },
+            trust: LinkTrust::Untrusted,
             signing: Signing::new(signing),
             counters: LinkCounters::default(),
         }
+    }
+
+    /// This decoder on a link of trust `trust`, as the board built it: [`LinkTrust::Trusted`]
+    /// only for a wired console that no stranger can transmit on.
+    pub fn with_trust(mut self, trust: LinkTrust) -> Self {
+        self.trust = trust;
+        self
+    }
+
+    /// The trust of the link this decoder reads.
+    pub fn trust(&self) -> LinkTrust {
+        self.trust
     }
 
     /// Whether a signing key is installed.
@@ -61,10 +80,14 @@ impl Decoder {
         self.signing.active()
     }
 
-    /// Installs a signing key (`SETUP_SIGNING`), with the signing clock at least
-    /// `initial_timestamp` \[10 µs since 2015-01-01\]. Returns false, changing nothing, while
-    /// a key is already installed (a key is changed by rebuilding, never over the link it
-    /// protects) or for the all-zero key.
+    /// Installs a signing key, or replaces the one installed, with the signing clock at least
+    /// `initial_timestamp` \[10 µs since 2015-01-01\]. The replay memory (the clock, each
+    /// stream's last timestamp) is kept, so nothing recorded before a change can be replayed
+    /// after it. Returns false, changing nothing, for the all-zero key (MAVLink's "no key").
+    ///
+    /// Whether a `SETUP_SIGNING` may do this is the caller's decision, from the
+    /// [`SetupAuthority`] the decoder gave it: the pipeline takes only a trusted link's or one
+    /// signed with the key in force.
     pub fn install_signing_key(&mut self, config: SigningConfig, initial_timestamp: u64) -> bool {
         self.signing.install(config, initial_timestamp)
     }
@@ -140,6 +163,7 @@ impl Decoder {
                     &mut self.counters,
                     &mut self.signing,
                     self.address,
+                    self.trust,
                     rest,
                     out,
                 ) {
@@ -208,11 +232,12 @@ impl Decoder {
                 buf,
                 len,
                 address,
+                trust,
                 signing,
                 counters,
                 ..
             } = self;
-            match examine(counters, signing, *address, &buf[..*len], out) {
+            match examine(counters, signing, *address, *trust, &buf[..*len], out) {
                 Step::NeedMore(n) => {
                     self.need = n;
                     return false;
@@ -235,12 +260,13 @@ impl Decoder {
 /// The verdict on `buf`, the bytes from the head of the stream on (the decoder's buffer, or
 /// the input itself when nothing is held back): what to drop, and whether they were a message
 /// (then put in `out`, which must be `None`), or how many bytes the head frame needs. Counts
-/// what it drops.
+/// what it drops. `trust` is the link's: it matters for `SETUP_SIGNING` only.
 #[inline(always)]
 fn examine(
     counters: &mut LinkCounters,
     signing: &mut Signing,
     address: Address,
+    trust: LinkTrust,
     buf: &[u8],
     out: &mut Option<Inbound>,
 ) -> Step {
@@ -303,6 +329,14 @@ fn examine(
     );
     let counter = match check {
         Check::Accept => None,
+        // The owner's way back in when the key is lost: over the wired console an unsigned
+        // SETUP_SIGNING is still heard (the pipeline then takes it only while disarmed). On
+        // this cold path only, so the frames that pass cost no more.
+        Check::UnsignedRefused
+            if msgid == SETUP_SIGNING_DATA::ID && trust == LinkTrust::Trusted =>
+        {
+            None
+        }
         Check::SignedWithoutKey => Some(&mut counters.signed_without_key),
         Check::BadSignature => Some(&mut counters.bad_signature),
         Check::Stale => Some(&mut counters.stale_signature),
@@ -313,11 +347,16 @@ fn examine(
         return Step::Consume(total, false);
     }
     let payload = &buf[1 + HEADER..crc_at];
-    let mut interpretation = interpret::interpret(address, sender, msgid, payload, out);
-    // Signing is set up once, over a link on which it is not yet active.
-    if matches!(out, Some(Inbound::SetupSigning { .. })) && signing.active() {
-        *out = None;
-        interpretation = Interpretation::Ignored;
+    let interpretation = interpret::interpret(address, sender, msgid, payload, out);
+    // Who may change the key is decided here, where the link and the signature are known: a
+    // signed frame that got this far passed the check with the key in force (without a key it
+    // was dropped above). The pipeline refuses an unauthenticated one aloud.
+    if let Some(Inbound::SetupSigning { authority, .. }) = out {
+        *authority = match (trust, signed) {
+            (LinkTrust::Trusted, _) => SetupAuthority::TrustedLink,
+            (LinkTrust::Untrusted, true) => SetupAuthority::SignedWithCurrentKey,
+            (LinkTrust::Untrusted, false) => SetupAuthority::Unauthenticated,
+        };
     }
     let accepted = match interpretation {
         Interpretation::Accepted => {

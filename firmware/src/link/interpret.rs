@@ -12,7 +12,7 @@ use mavlink::dialects::common::{
 };
 use mavlink::{MavlinkVersion, MessageData};
 
-use super::{Command, CommandFault, Inbound, PoseSource, Sender};
+use super::{Command, CommandFault, Inbound, PoseSource, Sender, SetupAuthority};
 use crate::frames;
 
 /// `COMMAND_LONG` param2 of `MAV_CMD_COMPONENT_ARM_DISARM` with param1 = 0 that disarms in
@@ -161,6 +161,9 @@ pub(super) fn interpret(
                 Inbound::SetupSigning {
                     key: m.secret_key,
                     initial_timestamp: m.initial_timestamp,
+                    // The payload alone proves nothing: the decoder, which knows the link and
+                    // the frame's signature, raises it where they entitle it.
+                    authority: SetupAuthority::Unauthenticated,
                     sender,
                 },
             )

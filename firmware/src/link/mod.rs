@@ -13,7 +13,8 @@
 //! sends; `MAV_CMD_DO_SET_MODE` with a custom mode; `MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES`;
 //! any other command addressed to the vehicle is answered `MAV_RESULT_UNSUPPORTED`),
 //! `SET_POSITION_TARGET_LOCAL_NED` (frame `MAV_FRAME_LOCAL_NED`, position and yaw; hover
-//! target), `SETUP_SIGNING`, `TIMESYNC`, the mission protocol (`MISSION_*`, [`crate::mission`]) and the parameter protocol (`PARAM_REQUEST_LIST`,
+//! target), `SETUP_SIGNING` (who may send it: [`LinkTrust`], [`SetupAuthority`]), `TIMESYNC`,
+//! the mission protocol (`MISSION_*`, [`crate::mission`]) and the parameter protocol (`PARAM_REQUEST_LIST`,
 //! `PARAM_REQUEST_READ`, `PARAM_SET`; [`crate::params`]). Out: `HEARTBEAT`,
 //! `ATTITUDE_QUATERNION`, `LOCAL_POSITION_NED`, `SYS_STATUS`, `EXTENDED_SYS_STATE`, `ATTITUDE`,
 //! `HOME_POSITION` and `AUTOPILOT_VERSION` (on request), `TIMESYNC`, `COMMAND_ACK` (to the
@@ -72,6 +73,51 @@ pub enum PoseSource {
     Mocap,
     /// `VISION_POSITION_ESTIMATE` (what MAVROS' `vision_pose` plugin sends).
     Vision,
+}
+
+/// Whether a link's medium lets only the vehicle's owner put bytes on it, fixed when the
+/// firmware is built (for the built flight: env `FIRMWARE_MAVLINK_LINK_TRUST`,
+/// [`crate::built_flight::LINK_TRUST`]). It decides one thing: who may install or change the
+/// signing key with `SETUP_SIGNING` (docs/mavlink.md, "Signing"). Every other message follows
+/// the signing rules alike on both kinds of link.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LinkTrust {
+    /// A wired console (a USB or UART cable to the owner's computer): whoever can send on it
+    /// holds the vehicle. `SETUP_SIGNING` is taken unsigned, key or no key, so a lost key is
+    /// replaced over the cable.
+    Trusted,
+    /// A radio, or any link a stranger in range may transmit on (the default): `SETUP_SIGNING`
+    /// is taken only when signed with the key in force (the owner re-keying); without a key,
+    /// never, so a stranger who is on the air first cannot install a key and lock the owner
+    /// out.
+    #[default]
+    Untrusted,
+}
+
+impl LinkTrust {
+    /// Name for logs: `trusted` or `untrusted`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Trusted => "trusted",
+            Self::Untrusted => "untrusted",
+        }
+    }
+}
+
+/// What entitles a `SETUP_SIGNING` to change the signing key, as the decoder that received
+/// it saw its frame ([`Inbound::SetupSigning`]). The pipeline installs the key only with
+/// [`SetupAuthority::TrustedLink`] or [`SetupAuthority::SignedWithCurrentKey`], and only while
+/// disarmed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SetupAuthority {
+    /// It came over a link trusted at build time ([`LinkTrust::Trusted`]), signed or not.
+    TrustedLink,
+    /// It came over an untrusted link signed with the key in force, its signature checked and
+    /// its timestamp newer than its stream's last (not a replay): the owner re-keying.
+    SignedWithCurrentKey,
+    /// Neither: unsigned, over an untrusted link that has no key yet. Refused: anyone in
+    /// radio range could have sent it.
+    Unauthenticated,
 }
 
 /// Who sent a message: its MAVLink header's system and component ids. Replies (`COMMAND_ACK`)
@@ -197,13 +243,16 @@ pub enum Inbound {
         /// Yaw \[rad\], NWU, if given.
         yaw: Option<f32>,
     },
-    /// `SETUP_SIGNING`: a signing key to install (the pipeline accepts it only while disarmed;
-    /// the decoder only while signing is not yet active).
+    /// `SETUP_SIGNING`: a signing key to install or to replace the one in force with. The
+    /// pipeline takes it only with `authority` [`SetupAuthority::TrustedLink`] or
+    /// [`SetupAuthority::SignedWithCurrentKey`], and only while disarmed.
     SetupSigning {
         /// The 32-byte secret key.
         key: [u8; 32],
         /// Initial signing timestamp \[10 µs since 2015-01-01\].
         initial_timestamp: u64,
+        /// What the link and the frame's signature entitle it to (set by the decoder).
+        authority: SetupAuthority,
         /// Who sent it.
         sender: Sender,
     },
@@ -263,7 +312,7 @@ pub struct LinkCounters {
     /// Frames with a valid CRC (and signature, where one is required) that were used.
     pub frames_ok: u32,
     /// Valid frames not used: unknown message id, another target, a frame or command not
-    /// supported, a `SETUP_SIGNING` while signing is active.
+    /// supported.
     pub frames_dropped: u32,
     /// Frames refused: bad CRC, unknown incompatibility flags, undecodable payload.
     pub frames_malformed: u32,
@@ -277,7 +326,8 @@ pub struct LinkCounters {
     /// Signed frames with a timestamp not after the last one of their stream (a replay), or a
     /// new stream more than a minute behind the vehicle's signing clock.
     pub stale_signature: u32,
-    /// Unsigned frames refused while signing is active (commands, setpoints, signing set-up;
-    /// poses and sensor samples too unless [`SigningConfig::accept_unsigned_sensors`]).
+    /// Unsigned frames refused while signing is active (commands, setpoints, parameter sets,
+    /// and `SETUP_SIGNING` on an untrusted link; poses and sensor samples too unless
+    /// [`SigningConfig::accept_unsigned_sensors`]).
     pub unsigned_refused: u32,
 }

@@ -12,9 +12,15 @@
 //! - no key: signed frames are dropped (a system that does not check signatures must not act
 //!   on them), unsigned ones are used;
 //! - a key: a bad signature or a stale timestamp drops the frame; unsigned commands, setpoints
-//!   and `SETUP_SIGNING` are refused; unsigned poses and sensor samples are used only if
-//!   [`SigningConfig::accept_unsigned_sensors`] (a motion-capture bridge that cannot sign);
-//!   everything the vehicle sends is signed.
+//!   and parameter sets are refused, and so is an unsigned `SETUP_SIGNING` except on a link
+//!   trusted at build time ([`super::LinkTrust`]); unsigned poses and sensor samples are used
+//!   only if [`SigningConfig::accept_unsigned_sensors`] (a motion-capture bridge that cannot
+//!   sign); everything the vehicle sends is signed.
+//!
+//! Who may install or change the key with `SETUP_SIGNING` is the link's business, not this
+//! module's: the decoder tells the pipeline ([`super::SetupAuthority`]) whether the frame came
+//! over a trusted (wired) link or was signed with the key in force; anything else is refused,
+//! so a stranger on the radio cannot install a key before the owner and lock them out.
 //!
 //! The vehicle has no real-time clock: its signing clock is the largest timestamp it has
 //! accepted (or been given by `SETUP_SIGNING`), plus one per frame it signs. After a restart a
@@ -110,15 +116,18 @@ impl Signing {
         self.config.is_some()
     }
 
-    /// Installs `config` with the signing clock at least `initial_timestamp`; refused (returns
-    /// false) while a key is already installed or for an all-zero key (MAVLink's "no key").
+    /// Installs `config`, replacing any key installed, with the signing clock at least
+    /// `initial_timestamp`. Neither the clock nor the streams' last timestamps go back, so a
+    /// frame recorded before a change cannot be replayed after it, not even if its key comes
+    /// back: a ground station keeps its timestamps increasing across a change of key, as
+    /// MAVLink's signing asks anyway. Refused (returns false, nothing changed) for an all-zero
+    /// key (MAVLink's "no key").
     pub(super) fn install(&mut self, config: SigningConfig, initial_timestamp: u64) -> bool {
-        if self.active() || config.key == [0; 32] {
+        if config.key == [0; 32] {
             return false;
         }
         self.config = Some(config);
         self.timestamp = self.timestamp.max(initial_timestamp);
-        self.streams.clear();
         true
     }
 

@@ -147,7 +147,8 @@ impl FlightPipeline {
                     link_id: 0,
                     accept_unsigned_sensors: cfg.accept_unsigned_sensors,
                 }),
-            ),
+            )
+            .with_trust(cfg.link_trust),
             supervisor: Supervisor::new(cfg.safety),
             controller: None,
             reference,

@@ -15,7 +15,7 @@ use super::ImuSample;
 use super::{Event, FlightPipeline, Mode};
 use crate::estimator::PoseCheck;
 use crate::flight_reference::{FlightReference, ReferenceMode};
-use crate::link::{Command, CommandFault, Inbound, Sender, SigningConfig};
+use crate::link::{Command, CommandFault, Inbound, Sender, SetupAuthority, SigningConfig};
 use crate::safety::{check_arm, ArmInputs, FlightState, Remedy};
 
 /// Refusal detail for events and STATUSTEXT: the reason, and for a certificate or
@@ -102,9 +102,10 @@ impl FlightPipeline {
             Inbound::SetupSigning {
                 key,
                 initial_timestamp,
+                authority,
                 ..
             } => {
-                if let Err(r) = self.setup_signing(key, initial_timestamp) {
+                if let Err(r) = self.setup_signing(key, initial_timestamp, authority) {
                     self.refused("setup_signing", &r);
                 }
             }
@@ -147,9 +148,20 @@ impl FlightPipeline {
         }
     }
 
-    /// `SETUP_SIGNING`: installs the key while disarmed on a link without one (the decoder has
-    /// already dropped it on a link with one).
-    fn setup_signing(&mut self, key: [u8; 32], initial_timestamp: u64) -> Result<(), Refusal> {
+    /// `SETUP_SIGNING`: installs the key, or replaces the one in force, if the message came
+    /// over a link trusted at build time or was signed with the key in force (`authority`,
+    /// from the decoder), and only while disarmed. A refusal changes nothing and is counted,
+    /// logged and sent as a `STATUSTEXT` naming why.
+    fn setup_signing(
+        &mut self,
+        key: [u8; 32],
+        initial_timestamp: u64,
+        authority: SetupAuthority,
+    ) -> Result<(), Refusal> {
+        // Checked first: a stranger's key is refused for who sent it, whatever the state.
+        if authority == SetupAuthority::Unauthenticated {
+            return Err(Self::simple("unsigned on an untrusted link"));
+        }
         if self.supervisor.state() != FlightState::Disarmed {
             return Err(Self::simple("signing is set up while disarmed"));
         }
@@ -159,9 +171,7 @@ impl FlightPipeline {
             accept_unsigned_sensors: self.cfg.accept_unsigned_sensors,
         };
         if !self.decoder.install_signing_key(config, initial_timestamp) {
-            return Err(Self::simple(
-                "signing key refused (all zero, or a key is set)",
-            ));
+            return Err(Self::simple("signing key refused (all zero)"));
         }
         self.event(Event::CommandAccepted {
             command: "setup_signing",

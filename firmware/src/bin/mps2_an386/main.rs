@@ -9,7 +9,11 @@
 //! - **IMU**: none on the board; samples arrive as `HIL_SENSOR` over the link (the `hil`
 //!   feature, never in the flight build);
 //! - **motors**: the throttles leave as `HIL_ACTUATOR_CONTROLS` in the telemetry, each tick;
-//! - **link**: the CMSDK UART0 ([`uart`]), QEMU's first serial port;
+//! - **link**: the CMSDK UART0 ([`uart`]), QEMU's first serial port: the ground station's link
+//!   (`host-sim pil`, the pymavlink client), untrusted by default as a radio would be (a
+//!   `SETUP_SIGNING` must be signed with the key in force); built with
+//!   `FIRMWARE_MAVLINK_LINK_TRUST=trusted` it plays a wired console, on which a key is set up
+//!   unsigned (`tests/mavlink-client` flies both builds);
 //! - **time**: a SysTick embassy-time driver ([`time_driver`]);
 //! - **logs**: defmt over semihosting ([`defmt_console`]), to QEMU's semihosting console;
 //! - **exit**: a panic or a hard fault logs and ends QEMU with status 1 (semihosting

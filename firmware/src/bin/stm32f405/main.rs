@@ -11,7 +11,13 @@
 //!   feeds the independent watchdog, and measures its step with the DWT cycle counter;
 //! - **imu** (thread mode): ICM-42688-P data-ready (EXTI) → SPI (DMA) read → body frame → queue;
 //! - **link_rx** / **link_tx** (thread mode): MAVLink bytes between USART1 (DMA, circular on
-//!   receive) and the control task;
+//!   receive) and the control task. USART1 is the board's only MAVLink link, and what is
+//!   usually wired to it is a telemetry radio, so it is untrusted by default: a
+//!   `SETUP_SIGNING` must be signed with the key in force. A build with
+//!   `FIRMWARE_MAVLINK_LINK_TRUST=trusted` marks it a wired console (`SETUP_SIGNING` taken
+//!   unsigned, while disarmed): only for a vehicle whose USART1 goes to a cable, e.g. a
+//!   USB-serial adapter on the bench, never to a radio. The board's USB port is not used by
+//!   this firmware (docs/mavlink.md, "Signing");
 //! - **logger** (thread mode): state changes and refused commands, 1 Hz timing, 10 Hz flight
 //!   summary, link counters, all as defmt over RTT;
 //! - **param_store** (thread mode): saves the parameters to flash after each accepted

@@ -31,7 +31,9 @@
 //! The four motors sit on two timers (as on most F405 boards), so a DShot frame is two DMA bursts
 //! started together, one per timer. TIM2 is embassy's time driver and is not used for motors.
 //! USART1 (PA9 / PA10) is the board's UART1 (TX1 / RX1); which pad or connector carries it
-//! depends on the board revision's wiring diagram (not checked on hardware here). Betaflight's
+//! depends on the board revision's wiring diagram (not checked on hardware here). It is the
+//! only MAVLink link, untrusted unless built with `FIRMWARE_MAVLINK_LINK_TRUST=trusted`
+//! (`firmware::built_flight::LINK_TRUST`: who may set the signing key). Betaflight's
 //! defaults put the receiver on USART2, MSP on UART4 and the ESC sensor on UART5.
 //!
 //! Motor numbering follows Betaflight's quad-X: M1 rear right, M2 front right, M3 rear left,

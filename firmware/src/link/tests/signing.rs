@@ -1,5 +1,6 @@
 //! Signing: frames dropped without a key, only fresh correct signatures command, stale
-//! streams, interoperability with the mavlink crate, and SETUP_SIGNING.
+//! streams, interoperability with the mavlink crate, and who may set up or change the key with
+//! SETUP_SIGNING (the link's trust, the frame's signature).
 
 use super::*;
 use crate::link::*;
@@ -152,35 +153,152 @@ fn our_signatures_verify_with_the_mavlink_crate() {
     }
 }
 
-/// SETUP_SIGNING is passed on while signing is not active and dropped once it is.
-#[test]
-fn setup_signing_only_on_a_link_without_a_key() {
-    let setup = MavMessage::SETUP_SIGNING(SETUP_SIGNING_DATA {
+/// `SETUP_SIGNING` for the vehicle (1, 1) with `key` and an initial timestamp of 5.
+fn setup(key: [u8; 32]) -> MavMessage {
+    MavMessage::SETUP_SIGNING(SETUP_SIGNING_DATA {
         initial_timestamp: 5,
         target_system: 1,
         target_component: 1,
-        secret_key: KEY,
-    });
-    let (f, n) = frame(&setup, 0);
-    let mut d = Decoder::new(1);
-    assert!(matches!(
-        collect(&mut d, &f[..n])[..],
-        [Inbound::SetupSigning {
-            key: KEY,
-            initial_timestamp: 5,
-            ..
-        }]
+        secret_key: key,
+    })
+}
+
+/// `m` from system 200 signed by our signer with `key` on link 0, its signing timestamp
+/// `timestamp` \[10 µs since 2015-01-01\].
+fn signed_at(m: &MavMessage, key: [u8; 32], timestamp: u64) -> Vec<u8> {
+    let mut s = Decoder::with_address(200, 1, None);
+    assert!(s.install_signing_key(
+        SigningConfig {
+            key,
+            ..signing(true).unwrap()
+        },
+        timestamp - 1,
     ));
-    assert!(d.install_signing_key(signing(true).unwrap(), 5));
-    assert!(!d.install_signing_key(signing(true).unwrap(), 5));
-    let signed = signed_by_mavlink(&setup, KEY, 0);
-    assert!(collect(&mut d, &signed).is_empty());
-    assert_eq!(d.counters().frames_dropped, 1);
-    assert!(!Decoder::new(1).install_signing_key(
+    let (mut f, n) = frame(m, 0);
+    let k = s.sign(&mut f, n);
+    assert_eq!(k, n + SIGNATURE);
+    f[..k].to_vec()
+}
+
+/// The authority the decoder gives the one `SETUP_SIGNING` in `bytes`, or `None` when it
+/// passed none on.
+fn authority(d: &mut Decoder, bytes: &[u8]) -> Option<SetupAuthority> {
+    match collect(d, bytes)[..] {
+        [Inbound::SetupSigning {
+            key: _,
+            initial_timestamp: 5,
+            authority,
+            ..
+        }] => Some(authority),
+        [] => None,
+        ref other => panic!("not one SETUP_SIGNING: {other:?}"),
+    }
+}
+
+/// Given a link without a key, when an unsigned SETUP_SIGNING arrives, then on an untrusted
+/// link (a radio: the default) it is passed on as unauthenticated, for the pipeline to refuse,
+/// and on a trusted one (a wired console) as the trusted link's; a signed one is dropped on
+/// both (no key to check it with).
+#[test]
+fn without_a_key_only_a_trusted_link_may_set_one_up() {
+    let (f, n) = frame(&setup(KEY), 0);
+    let mut radio = Decoder::new(1);
+    assert_eq!(radio.trust(), LinkTrust::Untrusted);
+    assert_eq!(
+        authority(&mut radio, &f[..n]),
+        Some(SetupAuthority::Unauthenticated)
+    );
+    let mut wired = Decoder::new(1).with_trust(LinkTrust::Trusted);
+    assert_eq!(
+        authority(&mut wired, &f[..n]),
+        Some(SetupAuthority::TrustedLink)
+    );
+    let signed = signed_at(&setup(KEY), KEY, 1000);
+    for mut d in [radio, wired] {
+        assert_eq!(authority(&mut d, &signed), None);
+        assert_eq!(d.counters().signed_without_key, 1);
+    }
+}
+
+/// Given an untrusted link with a key, when SETUP_SIGNING arrives signed with that key, then it
+/// is passed on as the owner's re-keying; signed with another key, it is dropped as a bad
+/// signature; unsigned, it is refused like any unsigned command; the same signed frame again
+/// (a replay) is stale.
+#[test]
+fn with_a_key_an_untrusted_link_takes_setup_signed_with_it_only() {
+    let mut d = Decoder::with_address(1, 1, signing(true));
+    let signed = signed_at(&setup([9; 32]), KEY, 1000);
+    assert_eq!(
+        authority(&mut d, &signed),
+        Some(SetupAuthority::SignedWithCurrentKey)
+    );
+    assert_eq!(authority(&mut d, &signed), None);
+    assert_eq!(d.counters().stale_signature, 1);
+    assert_eq!(
+        authority(&mut d, &signed_at(&setup([9; 32]), [8; 32], 2000)),
+        None
+    );
+    assert_eq!(d.counters().bad_signature, 1);
+    let (f, n) = frame(&setup([9; 32]), 1);
+    assert_eq!(authority(&mut d, &f[..n]), None);
+    assert_eq!(d.counters().unsigned_refused, 1);
+    assert_eq!(d.counters().frames_ok, 1);
+}
+
+/// Given a trusted (wired) link with a key, when an unsigned SETUP_SIGNING arrives, then it is
+/// passed on as the trusted link's (the way to replace a lost key); an unsigned arm on the
+/// same link is still refused: trust opens nothing but the key.
+#[test]
+fn a_trusted_link_replaces_a_key_unsigned_and_nothing_else() {
+    let mut d = Decoder::with_address(1, 1, signing(true)).with_trust(LinkTrust::Trusted);
+    let (f, n) = frame(&setup([9; 32]), 0);
+    assert_eq!(
+        authority(&mut d, &f[..n]),
+        Some(SetupAuthority::TrustedLink)
+    );
+    let arm = command_long(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 1, 1);
+    let (f, n) = frame(&arm, 1);
+    assert!(collect(&mut d, &f[..n]).is_empty());
+    assert_eq!(d.counters().unsigned_refused, 1);
+    // A wrong signature is not waved through either.
+    assert_eq!(
+        authority(&mut d, &signed_at(&setup([9; 32]), [8; 32], 2000)),
+        None
+    );
+    assert_eq!(d.counters().bad_signature, 1);
+}
+
+/// Given a key in force, when another is installed, then frames signed with the old key are
+/// bad signatures and the new key's are used; when the old key comes back, a frame it signed
+/// before is still a replay (the streams' timestamps survive a change of key). The all-zero
+/// key is refused, changing nothing.
+#[test]
+fn a_new_key_replaces_the_old_and_replays_stay_stale() {
+    const NEW: [u8; 32] = [9; 32];
+    let pose = mocap(0.0);
+    let mut d = Decoder::with_address(1, 1, signing(false));
+    let old_frame = signed_at(&pose, KEY, 1000);
+    assert_eq!(collect(&mut d, &old_frame).len(), 1);
+    assert!(d.install_signing_key(
+        SigningConfig {
+            key: NEW,
+            ..signing(false).unwrap()
+        },
+        5
+    ));
+    assert!(collect(&mut d, &signed_at(&pose, KEY, 2000)).is_empty());
+    assert_eq!(d.counters().bad_signature, 1);
+    assert_eq!(collect(&mut d, &signed_at(&pose, NEW, 3000)).len(), 1);
+    assert!(!d.install_signing_key(
         SigningConfig {
             key: [0; 32],
-            ..signing(true).unwrap()
+            ..signing(false).unwrap()
         },
         0
     ));
+    assert_eq!(collect(&mut d, &signed_at(&pose, NEW, 4000)).len(), 1);
+    assert!(d.install_signing_key(signing(false).unwrap(), 5));
+    assert!(collect(&mut d, &old_frame).is_empty());
+    assert_eq!(d.counters().stale_signature, 1);
+    assert_eq!(collect(&mut d, &signed_at(&pose, KEY, 5000)).len(), 1);
 }

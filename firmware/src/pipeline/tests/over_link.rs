@@ -262,26 +262,212 @@ fn a_signing_vehicle_acts_only_on_signed_commands_and_signs_its_telemetry() {
     assert_eq!(wrong.counters().bad_signature, f.len() as u32);
 }
 
-/// Given a vehicle without a key, when SETUP_SIGNING arrives while disarmed, then signing is
-/// on: an unsigned command is refused afterwards, a second SETUP_SIGNING is dropped.
-#[test]
-fn setup_signing_while_disarmed_turns_signing_on() {
-    let mut p = FlightPipeline::new(&FlightConfig::built()).unwrap();
-    let setup = MavMessage::SETUP_SIGNING(SETUP_SIGNING_DATA {
+/// `SETUP_SIGNING` for the vehicle (1, 1) installing `key`.
+fn setup_signing(key: [u8; 32]) -> MavMessage {
+    MavMessage::SETUP_SIGNING(SETUP_SIGNING_DATA {
         initial_timestamp: 1000,
         target_system: 1,
         target_component: 1,
-        secret_key: KEY,
-    });
-    p.on_link_bytes(&gcs_frame(&setup), 1_000);
+        secret_key: key,
+    })
+}
+
+/// What one telemetry call sends: the STATUSTEXTs' texts, the acks, and whether every frame
+/// is signed (`None`: no frame at all).
+fn replies(p: &mut FlightPipeline, now_us: u64) -> (Vec<String>, Vec<MavResult>, Option<bool>) {
+    use mavlink::dialects::common::STATUSTEXT_DATA;
+    let mut buf = [0u8; 2048];
+    let n = p.telemetry(now_us, &mut buf);
+    let f = frames(&buf[..n]);
+    let texts = f
+        .iter()
+        .filter(|x| x.0 == STATUSTEXT_DATA::ID)
+        .map(|x| {
+            let t = STATUSTEXT_DATA::deser(MavlinkVersion::V2, &x.1).unwrap();
+            let bytes: Vec<u8> = t.text.iter().copied().take_while(|&b| b != 0).collect();
+            String::from_utf8(bytes).unwrap()
+        })
+        .collect();
+    let acks = f
+        .iter()
+        .filter(|x| x.0 == COMMAND_ACK_DATA::ID)
+        .map(|x| {
+            link::CommandAck::deser(MavlinkVersion::V2, &x.1)
+                .unwrap()
+                .result
+        })
+        .collect();
+    let signed = (!f.is_empty()).then(|| f.iter().all(|x| x.2));
+    (texts, acks, signed)
+}
+
+/// The flight file's build on a wired console (`FIRMWARE_MAVLINK_LINK_TRUST=trusted`).
+fn wired() -> FlightConfig {
+    FlightConfig {
+        link_trust: link::LinkTrust::Trusted,
+        ..FlightConfig::built()
+    }
+}
+
+const NEW_KEY: [u8; 32] = [0x17; 32];
+
+/// Given the default build (an untrusted link: a radio) without a key, when a stranger's
+/// unsigned SETUP_SIGNING arrives while disarmed, then it is refused: counted, logged and
+/// sent as a STATUSTEXT naming why; no key is installed (the telemetry stays unsigned, a
+/// signed frame is still dropped) and the owner's unsigned commands are still answered.
+#[test]
+fn an_unsigned_setup_signing_on_an_untrusted_link_is_refused_and_installs_no_key() {
+    let mut p = FlightPipeline::new(&FlightConfig::built()).unwrap();
+    assert_eq!(FlightConfig::built().link_trust, link::LinkTrust::Untrusted);
+    p.on_link_bytes(&gcs_frame(&setup_signing(KEY)), 1_000);
+    assert_eq!(p.status().counters.refused_commands, 1);
+    assert!(
+        super::drain_events(&mut p).contains(&Event::CommandRefused {
+            command: "setup_signing",
+            reason: "unsigned on an untrusted link",
+        })
+    );
+    let (texts, _, signed) = replies(&mut p, 1_000);
+    assert_eq!(texts, ["setup_signing: unsigned on an untrusted link"]);
+    assert_eq!(signed, Some(false));
+    let land = command(MavCmd::MAV_CMD_NAV_LAND, 0.0, 0.0);
+    p.on_link_bytes(&signed_gcs_frame(&land, KEY, 3000), 2_000);
+    assert_eq!(p.status().counters.link.signed_without_key, 1);
+    p.on_link_bytes(&gcs_frame(&land), 3_000);
+    assert_eq!(acks(&mut p, 3_000).len(), 1);
+}
+
+/// Given a build on a trusted (wired) link without a key, when an unsigned SETUP_SIGNING
+/// arrives while disarmed, then signing is on: an unsigned command is refused afterwards, a
+/// signed one answered, the telemetry signed. When the key is then lost, an unsigned
+/// SETUP_SIGNING over the same cable replaces it: the old key no longer commands, the new one
+/// does.
+#[test]
+fn setup_signing_over_a_trusted_link_sets_and_replaces_the_key() {
+    let mut p = FlightPipeline::new(&wired()).unwrap();
+    p.on_link_bytes(&gcs_frame(&setup_signing(KEY)), 1_000);
+    assert!(
+        super::drain_events(&mut p).contains(&Event::CommandAccepted {
+            command: "setup_signing"
+        })
+    );
     let land = command(MavCmd::MAV_CMD_NAV_LAND, 0.0, 0.0);
     p.on_link_bytes(&gcs_frame(&land), 2_000);
     assert_eq!(p.status().counters.link.unsigned_refused, 1);
-    p.on_link_bytes(&signed_gcs_frame(&setup, KEY, 2000), 3_000);
-    assert_eq!(p.status().counters.link.frames_dropped, 1);
-    // Signed commands are acted on and answered.
-    p.on_link_bytes(&signed_gcs_frame(&land, KEY, 3000), 4_000);
-    assert_eq!(acks(&mut p, 4_000).len(), 1);
+    p.on_link_bytes(&signed_gcs_frame(&land, KEY, 3000), 3_000);
+    let (texts, acks, signed) = replies(&mut p, 3_000);
+    assert_eq!((acks.len(), signed), (1, Some(true)), "{texts:?}");
+    assert!(
+        !texts.iter().any(|t| t.contains("setup_signing")),
+        "{texts:?}"
+    );
+    // The key is lost: the owner plugs in the cable and sets a new one, unsigned.
+    super::drain_events(&mut p);
+    p.on_link_bytes(&gcs_frame(&setup_signing(NEW_KEY)), 4_000);
+    assert!(
+        super::drain_events(&mut p).contains(&Event::CommandAccepted {
+            command: "setup_signing"
+        })
+    );
+    p.on_link_bytes(&signed_gcs_frame(&land, KEY, 5000), 5_000);
+    assert_eq!(p.status().counters.link.bad_signature, 1);
+    p.on_link_bytes(&signed_gcs_frame(&land, NEW_KEY, 6000), 6_000);
+    assert_eq!(replies(&mut p, 6_000).1.len(), 1);
+}
+
+/// Given a build with a key on an untrusted link, when SETUP_SIGNING with a new key arrives
+/// signed with the key in force (the owner re-keying) while disarmed, then the new key is in
+/// force: frames signed with the old one are dropped as bad signatures, the new one's
+/// commands are answered and the telemetry verifies with the new key.
+#[test]
+fn setup_signing_signed_with_the_current_key_re_keys_an_untrusted_link() {
+    let mut cfg = FlightConfig::built();
+    cfg.signing_key = Some(KEY);
+    let mut p = FlightPipeline::new(&cfg).unwrap();
+    p.on_link_bytes(&signed_gcs_frame(&setup_signing(NEW_KEY), KEY, 1000), 1_000);
+    assert!(
+        super::drain_events(&mut p).contains(&Event::CommandAccepted {
+            command: "setup_signing"
+        })
+    );
+    let land = command(MavCmd::MAV_CMD_NAV_LAND, 0.0, 0.0);
+    p.on_link_bytes(&signed_gcs_frame(&land, KEY, 2000), 2_000);
+    assert_eq!(p.status().counters.link.bad_signature, 1);
+    p.on_link_bytes(&signed_gcs_frame(&land, NEW_KEY, 3000), 3_000);
+    let mut buf = [0u8; 2048];
+    let n = p.telemetry(3_000, &mut buf);
+    let f = frames(&buf[..n]);
+    assert_eq!(f.iter().filter(|x| x.0 == COMMAND_ACK_DATA::ID).count(), 1);
+    let mut owner = link::Decoder::with_address(255, 190, None);
+    assert!(owner.install_signing_key(
+        link::SigningConfig {
+            key: NEW_KEY,
+            link_id: 0,
+            accept_unsigned_sensors: false,
+        },
+        0,
+    ));
+    owner.push(&buf[..n], |_| {});
+    let c = owner.counters();
+    assert_eq!((c.frames_dropped, c.bad_signature), (f.len() as u32, 0));
+}
+
+/// Given a build with a key on an untrusted link, when SETUP_SIGNING arrives signed with
+/// another key, then it is dropped as a bad signature (no reply: the vehicle does not answer
+/// what it cannot authenticate) and the key in force still commands.
+#[test]
+fn setup_signing_signed_with_a_wrong_key_is_dropped() {
+    let mut cfg = FlightConfig::built();
+    cfg.signing_key = Some(KEY);
+    let mut p = FlightPipeline::new(&cfg).unwrap();
+    p.on_link_bytes(
+        &signed_gcs_frame(&setup_signing(NEW_KEY), [0x5a; 32], 1000),
+        1_000,
+    );
+    assert_eq!(p.status().counters.link.bad_signature, 1);
+    assert!(!super::drain_events(&mut p).iter().any(|e| matches!(
+        e,
+        Event::CommandAccepted { .. } | Event::CommandRefused { .. }
+    )));
+    let land = command(MavCmd::MAV_CMD_NAV_LAND, 0.0, 0.0);
+    p.on_link_bytes(&signed_gcs_frame(&land, KEY, 2000), 2_000);
+    let (texts, acks, _) = replies(&mut p, 2_000);
+    assert_eq!(acks.len(), 1);
+    assert!(
+        !texts.iter().any(|t| t.contains("setup_signing")),
+        "{texts:?}"
+    );
+}
+
+/// Given an armed vehicle, when SETUP_SIGNING arrives over a trusted link, or signed with the
+/// key in force over an untrusted one, then it is refused aloud and the key does not change.
+#[test]
+fn setup_signing_while_armed_is_refused() {
+    let land = command(MavCmd::MAV_CMD_NAV_LAND, 0.0, 0.0);
+    // Trusted link, no key: stays without one (its telemetry unsigned).
+    let (mut p, now) = super::arm_attempt(wired());
+    assert_eq!(p.status().state, crate::safety::FlightState::Armed);
+    p.on_link_bytes(&gcs_frame(&setup_signing(KEY)), now);
+    let (texts, _, signed) = replies(&mut p, now);
+    assert_eq!(texts, ["setup_signing: signing is set up while disarmed"]);
+    assert_eq!(signed, Some(false));
+    assert_eq!(p.status().counters.refused_commands, 1);
+    // Untrusted link with a key: a correctly signed change is refused, the old key still
+    // commands. (The arm itself is signed here.)
+    let mut cfg = FlightConfig::built();
+    cfg.signing_key = Some(KEY);
+    cfg.gyro_calibration_samples = 50;
+    let mut p = FlightPipeline::new(&cfg).unwrap();
+    let now = super::fly_ticks(&mut p, 0, 60, true);
+    let arm = command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 0.0);
+    p.on_link_bytes(&signed_gcs_frame(&arm, KEY, 1000), now);
+    assert_eq!(p.status().state, crate::safety::FlightState::Armed);
+    replies(&mut p, now);
+    p.on_link_bytes(&signed_gcs_frame(&setup_signing(NEW_KEY), KEY, 2000), now);
+    let (texts, _, _) = replies(&mut p, now);
+    assert_eq!(texts, ["setup_signing: signing is set up while disarmed"]);
+    p.on_link_bytes(&signed_gcs_frame(&land, KEY, 3000), now + 1);
+    assert_eq!(replies(&mut p, now + 1).1.len(), 1);
 }
 
 /// Given a disarmed vehicle during its gyro calibration, when a ground station syncs its clock,

@@ -1,5 +1,5 @@
 //! The flight pipeline ([`firmware::pipeline::FlightPipeline`], the default build's flight
-//! with the `hil` messages) driven by a script ([`crate::script`]) of link bytes, valid
+//! with the `hil` messages, on a trusted link: [`config`]) driven by a script ([`crate::script`]) of link bytes, valid
 //! frames, IMU samples and control ticks.
 //!
 //! Invariants, checked after every operation:
@@ -22,7 +22,7 @@
 use firmware::config::FlightConfig;
 use firmware::link::mavlink::dialects::common::{COMMAND_ACK_DATA, STATUSTEXT_DATA};
 use firmware::link::mavlink::MessageData;
-use firmware::link::{Decoder, Inbound, SigningConfig};
+use firmware::link::{Decoder, Inbound, LinkTrust, SigningConfig};
 use firmware::pipeline::{Counters, Event, FlightPipeline, ImuSample, MotorOutput};
 use firmware::safety::FlightState;
 
@@ -39,10 +39,13 @@ pub const MAX_IMU_SAMPLES: u32 = 20_000;
 pub const MAX_TICKS: u32 = 2_000;
 
 /// The fuzzed flight: the default build's ([`FlightConfig::built`]) with a short gyro
-/// calibration.
+/// calibration, on a trusted (wired) link: there an unsigned `SETUP_SIGNING` in an input
+/// installs or replaces a key, so the keyed rules are fuzzed too. On the default, untrusted
+/// link no input could ever install one (it would need the key it installs).
 pub fn config() -> FlightConfig {
     FlightConfig {
         gyro_calibration_samples: CALIBRATION_SAMPLES,
+        link_trust: LinkTrust::Trusted,
         ..FlightConfig::built()
     }
 }
@@ -160,15 +163,15 @@ struct Harness {
 
 impl Harness {
     /// The fuzzed flight, booted, with its observers.
-    fn new() -> Self {
-        let cfg = config();
-        let Ok(p) = FlightPipeline::new(&cfg) else {
+    fn new(cfg: &FlightConfig) -> Self {
+        let Ok(p) = FlightPipeline::new(cfg) else {
             panic!("the default build's flight does not boot");
         };
         let counters = p.status().counters;
         Self {
             p,
-            shadow: Decoder::new(cfg.system_id),
+            // The same link trust as the pipeline's decoder: it decides who may set the key.
+            shadow: Decoder::new(cfg.system_id).with_trust(cfg.link_trust),
             gcs: GroundStation::default(),
             now: 0,
             sequence: 0,
@@ -381,7 +384,12 @@ impl Harness {
 
 /// Runs the target on one input; panics on a broken invariant.
 pub fn run(data: &[u8]) {
-    let mut h = Harness::new();
+    run_with(&config(), data);
+}
+
+/// [`run`] on the flight `cfg` (the fuzzed flight on the untrusted link too, for the tests).
+fn run_with(cfg: &FlightConfig, data: &[u8]) {
+    let mut h = Harness::new(cfg);
     for op in script::parse(data) {
         if !h.step(&op) {
             break;
@@ -461,7 +469,7 @@ mod tests {
         let started = ops.len();
         ops.extend(at_rest_1m_up(100));
 
-        let mut h = Harness::new();
+        let mut h = Harness::new(&config());
         for (i, op) in ops.iter().enumerate() {
             assert!(h.step(op), "the work cap at operation {i}");
             if i + 1 == started {
@@ -509,7 +517,7 @@ mod tests {
         ops.push(mission(MissionSpec::ClearAll));
         ops.push(mission(MissionSpec::Ack { result: 3 }));
         ops.extend(at_rest_1m_up(2));
-        let mut h = Harness::new();
+        let mut h = Harness::new(&config());
         for op in &ops {
             assert!(h.step(op));
         }
@@ -549,10 +557,16 @@ mod tests {
     /// Found by the long run (3.7 million inputs): an accepted `SETUP_SIGNING` keys the
     /// pipeline's decoder, which then refuses the unsigned frames after it, in the same chunk
     /// too; the harness's second decoder must take the key at the same byte (it did not, and
-    /// counted those frames as accepted). Disarmed: accepted, then a command refused unsigned;
-    /// an all-zero key: refused, and the command after it accepted as before.
+    /// counted those frames as accepted). On the fuzzed flight's trusted (wired) link,
+    /// disarmed: accepted, then a command refused unsigned; an all-zero key: refused, and the
+    /// command after it accepted as before. On the default, untrusted link the unsigned
+    /// `SETUP_SIGNING` is refused and both decoders stay without a key.
     #[test]
     fn the_second_decoder_follows_a_key_installed_mid_chunk() {
+        let radio = FlightConfig {
+            link_trust: LinkTrust::Untrusted,
+            ..config()
+        };
         let command = script::frame_bytes(
             &FrameSpec::Command {
                 command: 0,
@@ -566,10 +580,12 @@ mod tests {
             let mut chunk = setup_signing_frame(key_byte);
             chunk.extend_from_slice(&command);
             assert!(chunk.len() <= 255, "one Op::Bytes holds at most 255 bytes");
-            run(&encode(&[
-                Op::Bytes(chunk.clone()),
-                Op::Bytes(command.clone()),
-            ]));
+            for cfg in [&config(), &radio] {
+                run_with(
+                    cfg,
+                    &encode(&[Op::Bytes(chunk.clone()), Op::Bytes(command.clone())]),
+                );
+            }
         }
     }
 }
