@@ -72,6 +72,7 @@ fn log_event(event: &Event) {
             reason
         ),
         Event::ModeChanged { mode } => info!("event: mode {=str}", mode.name()),
+        Event::MissionItemReached { seq } => info!("event: mission item {=u16} reached", seq),
         Event::CommandAccepted { command } => info!("event: command {=str} accepted", command),
         Event::CommandRefused { command, reason } => {
             warn!("event: command {=str} refused: {=str}", command, reason)

@@ -77,6 +77,11 @@ pub enum Event {
     /// `MAV_CMD_PREFLIGHT_STORAGE` reset: the build's flight file is flown again, and a board's
     /// store should forget the saved parameters.
     ParamsReset,
+    /// An uploaded mission's item was reached (`MISSION_ITEM_REACHED`).
+    MissionItemReached {
+        /// The item's sequence number.
+        seq: u16,
+    },
     /// A non-finite value was found (and counted).
     NonFinite {
         /// Where.

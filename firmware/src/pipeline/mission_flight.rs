@@ -102,7 +102,8 @@ impl FlightPipeline {
         run.last_us = now_us;
         run.time += dt;
         let path = &run.plan.path;
-        let mut reply = None;
+        let mut reached = None;
+        let mut current = None;
         let mut end = MissionEnd::Flying;
         match (
             path.arrival(run.next),
@@ -116,7 +117,7 @@ impl FlightPipeline {
                     && (position - stop).norm() <= run.plan.radius[run.next]
                 {
                     run.reached = true;
-                    reply = Some(MissionReply::Reached { seq });
+                    reached = Some(seq);
                 }
                 if !run.reached && run.time > departure {
                     run.time = departure; // wait at rest at the stop
@@ -125,7 +126,7 @@ impl FlightPipeline {
                     run.next += 1;
                     run.reached = false;
                     if run.next < path.len() {
-                        self.mission_current = seq + 1;
+                        current = Some(seq + 1);
                     }
                 }
             }
@@ -136,11 +137,13 @@ impl FlightPipeline {
             }
         }
         let sample = path.sample(run.time);
-        if let Some(r) = reply {
-            self.mission_reply(r);
-            if let MissionReply::Reached { seq } = r {
-                self.mission_reply(MissionReply::Current { seq });
-            }
+        if let Some(seq) = reached {
+            self.mission_reply(MissionReply::Reached { seq });
+            self.event(super::Event::MissionItemReached { seq });
+        }
+        if let Some(seq) = current {
+            self.mission_current = seq;
+            self.mission_reply(MissionReply::Current { seq });
         }
         (sample, end)
     }

@@ -342,17 +342,30 @@ fn started_mission_reports_each_item_reached_then_hovers() {
     assert_eq!(p.status().mode, Mode::Mission, "{:?}", texts(&got));
     assert_eq!(find::<MISSION_CURRENT_DATA>(&got)[0].0.seq, 0);
     let mut reached = Vec::new();
+    let mut current = Vec::new();
     let mut t = now + 10;
     for _ in 0..100 {
         t = fly_ticks(&mut p, t, 1, true);
         let mut out = [0u8; 4096];
         let n = p.telemetry(t, &mut out);
+        let f = frames(&out[..n]);
         reached.extend(
-            find::<MISSION_ITEM_REACHED_DATA>(&frames(&out[..n]))
+            find::<MISSION_ITEM_REACHED_DATA>(&f)
                 .iter()
                 .map(|r| r.0.seq),
         );
+        current.extend(find::<MISSION_CURRENT_DATA>(&f).iter().map(|r| r.0.seq));
     }
     assert_eq!(reached, [0, 1]);
+    assert_eq!(current, [1], "the next item once the first is done");
+    let events = super::drain_events(&mut p);
+    let logged: Vec<u16> = events
+        .iter()
+        .filter_map(|e| match e {
+            Event::MissionItemReached { seq } => Some(*seq),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(logged, [0, 1]);
     assert_eq!(p.status().mode, Mode::Hover);
 }

@@ -108,6 +108,7 @@ fn describe(e: &Event) -> String {
             format!("state {} -> {} ({reason})", from.name(), to.name())
         }
         Event::ModeChanged { mode } => format!("mode {}", mode.name()),
+        Event::MissionItemReached { seq } => format!("mission item {seq} reached"),
         other => format!("{other:?}"),
     }
 }

@@ -11,10 +11,10 @@ use super::scenario_file;
 use super::setup::SilSetup;
 
 /// The scenario names the CLI accepts.
-pub const NAMES: [&str; 4] = ["paper", "pose-loss", "takeoff-land", "helix"];
+pub const NAMES: [&str; 5] = ["paper", "pose-loss", "takeoff-land", "helix", "mission"];
 
 /// The embedded scenario files, by name (same order as [`NAMES`]).
-const FILES: [&str; 4] = [
+const FILES: [&str; 5] = [
     include_str!(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenarios/sil/paper.toml"
@@ -30,6 +30,10 @@ const FILES: [&str; 4] = [
     include_str!(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenarios/sil/helix.toml"
+    )),
+    include_str!(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/sil/mission.toml"
     )),
 ];
 

@@ -22,8 +22,9 @@
 //!   ([`SENSORS`], `host-sim/scenarios/sil/sensors.toml`);
 //! - `[[commands]]`: ground-station messages, each `at_s` (after the release; negative: during
 //!   the hold) and `command` = `"arm"`, `"arm-inverted"`, `"takeoff"` (`height_m` above the
-//!   arming point), `"land"`, `"mission-start"`, `"kill"` or `"setpoint"` (`position_m` and
-//!   `yaw_rad`, NWU), built by [`firmware::ground_station`].
+//!   arming point), `"land"`, `"mission-start"`, `"kill"`, `"setpoint"` (`position_m` and
+//!   `yaw_rad`, NWU) or `"mission-upload"` (`items`: [`mission_items`]), built by
+//!   [`firmware::ground_station`].
 
 use std::path::Path;
 
@@ -149,6 +150,8 @@ struct CommandKeys {
     position_m: Option<[f32; 3]>,
     #[serde(default)]
     yaw_rad: Option<f32>,
+    #[serde(default)]
+    items: Option<Vec<mission_items::ItemKeys>>,
 }
 
 /// `command`.
@@ -162,6 +165,7 @@ enum CommandName {
     MissionStart,
     Kill,
     Setpoint,
+    MissionUpload,
 }
 
 fn require<T: Copy>(value: Option<T>, key: &str) -> std::result::Result<T, String> {
@@ -314,8 +318,8 @@ fn initial(i: &InitialKeys, dir: Option<&Path>) -> Result<RigidBodyState, String
     }
 }
 
-/// The message of `commands[index]`.
-fn command(index: usize, c: &CommandKeys) -> Result<(f64, MavMessage), String> {
+/// The messages of `commands[index]` (one, or a mission upload's count and items).
+fn command(index: usize, c: &CommandKeys) -> Result<Vec<(f64, MavMessage)>, String> {
     let key = |k: &str| format!("commands[{index}].{k}");
     check(c.at_s.is_finite(), &key("at_s"), "must be finite", c.at_s)?;
     let takes_height = c.command == CommandName::Takeoff;
@@ -324,6 +328,10 @@ fn command(index: usize, c: &CommandKeys) -> Result<(f64, MavMessage), String> {
         ("height_m", c.height_m.is_some() && !takes_height),
         ("position_m", c.position_m.is_some() && !takes_target),
         ("yaw_rad", c.yaw_rad.is_some() && !takes_target),
+        (
+            "items",
+            c.items.is_some() && c.command != CommandName::MissionUpload,
+        ),
     ];
     if let Some((k, _)) = unexpected.iter().find(|(_, bad)| *bad) {
         return Err(format!("{}: not a parameter of {:?}", key(k), c.command));
@@ -351,8 +359,15 @@ fn command(index: usize, c: &CommandKeys) -> Result<(f64, MavMessage), String> {
             check(yaw.is_finite(), &key("yaw_rad"), "must be finite", yaw)?;
             ground_station::setpoint_nwu(Vector3::from(p), yaw)
         }
+        CommandName::MissionUpload => {
+            let items = c.items.as_deref().unwrap_or_default();
+            return Ok(mission_items::messages(&key, items)?
+                .into_iter()
+                .map(|m| (c.at_s, m))
+                .collect());
+        }
     };
-    Ok((c.at_s, message))
+    Ok(vec![(c.at_s, message)])
 }
 
 /// Parses the SIL scenario `text` into the run called `name` with `seed`. `origin` names the
@@ -426,7 +441,10 @@ fn build(
         .iter()
         .enumerate()
         .map(|(i, c)| command(i, c))
-        .collect::<Result<Vec<_>, String>>()?;
+        .collect::<Result<Vec<_>, String>>()?
+        .into_iter()
+        .flatten()
+        .collect();
     Ok(SilSetup {
         name: name.to_string(),
         flight,
@@ -444,5 +462,6 @@ fn build(
     })
 }
 
+mod mission_items;
 #[cfg(test)]
 mod tests;
