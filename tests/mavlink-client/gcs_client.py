@@ -107,12 +107,16 @@ def command_int(mav, command, p1=0.0):
     ).pack(mav)
 
 
-def fly(elf, script, end_us, rx, received, on_sent=lambda label: None):
+def fly(elf, script, end_us, rx, received, on_sent=lambda label: None, pose=None,
+        respond=None, until=None):
     """Runs `elf` in QEMU in lockstep until `end_us` of simulated time [µs], sending the
     sensors, the poses and at their times the frames of `script` ((time, label, function
     giving the bytes), the function called then, so it may read what came back so far);
     calls `on_sent(label)` after each. Appends what comes back, parsed by `rx`, to
-    `received` as it comes, as (tick [µs] of the actuator frame before it, message)."""
+    `received` as it comes, as (tick [µs] of the actuator frame before it, message).
+    `pose(t)` gives the pose's position (NED [m]; the origin when absent), `respond(m)` the
+    bytes to send the next millisecond in answer to a received message (a ground station's
+    side of a dialogue), and the run stops at the first tick where `until()` is true."""
     stream = sender()  # sensors and poses, unsigned throughout (accepted by default)
     events = {}
     for t, label, frame in script:
@@ -123,14 +127,17 @@ def fly(elf, script, end_us, rx, received, on_sent=lambda label: None):
     qemu = Qemu(elf, log.name)
     started = time.monotonic()
     ticks = 0
+    answers = bytearray()
     try:
         for t in range(0, end_us + 1, 1000):
-            out = bytearray()
+            out = answers
+            answers = bytearray()
             for label, frame in events.get(t, []):
                 out += frame()
                 on_sent(label)
             if t % TICK_US == 0:
-                out += stream.att_pos_mocap_encode(t, [1.0, 0.0, 0.0, 0.0], 0.0, 0.0, 0.0).pack(stream)
+                x, y, z = pose(t) if pose else (0.0, 0.0, 0.0)
+                out += stream.att_pos_mocap_encode(t, [1.0, 0.0, 0.0, 0.0], x, y, z).pack(stream)
             out += stream.hil_sensor_encode(
                 t, 0.0, 0.0, -GRAVITY, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 20.0, 0x3F
             ).pack(stream)
@@ -153,12 +160,16 @@ def fly(elf, script, end_us, rx, received, on_sent=lambda label: None):
                         tick = m.time_usec
                         answered |= m.time_usec == t
                     received.append((tick, m))
+                    if respond:
+                        answers += respond(m)
             ticks += 1
+            if until and until():
+                break
     finally:
         qemu.stop()
         os.unlink(log.name)
     wall = time.monotonic() - started
-    print(f"pymavlink client: {end_us / 1e6:.2f} s simulated, {ticks} ticks answered, "
+    print(f"pymavlink client: {t / 1e6:.2f} s simulated, {ticks} ticks answered, "
           f"{len(received)} frames received, {rx.total_receive_errors} receive errors, "
           f"{wall:.1f} s wall clock")
 
@@ -450,12 +461,14 @@ def owner(elf, check):
 
 
 def main():
+    import mission_client  # the mission microservice's checks (its own file)
     if len(sys.argv) != 3:
         raise SystemExit("usage: gcs_client.py <firmware-mps2-an386 ELF> "
                          "<the same built with FIRMWARE_MAVLINK_LINK_TRUST=trusted>")
     check = Check()
     stranger(sys.argv[1], check)
     owner(sys.argv[2], check)
+    mission_client.missions(sys.argv[1], check)
     if check.failed:
         print(f"pymavlink client: {len(check.failed)} check(s) failed")
         return 1
