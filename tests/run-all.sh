@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The project's test command (README, "The two commands"; .ci/run calls exactly this).
 # Installs what it needs (the thumbv7em target, clippy, rustfmt, QEMU, cargo-modules, a Python virtual
-# environment with pymavlink), then: formatting, every
+# environment with pymavlink, another with MAVProxy), then: formatting, every
 # host test (unit, property, cross-crate, end to end), the import-cycle check, clippy and rustdoc with warnings denied, the no_std
 # controller-core and the firmware built for the Cortex-M4F (thumbv7em-none-eabihf) for both
 # boards, the processor-in-the-loop flight on QEMU and the M4F instruction budget.
@@ -113,8 +113,14 @@ cargo fw-qemu
 PIL_FIRMWARE_ELF="$elf_mps2" PIL_FIRMWARE_ELF_1KHZ="$target_dir/pil-1khz/firmware-mps2-an386" \
   cargo test -p tests --test pil_qemu -- --ignored --nocapture --test-threads 1
 
-step "a real MAVLink client: pymavlink (pinned, own virtual environment) as ground station and mocap bridge against the firmware on QEMU; a stranger's SETUP_SIGNING refused on the default (untrusted) link, signing set up over a trusted one"
+step "a real MAVLink client: pymavlink (pinned, own virtual environment) as ground station and mocap bridge against the firmware on QEMU; a stranger's SETUP_SIGNING refused on the default (untrusted) link, signing set up over a trusted one; missions uploaded (refused naming the condition, accepted), downloaded, cleared, flown to each item reached"
 bash tests/mavlink-client/run.sh "$elf_mps2" "$target_dir/pil-trusted/firmware-mps2-an386"
+
+step "MAVProxy (pinned, own virtual environment), scripted against the firmware in the loop (host-sim sil --gcs-udp): parameters fetched, a mission uploaded with its wp module, certified and accepted, downloaded, armed"
+# The dev build (opt-level 2): the session is paced to the wall clock, and the tests above have
+# compiled everything it needs.
+cargo build -p host-sim --bin host-sim
+bash tests/mavlink-client/mavproxy/run.sh "$target_dir/debug/host-sim"
 
 step "Cortex-M4F instruction counts of the control step, f32 on ARM vs host, budget"
 bash firmware/qemu/bench.sh
