@@ -116,11 +116,8 @@ PIL_FIRMWARE_ELF="$elf_mps2" PIL_FIRMWARE_ELF_1KHZ="$target_dir/pil-1khz/firmwar
 step "a real MAVLink client: pymavlink (pinned, own virtual environment) as ground station and mocap bridge against the firmware on QEMU; a stranger's SETUP_SIGNING refused on the default (untrusted) link, signing set up over a trusted one"
 bash tests/mavlink-client/run.sh "$elf_mps2" "$target_dir/pil-trusted/firmware-mps2-an386"
 
-# TODO(tests/mavlink-client/qgc_connect.sh): uncomment the two lines below once the firmware
-# answers MISSION_REQUEST_LIST (the MAVLink mission protocol, being written on main). Until then
-# the heartbeat and parameter steps pass on both and the mission step fails ("no MISSION_COUNT").
-# step "QGroundControl's connect sequence (pymavlink, qgc_connect.py) against sil and pil --gcs-udp"
-# for mode in sil pil; do bash tests/mavlink-client/qgc_connect.sh "$mode" "$elf_mps2"; done
+step "QGroundControl's connect sequence (pymavlink, qgc_connect.py: heartbeat, parameters, mission/fence/rally lists) against sil --gcs-udp and pil --gcs-udp"
+for mode in sil pil; do bash tests/mavlink-client/qgc_connect.sh "$mode" "$elf_mps2"; done
 
 step "Cortex-M4F instruction counts of the control step, f32 on ARM vs host, budget"
 bash firmware/qemu/bench.sh
