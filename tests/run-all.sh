@@ -116,6 +116,9 @@ PIL_FIRMWARE_ELF="$elf_mps2" PIL_FIRMWARE_ELF_1KHZ="$target_dir/pil-1khz/firmwar
 step "a real MAVLink client: pymavlink (pinned, own virtual environment) as ground station and mocap bridge against the firmware on QEMU; a stranger's SETUP_SIGNING refused on the default (untrusted) link, signing set up over a trusted one; missions uploaded (refused naming the condition, accepted), downloaded, cleared, flown to each item reached"
 bash tests/mavlink-client/run.sh "$elf_mps2" "$target_dir/pil-trusted/firmware-mps2-an386"
 
+step "QGroundControl's connect sequence (pymavlink, qgc_connect.py: heartbeat, parameters, mission/fence/rally lists) against sil --gcs-udp and pil --gcs-udp"
+for mode in sil pil; do bash tests/mavlink-client/qgc_connect.sh "$mode" "$elf_mps2"; done
+
 step "MAVProxy (pinned, own virtual environment), scripted against the firmware in the loop (host-sim sil --gcs-udp): parameters fetched, a mission uploaded with its wp module, certified and accepted, downloaded, armed"
 # The dev build (opt-level 2): the session is paced to the wall clock, and the tests above have
 # compiled everything it needs.

@@ -145,6 +145,7 @@ fn fly_recording(elf: &std::path::Path, chunking: SendChunking, tag: &str) -> (V
         send_chunking: chunking,
         motor_order: pil::MotorOrder::Mixer,
         record_telemetry: true,
+        gcs_udp: None,
     };
     let mut setup = scenarios::paper(1);
     setup.duration_s = 1.5;
@@ -172,6 +173,7 @@ fn fly_and_check(elf: PathBuf, rate_hz: f64, tag: &str) {
         send_chunking: SendChunking::Whole,
         motor_order: pil::MotorOrder::Mixer,
         record_telemetry: false,
+        gcs_udp: None,
     };
     let mut setup = scenarios::paper(1);
     setup

@@ -333,6 +333,7 @@ fn run_refuses_a_missing_elf_and_a_slow_imu() {
         send_chunking: super::SendChunking::Whole,
         motor_order: firmware::motor_order::MotorOrder::Mixer,
         record_telemetry: false,
+        gcs_udp: None,
     };
     let e = super::run(&scenarios::paper(1), &options, |_| {}).unwrap_err();
     assert!(format!("{e:#}").contains("firmware ELF not found"), "{e:#}");
@@ -340,4 +341,89 @@ fn run_refuses_a_missing_elf_and_a_slow_imu() {
     slow.imu.rate_hz = 500.0;
     let e = super::run(&slow, &options, |_| {}).unwrap_err();
     assert!(format!("{e:#}").contains("IMU at 1 kHz"), "{e:#}");
+}
+
+/// Given a PIL run with a ground station on UDP (a socket on localhost) that asked for
+/// AUTOPILOT_VERSION and also sent a cut frame before the run, then: the firmware receives the
+/// request whole, right before a `HIL_SENSOR`, and otherwise exactly the bytes of the run
+/// without a ground station (same lockstep, same flight); the cut datagram is counted and
+/// never sent; the ground station gets the firmware's heartbeat, the version and the
+/// acknowledgement in datagrams of whole frames, and none of the lockstep answers.
+#[test]
+fn a_ground_station_on_udp_talks_to_the_firmware_between_the_lockstep_frames() {
+    use crate::harness::gcs_udp::{GcsUdp, MAX_DATAGRAM};
+    use firmware::link::mavlink::dialects::common::{MavCmd, COMMAND_LONG_DATA};
+    use std::net::UdpSocket;
+
+    let mut setup = scenarios::paper(1);
+    setup.hold_s = 0.2;
+    setup.duration_s = 0.3;
+    let (_, alone) = fly_recording(&setup, SendChunking::Whole);
+
+    let station = UdpSocket::bind("127.0.0.1:0").unwrap();
+    station
+        .set_read_timeout(Some(Duration::from_millis(200)))
+        .unwrap();
+    let gcs = GcsUdp::open(station.local_addr().unwrap(), false).unwrap();
+    let vehicle = ("127.0.0.1", gcs.local_addr().unwrap().port());
+    let request = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+        param1: 148.0,
+        command: MavCmd::MAV_CMD_REQUEST_MESSAGE,
+        target_system: 1,
+        target_component: 1,
+        ..Default::default()
+    });
+    let mut buf = [0u8; link::MAX_FRAME];
+    let n = link::encode(&request, 255, 190, 0, &mut buf);
+    let request = buf[..n].to_vec();
+    station.send_to(&request[..n - 4], vehicle).unwrap();
+    station.send_to(&request, vehicle).unwrap();
+
+    let pipeline = FlightPipeline::new(&setup.flight).unwrap();
+    let boot = pipeline.boot_report();
+    let b = pipeline.mixer().effectiveness().cast::<f64>();
+    let fake = FakeFirmware::new(pipeline, Fault::None);
+    let mut link =
+        FirmwareLink::new(fake, &setup.flight, b, Duration::from_millis(1)).with_gcs(gcs);
+    sil::fly(&setup, &boot, &b, &mut link, |_| {}).unwrap();
+    let c = link.gcs().unwrap().counters();
+    assert_eq!((c.datagrams_in, c.frames_in, c.malformed), (2, 1, 1));
+    // The 20 Hz state telemetry over 0.5 s, at least.
+    assert!(c.datagrams_out >= 5, "{c:?}");
+    let sent = link.into_transport().sent;
+
+    // The request went in once, whole, right before a HIL_SENSOR (#107).
+    let at = sent
+        .windows(request.len())
+        .position(|w| w == request.as_slice())
+        .expect("the request reached the firmware");
+    let next = &sent[at + request.len()..];
+    assert_eq!(u32::from_le_bytes([next[7], next[8], next[9], 0]), 107);
+    let without = [&sent[..at], &sent[at + request.len()..]].concat();
+    assert!(
+        without == alone,
+        "other bytes than the run without a ground station"
+    );
+
+    let mut ids = Vec::new();
+    let mut datagram = [0u8; 65_536];
+    while let Ok(n) = station.recv(&mut datagram) {
+        assert!(n <= MAX_DATAGRAM, "{n} B");
+        let mut r = FrameReader::new();
+        r.push(&datagram[..n]);
+        while let Some((h, m)) = r.next_message() {
+            assert_eq!((h.system_id, h.component_id), (1, 1));
+            ids.push(firmware::link::mavlink::Message::message_id(&m));
+        }
+        // Whole frames only, nothing left over.
+        assert!(r.pending_bytes().is_empty() && r.counters().malformed == 0);
+        assert_eq!(r.counters().discarded, 0);
+    }
+    assert!(ids.contains(&0), "HEARTBEAT: {ids:?}");
+    assert!(ids.contains(&148), "AUTOPILOT_VERSION: {ids:?}");
+    assert!(ids.contains(&77), "COMMAND_ACK: {ids:?}");
+    assert!(
+        !ids.contains(&93) && !ids.contains(&85),
+        "lockstep answers: {ids:?}"
+    );
 }

@@ -15,6 +15,7 @@ use nalgebra::{Matrix4, Vector3, Vector4};
 use super::chunking::{Chunker, SendChunking};
 use super::frames::{self, Actuators, FrameReader, ReaderCounters, Target};
 use super::transport::Transport;
+use crate::harness::gcs_udp::GcsUdp;
 use crate::harness::qemu::Received;
 use crate::harness::sil::{FinalReport, FlightSoftware, TickReport};
 
@@ -46,6 +47,8 @@ pub struct FirmwareLink<T: Transport> {
     motor_slots: [usize; 4],
     /// Every frame taken in, raw, in order, when recording.
     received: Option<Vec<u8>>,
+    /// A ground station on UDP ([`FirmwareLink::with_gcs`]).
+    gcs: Option<GcsUdp>,
 }
 
 /// The reference mode of `HEARTBEAT.custom_mode` (the pipeline's `Mode as u32`).
@@ -107,6 +110,7 @@ impl<T: Transport> FirmwareLink<T> {
             chunker: SendChunking::Whole.chunker(),
             motor_slots: [0, 1, 2, 3],
             received: None,
+            gcs: None,
         }
     }
 
@@ -124,6 +128,32 @@ impl<T: Transport> FirmwareLink<T> {
     pub fn with_send_chunking(mut self, chunking: SendChunking) -> Self {
         self.chunker = chunking.chunker();
         self
+    }
+
+    /// Puts a ground station on UDP in front of the firmware's MAVLink link, as `host-sim sil
+    /// --gcs-udp` does in front of the pipeline:
+    /// - every 1 ms step, the datagrams that arrived and pass [`GcsUdp::poll`]'s check go to the
+    ///   firmware as whole frames after the step's scenario bytes and before its `HIL_SENSOR`
+    ///   (the firmware dates them by the `HIL_SENSOR` before, as the scenario's frames; the
+    ///   stream stays a run of whole frames, so nothing the simulator sends is cut);
+    /// - the firmware's frames, as the host reads them while it waits for each tick's answer,
+    ///   go to the ground station, but for the two lockstep answers
+    ///   ([`frames::goes_to_ground_station`]), raw (its sequence numbers and signatures kept), in
+    ///   datagrams of whole frames sent at the end of each tick;
+    /// - each tick waits for the wall clock to reach its simulated time ([`GcsUdp::pace`]): never
+    ///   faster than real time. The emulator is usually slower, and then sets the pace.
+    ///
+    /// The lockstep is unchanged: the host still sends nothing more before the tick's answer.
+    /// The simulator's own frames (poses, commands, `HIL_SENSOR`) are not mirrored to the ground
+    /// station.
+    pub fn with_gcs(mut self, gcs: GcsUdp) -> Self {
+        self.gcs = Some(gcs);
+        self
+    }
+
+    /// The ground station attached with [`Self::with_gcs`], for its counters.
+    pub fn gcs(&self) -> Option<&GcsUdp> {
+        self.gcs.as_ref()
     }
 
     /// Keeps every frame taken in from the firmware, raw, for [`Self::received`].
@@ -332,11 +362,19 @@ impl<T: Transport> FlightSoftware for FirmwareLink<T> {
             &mut buf,
         );
         self.sequence = self.sequence.wrapping_add(1);
+        if let Some(gcs) = self.gcs.as_mut() {
+            // Here `pending` ends at a frame boundary (the loop hands over whole frames each
+            // step), and so does each datagram that passes the check.
+            gcs.poll(&mut self.pending)?;
+        }
         self.pending.extend_from_slice(&buf[..n]);
         self.flush()
     }
 
     fn control_tick(&mut self, t_us: u64) -> Result<TickReport> {
+        if let Some(gcs) = self.gcs.as_mut() {
+            gcs.pace(t_us);
+        }
         self.flush()?;
         let deadline = Instant::now() + self.timeout;
         let (mut actuators, mut target) = (None, false);
@@ -345,8 +383,16 @@ impl<T: Transport> FlightSoftware for FirmwareLink<T> {
                 if let Some(r) = self.received.as_mut() {
                     r.extend_from_slice(self.reader.last_frame());
                 }
+                if let Some(gcs) = self.gcs.as_mut() {
+                    if frames::goes_to_ground_station(&message) {
+                        gcs.queue_frame(self.reader.last_frame());
+                    }
+                }
                 self.take_in(t_us, message, &mut actuators, &mut target)?;
                 if let (Some(a), true) = (actuators, target) {
+                    if let Some(gcs) = self.gcs.as_mut() {
+                        gcs.flush();
+                    }
                     return Ok(self.report(a));
                 }
             }

@@ -37,6 +37,18 @@ pub fn hil_sensor(sample: &ImuSample) -> MavMessage {
     })
 }
 
+/// Whether a frame of the firmware goes on to a ground station attached with `--gcs-udp`: all
+/// but `HIL_ACTUATOR_CONTROLS` (#93) and `POSITION_TARGET_LOCAL_NED` (#85), the lockstep answers
+/// the simulator consumes. The `hil` build alone sends those two, every tick (100 to 1000 per
+/// second); the flight build does not, nor does SIL's pipeline, so a ground station sees the
+/// same messages in SIL, in PIL and on the vehicle.
+pub fn goes_to_ground_station(m: &MavMessage) -> bool {
+    !matches!(
+        m,
+        MavMessage::HIL_ACTUATOR_CONTROLS(_) | MavMessage::POSITION_TARGET_LOCAL_NED(_)
+    )
+}
+
 /// The motor commands of one firmware tick, from `HIL_ACTUATOR_CONTROLS` (#93).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Actuators {

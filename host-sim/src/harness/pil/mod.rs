@@ -42,6 +42,12 @@
 //!   come from its last 1 Hz defmt counter lines ([`defmt_log::counters`]): up to 1 s old at
 //!   the end of the run.
 //!
+//! With a ground station on UDP ([`PilOptions::gcs_udp`], `host-sim pil --gcs-udp ADDR`), its
+//! checked frames join the stream at whole-frame boundaries before each step's `HIL_SENSOR`,
+//! and the firmware's frames but the two lockstep answers go to it
+//! ([`FirmwareLink::with_gcs`]); the run is then also held to at most real time. Without one,
+//! the bytes sent and the run are exactly as described above.
+//!
 //! [`run`] spawns QEMU ([`crate::harness::qemu`]), flies a scenario through
 //! [`crate::harness::sil::fly`], kills QEMU and decodes its defmt log ([`defmt_log`]);
 //! [`run_command`] is the `pil` subcommand.
@@ -59,6 +65,7 @@ use anyhow::{bail, Context, Result};
 use firmware::pipeline::FlightPipeline;
 use serde::Serialize;
 
+use crate::harness::gcs_udp::{GcsSummary, GcsUdp};
 use crate::harness::qemu::Qemu;
 use crate::harness::sil::{self, SilRecord, SilSetup, SilSummary};
 pub use chunking::SendChunking;
@@ -107,6 +114,9 @@ pub struct PilOptions {
     /// Write `telemetry.bin` to `out`: every MAVLink frame taken in from the firmware, raw, in
     /// order, up to the last tick's answer ([`FirmwareLink::received`]).
     pub record_telemetry: bool,
+    /// A ground station on UDP at this address (`None`: none, the run as without this
+    /// option): [`FirmwareLink::with_gcs`], paced to at most real time.
+    pub gcs_udp: Option<std::net::SocketAddr>,
 }
 
 /// The file [`run`] writes the received telemetry to, in [`PilOptions::out`], when
@@ -160,6 +170,10 @@ pub struct PilSummary {
     pub box_line: Option<String>,
     /// The boot banner's vehicle line (`flight: vehicle <name> (<source>)`), if present.
     pub vehicle_line: Option<String>,
+    /// The ground-station link's counters (`None`, and absent from summary.json: no
+    /// [`PilOptions::gcs_udp`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gcs: Option<GcsSummary>,
 }
 
 /// Flies `setup` on the firmware in QEMU (`options`), calling `observe` for every tick, then
@@ -191,6 +205,19 @@ pub fn run(
         .map_err(|e| anyhow::anyhow!("flight pipeline refused the set-up: {e:?}"))?;
     let boot = pipeline.boot_report();
     let b = pipeline.mixer().effectiveness().cast::<f64>();
+    // Before QEMU starts, so that a bad address stops the run with nothing to clean up.
+    let gcs = match options.gcs_udp {
+        Some(peer) => {
+            let gcs = GcsUdp::open(peer, true)?;
+            println!(
+                "ground station: telemetry to {peer} from {}; frames to that port go to the \
+                 firmware; at most real time",
+                gcs.local_addr()?
+            );
+            Some(gcs)
+        }
+        None => None,
+    };
     std::fs::create_dir_all(&options.out)?;
     let bin = options.out.join("defmt.bin");
     let log_path = options.out.join("defmt.log");
@@ -208,8 +235,12 @@ pub fn run(
     if options.record_telemetry {
         firmware = firmware.recording();
     }
+    if let Some(gcs) = gcs {
+        firmware = firmware.with_gcs(gcs);
+    }
     let flight = sil::fly(setup, &boot, &b, &mut firmware, observe);
     let wall_time_s = start.elapsed().as_secs_f64();
+    let gcs = firmware.gcs().map(GcsUdp::summary);
     if let Some(received) = firmware.received() {
         let path = options.out.join(TELEMETRY_FILE);
         std::fs::write(&path, received).with_context(|| format!("writing {}", path.display()))?;
@@ -265,6 +296,7 @@ pub fn run(
             .iter()
             .find(|l| l.contains("flight: vehicle"))
             .cloned(),
+        gcs,
     })
 }
 
@@ -323,6 +355,9 @@ pub fn human_summary(s: &PilSummary) -> String {
         s.firmware_longest_step_us
             .map_or_else(|| "unknown".to_string(), |n| format!("{n} us"))
     );
+    if let Some(gcs) = &s.gcs {
+        let _ = writeln!(o, "  {gcs}");
+    }
     if s.firmware_counters.is_none() {
         let _ = writeln!(
             o,
@@ -359,6 +394,8 @@ pub struct PilCommandOptions {
     pub motor_order: firmware::motor_order::MotorOrder,
     /// Also write [`TELEMETRY_FILE`] (the firmware's frames, raw) to the output directory.
     pub record_telemetry: bool,
+    /// A ground station on UDP at this address ([`PilOptions::gcs_udp`]; `None`: none).
+    pub gcs_udp: Option<std::net::SocketAddr>,
 }
 
 /// The `pil` subcommand: the paper scenario (SIL's `scenarios::paper`) on the firmware in
@@ -394,6 +431,7 @@ pub fn run_command(args: &PilCommandOptions) -> Result<()> {
         send_chunking: args.send_chunking,
         motor_order: args.motor_order,
         record_telemetry: args.record_telemetry,
+        gcs_udp: args.gcs_udp,
     };
     let (summary, [csv, json]) =
         sil::record_run(&options.out, |observe| run(&setup, &options, observe))?;

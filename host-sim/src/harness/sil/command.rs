@@ -60,7 +60,9 @@ pub fn run_command(args: &SilOptions) -> Result<()> {
                 gcs.local_addr()?
             );
             let mut software = gcs_udp::WithGcs::new(inner, gcs);
-            fly(&setup, &boot, &b, &mut software, observe)
+            let flight = fly(&setup, &boot, &b, &mut software, observe);
+            println!("{}", software.gcs().summary());
+            flight
         })?,
     };
     print!("{}", human_summary(&summary));

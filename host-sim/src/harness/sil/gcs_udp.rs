@@ -1,94 +1,20 @@
 //! A ground station on UDP for software in the loop: QGroundControl, MAVProxy or a MAVROS
 //! bridge talks to the in-process firmware pipeline as to a vehicle on a network link.
 //!
-//! The vehicle's telemetry goes to the ground station's address (default 127.0.0.1:14550, where
-//! QGroundControl listens and `mavproxy.py --master udpin:0.0.0.0:14550` too) from an ephemeral
-//! port; whatever arrives on that port goes into the pipeline's link before the next control
-//! tick, and the last sender becomes the peer. The simulation is paced to the wall clock, so a
-//! person at the ground station sees the vehicle in real time. The scenario's own commands and
-//! poses still flow (motion capture is simulated).
+//! The socket, the checks on what arrives and the pacing are shared with processor in the loop
+//! ([`crate::harness::gcs_udp`]). Here, at each control tick, the run is paced to the wall clock
+//! (so a person at the ground station sees the vehicle in real time), the datagrams that
+//! arrived since the last tick go into the pipeline's link (whole frames, after the tick's
+//! scenario bytes), and the tick's telemetry goes to the ground station as one datagram. The
+//! scenario's own commands and poses still flow (motion capture is simulated) and are not
+//! mirrored to the ground station; the vehicle's answers to them are part of its telemetry.
 
-use std::net::{SocketAddr, UdpSocket};
-use std::time::{Duration, Instant};
+use anyhow::Result;
 
-use anyhow::{Context, Result};
+pub use crate::harness::gcs_udp::GcsUdp;
 
 use super::{FinalReport, FlightSoftware, InProcess, TickReport};
 use firmware::pipeline::ImuSample;
-
-/// The UDP end of the link, and the pacing.
-pub struct GcsUdp {
-    socket: UdpSocket,
-    peer: SocketAddr,
-    started: Option<Instant>,
-    realtime: bool,
-    /// Datagrams received from, and sent to, the ground station.
-    pub datagrams: [u64; 2],
-}
-
-impl GcsUdp {
-    /// A socket on an ephemeral local port sending to `peer`; `realtime`: pace the run to the
-    /// wall clock. Errors: the socket cannot be opened.
-    pub fn open(peer: SocketAddr, realtime: bool) -> Result<Self> {
-        let local: SocketAddr = if peer.is_ipv4() {
-            ([0, 0, 0, 0], 0).into()
-        } else {
-            (std::net::Ipv6Addr::UNSPECIFIED, 0).into()
-        };
-        let socket = UdpSocket::bind(local).context("cannot open the ground-station UDP socket")?;
-        socket.set_nonblocking(true)?;
-        Ok(Self {
-            socket,
-            peer,
-            started: None,
-            realtime,
-            datagrams: [0, 0],
-        })
-    }
-
-    /// The local address the ground station answers to.
-    pub fn local_addr(&self) -> Result<SocketAddr> {
-        Ok(self.socket.local_addr()?)
-    }
-
-    /// Appends every datagram waiting to `into`; the last sender becomes the peer. Errors:
-    /// socket failures other than "nothing waiting" (and ICMP port-unreachable answers to our
-    /// sends, which mean only that no ground station listens yet, are ignored).
-    fn poll(&mut self, into: &mut Vec<u8>) -> Result<()> {
-        let mut buf = [0u8; 2048];
-        loop {
-            match self.socket.recv_from(&mut buf) {
-                Ok((n, from)) => {
-                    into.extend_from_slice(&buf[..n]);
-                    self.peer = from;
-                    self.datagrams[0] += 1;
-                }
-                Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => return Ok(()),
-                Err(e) if e.kind() == std::io::ErrorKind::ConnectionRefused => {}
-                Err(e) => return Err(e).context("ground-station UDP receive failed"),
-            }
-        }
-    }
-
-    fn send(&mut self, bytes: &[u8]) {
-        // A ground station that is not there yet is not an error: the datagram is lost.
-        if !bytes.is_empty() && self.socket.send_to(bytes, self.peer).is_ok() {
-            self.datagrams[1] += 1;
-        }
-    }
-
-    fn pace(&mut self, t_us: u64) {
-        if !self.realtime {
-            return;
-        }
-        let start = *self.started.get_or_insert_with(Instant::now);
-        let due = start + Duration::from_micros(t_us);
-        let now = Instant::now();
-        if due > now {
-            std::thread::sleep(due - now);
-        }
-    }
-}
 
 /// The in-process pipeline with a UDP ground station attached ([`GcsUdp`]).
 pub struct WithGcs {
@@ -151,6 +77,8 @@ mod tests {
     /// and the COMMAND_ACK to its request, addressed to it.
     #[test]
     fn a_ground_station_on_udp_talks_to_the_pipeline() {
+        use std::net::UdpSocket;
+        use std::time::Duration;
         let station = UdpSocket::bind("127.0.0.1:0").unwrap();
         station
             .set_read_timeout(Some(Duration::from_millis(200)))
@@ -177,7 +105,9 @@ mod tests {
         let b = inner.pipeline().mixer().effectiveness().cast::<f64>();
         let mut software = WithGcs::new(inner, gcs);
         super::super::fly(&setup, &boot, &b, &mut software, |_| {}).unwrap();
-        assert!(software.gcs().datagrams[0] == 1 && software.gcs().datagrams[1] > 10);
+        let c = software.gcs().counters();
+        assert!(c.datagrams_in == 1 && c.frames_in == 1 && c.malformed == 0);
+        assert!(c.datagrams_out > 10);
         let mut names = Vec::new();
         let mut d = Decoder::new(255);
         let mut buf = [0u8; 4096];

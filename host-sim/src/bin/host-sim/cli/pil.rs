@@ -48,6 +48,12 @@ pub struct PilArgs {
     /// the last tick's answer (compare two runs with `cmp`).
     #[arg(long)]
     pub record_telemetry: bool,
+    /// Attach a ground station on UDP (QGroundControl's default: 127.0.0.1:14550), as `sil
+    /// --gcs-udp`: the firmware's telemetry goes there from an ephemeral port (printed), the
+    /// frames sent to that port go to the firmware between the simulator's frames, and the
+    /// run goes at most at real time (QEMU is usually slower). The lockstep is kept.
+    #[arg(long, value_name = "ADDR")]
+    pub gcs_udp: Option<std::net::SocketAddr>,
 }
 
 /// Runs the PIL flight ([`pil::run_command`]).
@@ -63,6 +69,7 @@ pub fn run(args: &PilArgs) -> Result<()> {
         send_chunking: args.send_chunking,
         motor_order: args.motor_order,
         record_telemetry: args.record_telemetry,
+        gcs_udp: args.gcs_udp,
     })
 }
 
