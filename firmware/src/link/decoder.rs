@@ -9,8 +9,8 @@ use mavlink::{Message, MessageData};
 use super::interpret::{self, Address, Interpretation};
 use super::signing::{Check, Signing, SigningConfig, SIGNED_FLAG};
 use super::{
-    Inbound, LinkCounters, LinkTrust, Sender, SetupAuthority, AUTOPILOT_COMPONENT, HEADER,
-    MAX_FRAME, SIGNATURE, STX,
+    Inbound, LinkCounters, LinkTrust, Sender, AUTOPILOT_COMPONENT, HEADER, MAX_FRAME, SIGNATURE,
+    STX,
 };
 
 /// Result of looking at the head of the buffer.
@@ -31,8 +31,7 @@ pub struct Decoder {
     /// look now). Saves re-parsing the header on every byte of a frame.
     need: usize,
     address: Address,
-    /// Whether the link's medium is the owner's alone: decides who may send `SETUP_SIGNING`.
-    trust: LinkTrust,
+    /// The key, the replay memory and the link's trust (who may send `SETUP_SIGNING`).
     signing: Signing,
     counters: LinkCounters,
 }
@@ -57,7 +56,6 @@ impl Decoder {
                 system: system_id,
                 component: component_id,
             },
-            trust: LinkTrust::Untrusted,
             signing: Signing::new(signing),
             counters: LinkCounters::default(),
         }
@@ -66,13 +64,13 @@ impl Decoder {
     /// This decoder on a link of trust `trust`, as the board built it: [`LinkTrust::Trusted`]
     /// only for a wired console that no stranger can transmit on.
     pub fn with_trust(mut self, trust: LinkTrust) -> Self {
-        self.trust = trust;
+        self.signing.set_trust(trust);
         self
     }
 
     /// The trust of the link this decoder reads.
     pub fn trust(&self) -> LinkTrust {
-        self.trust
+        self.signing.trust()
     }
 
     /// Whether a signing key is installed.
@@ -86,8 +84,8 @@ impl Decoder {
     /// after it. Returns false, changing nothing, for the all-zero key (MAVLink's "no key").
     ///
     /// Whether a `SETUP_SIGNING` may do this is the caller's decision, from the
-    /// [`SetupAuthority`] the decoder gave it: the pipeline takes only a trusted link's or one
-    /// signed with the key in force.
+    /// [`super::SetupAuthority`] the decoder gave it: the pipeline takes only a trusted link's
+    /// or one signed with the key in force.
     pub fn install_signing_key(&mut self, config: SigningConfig, initial_timestamp: u64) -> bool {
         self.signing.install(config, initial_timestamp)
     }
@@ -163,7 +161,6 @@ impl Decoder {
                     &mut self.counters,
                     &mut self.signing,
                     self.address,
-                    self.trust,
                     rest,
                     out,
                 ) {
@@ -232,12 +229,11 @@ impl Decoder {
                 buf,
                 len,
                 address,
-                trust,
                 signing,
                 counters,
                 ..
             } = self;
-            match examine(counters, signing, *address, *trust, &buf[..*len], out) {
+            match examine(counters, signing, *address, &buf[..*len], out) {
                 Step::NeedMore(n) => {
                     self.need = n;
                     return false;
@@ -260,13 +256,12 @@ impl Decoder {
 /// The verdict on `buf`, the bytes from the head of the stream on (the decoder's buffer, or
 /// the input itself when nothing is held back): what to drop, and whether they were a message
 /// (then put in `out`, which must be `None`), or how many bytes the head frame needs. Counts
-/// what it drops. `trust` is the link's: it matters for `SETUP_SIGNING` only.
+/// what it drops.
 #[inline(always)]
 fn examine(
     counters: &mut LinkCounters,
     signing: &mut Signing,
     address: Address,
-    trust: LinkTrust,
     buf: &[u8],
     out: &mut Option<Inbound>,
 ) -> Step {
@@ -333,7 +328,7 @@ fn examine(
         // SETUP_SIGNING is still heard (the pipeline then takes it only while disarmed). On
         // this cold path only, so the frames that pass cost no more.
         Check::UnsignedRefused
-            if msgid == SETUP_SIGNING_DATA::ID && trust == LinkTrust::Trusted =>
+            if msgid == SETUP_SIGNING_DATA::ID && signing.trust() == LinkTrust::Trusted =>
         {
             None
         }
@@ -347,18 +342,20 @@ fn examine(
         return Step::Consume(total, false);
     }
     let payload = &buf[1 + HEADER..crc_at];
-    let interpretation = interpret::interpret(address, sender, msgid, payload, out);
-    // Who may change the key is decided here, where the link and the signature are known: a
-    // signed frame that got this far passed the check with the key in force (without a key it
-    // was dropped above). The pipeline refuses an unauthenticated one aloud.
-    if let Some(Inbound::SetupSigning { authority, .. }) = out {
-        *authority = match (trust, signed) {
-            (LinkTrust::Trusted, _) => SetupAuthority::TrustedLink,
-            (LinkTrust::Untrusted, true) => SetupAuthority::SignedWithCurrentKey,
-            (LinkTrust::Untrusted, false) => SetupAuthority::Unauthenticated,
-        };
+    if msgid == SETUP_SIGNING_DATA::ID {
+        // Who may change the key, out of line: the one test every frame pays for it.
+        let accepted = setup_signing(counters, signing, address, sender, payload, signed, out);
+        return Step::Consume(total, accepted);
     }
-    let accepted = match interpretation {
+    let interpretation = interpret::interpret(address, sender, msgid, payload, out);
+    Step::Consume(total, count(counters, interpretation))
+}
+
+/// Counts a frame that passed the CRC and signature checks by what its interpretation made of
+/// it; true when it was accepted as a message.
+#[inline(always)]
+fn count(counters: &mut LinkCounters, interpretation: Interpretation) -> bool {
+    match interpretation {
         Interpretation::Accepted => {
             counters.frames_ok = counters.frames_ok.saturating_add(1);
             true
@@ -371,6 +368,28 @@ fn examine(
             counters.frames_malformed = counters.frames_malformed.saturating_add(1);
             false
         }
-    };
-    Step::Consume(total, accepted)
+    }
+}
+
+/// [`examine`]'s end for a `SETUP_SIGNING` frame (`payload`, `signed`: it carried a signature)
+/// that passed the signature check: interprets it, marks who may have sent it (the link's
+/// trust, or a signature with the key in force: without a key, signed frames were dropped
+/// before) for the pipeline, which refuses an unauthenticated one aloud, and counts it. True
+/// when it was accepted as a message (put in `out`).
+#[inline(never)]
+fn setup_signing(
+    counters: &mut LinkCounters,
+    signing: &Signing,
+    address: Address,
+    sender: Sender,
+    payload: &[u8],
+    signed: bool,
+    out: &mut Option<Inbound>,
+) -> bool {
+    let interpretation =
+        interpret::interpret(address, sender, SETUP_SIGNING_DATA::ID, payload, out);
+    if let Some(Inbound::SetupSigning { authority, .. }) = out {
+        *authority = signing.setup_authority(signed);
+    }
+    count(counters, interpretation)
 }

@@ -29,6 +29,8 @@
 
 use sha2::{Digest, Sha256};
 
+use super::{LinkTrust, SetupAuthority};
+
 /// Signature block length: link id (1), timestamp (6), signature (6).
 pub const SIGNATURE: usize = 13;
 /// Streams whose last timestamps are remembered; beyond that the oldest is forgotten (it then
@@ -79,6 +81,10 @@ struct Stream {
 #[derive(Clone, Debug, Default)]
 pub(super) struct Signing {
     config: Option<SigningConfig>,
+    /// Whether the link's medium is the owner's alone: who may set the key. Kept here, with
+    /// the state the decoder already carries into every frame, so that the frames that are
+    /// not `SETUP_SIGNING` do not carry it too.
+    trust: LinkTrust,
     /// The vehicle's signing clock \[10 µs since 2015-01-01\].
     timestamp: u64,
     streams: heapless::Vec<Stream, STREAMS>,
@@ -114,6 +120,27 @@ impl Signing {
     /// Whether a key is installed.
     pub(super) fn active(&self) -> bool {
         self.config.is_some()
+    }
+
+    /// The link's trust.
+    pub(super) fn trust(&self) -> LinkTrust {
+        self.trust
+    }
+
+    /// Sets the link's trust (where the board builds the link).
+    pub(super) fn set_trust(&mut self, trust: LinkTrust) {
+        self.trust = trust;
+    }
+
+    /// What entitles a `SETUP_SIGNING` whose frame passed [`Signing::check`] (`signed`: it
+    /// carried a signature) to change the key: a signed one passed with the key in force
+    /// (without a key, signed frames are dropped).
+    pub(super) fn setup_authority(&self, signed: bool) -> SetupAuthority {
+        match (self.trust, signed) {
+            (LinkTrust::Trusted, _) => SetupAuthority::TrustedLink,
+            (LinkTrust::Untrusted, true) => SetupAuthority::SignedWithCurrentKey,
+            (LinkTrust::Untrusted, false) => SetupAuthority::Unauthenticated,
+        }
     }
 
     /// Installs `config`, replacing any key installed, with the signing clock at least
