@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 """A scripted MAVProxy session against the firmware in the loop (host-sim sil --gcs-udp).
 
-Starts `host-sim sil` with the ground scenario (ground.toml) sending to a free local UDP port,
-starts MAVProxy (pinned, requirements.txt) listening there, and types what a person would:
-fetch the parameters, upload mission.txt (a takeoff to 2 m, a waypoint 1.6 m away held 1 s, a
-land; MAV_FRAME_LOCAL_NED) with the wp module, download it back, arm. Each step waits for
-MAVProxy's own report of it; a step that does not come within its time fails the session.
+Starts `host-sim sil --scenario ground` (the vehicle on the ground, waiting) sending to a free
+local UDP port, starts MAVProxy (pinned, requirements.txt) listening there, and types what a
+person would: fetch the parameters, upload mission.txt (a takeoff to 2 m, a waypoint 1.6 m away
+held 1 s, a land; MAV_FRAME_LOCAL_NED) with the wp module, download it back, arm, start the
+mission and see it move on from the takeoff to the next item. Each step waits for MAVProxy's own
+report of it; a step that does not come within its time fails the session.
 
 MAVProxy sends every item with a location as MISSION_ITEM_INT with x, y scaled by 10^7, the
 global frames' scaling, whatever the frame; `set wp_use_mission_int 0` makes it send the float
@@ -40,7 +41,7 @@ def main():
     port = free_udp_port()
     work = tempfile.mkdtemp(prefix="mavproxy-session-")
     sim = subprocess.Popen(
-        [host_sim, "sil", "--scenario", os.path.join(HERE, "ground.toml"),
+        [host_sim, "sil", "--scenario", "ground",
          "--gcs-udp", f"127.0.0.1:{port}", "--out", os.path.join(work, "sil")],
         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     mavproxy = subprocess.Popen(
@@ -105,6 +106,13 @@ def main():
         type_("arm throttle")
         step(expect(r"COMMAND_ACK: COMPONENT_ARM_DISARM: ACCEPTED", 15) is not None,
              "armed (COMMAND_ACK ACCEPTED)")
+        type_("long MISSION_START")
+        step(expect(r"COMMAND_ACK: MISSION_START: ACCEPTED", 15) is not None,
+             "mission started (COMMAND_ACK ACCEPTED)")
+        # MAVProxy announces MISSION_CURRENT changes: item 1 once the takeoff (2 m at the
+        # default 0.1 m/s^2, about 14 s of real time) is reached.
+        step(expect(r"waypoint 1", 60) is not None,
+             "flying it: the takeoff reached, MISSION_CURRENT on item 1")
         type_("exit")
     finally:
         try:

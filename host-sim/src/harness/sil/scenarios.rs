@@ -11,10 +11,17 @@ use super::scenario_file;
 use super::setup::SilSetup;
 
 /// The scenario names the CLI accepts.
-pub const NAMES: [&str; 5] = ["paper", "pose-loss", "takeoff-land", "helix", "mission"];
+pub const NAMES: [&str; 6] = [
+    "paper",
+    "pose-loss",
+    "takeoff-land",
+    "helix",
+    "mission",
+    "ground",
+];
 
 /// The embedded scenario files, by name (same order as [`NAMES`]).
-const FILES: [&str; 5] = [
+const FILES: [&str; 6] = [
     include_str!(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenarios/sil/paper.toml"
@@ -34,6 +41,10 @@ const FILES: [&str; 5] = [
     include_str!(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenarios/sil/mission.toml"
+    )),
+    include_str!(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/sil/ground.toml"
     )),
 ];
 
