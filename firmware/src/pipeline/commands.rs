@@ -379,6 +379,8 @@ impl FlightPipeline {
                 })?;
                 self.controller = Some(controller);
                 let (_, _, yaw) = est.attitude.euler_angles();
+                // A mission interrupted by a failsafe or a disarm is not resumed.
+                self.mission_run = None;
                 self.reference = FlightReference::new(
                     self.cfg.reference.smoothing_rate,
                     est.position,

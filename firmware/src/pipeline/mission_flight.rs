@@ -13,6 +13,7 @@ use nalgebra::Vector3;
 use super::commands::Refusal;
 use super::{FlightPipeline, Mode};
 use crate::estimator::micros_f32;
+use crate::flight_reference::ReferenceMode;
 use crate::link::Command;
 use crate::mission::{plan, MissionReply, Plan};
 
@@ -163,9 +164,14 @@ impl FlightPipeline {
     }
 
     /// Leaves the mission (another reference takes over): the setpoint filter restarts at rest
-    /// at the mission's reference now.
+    /// at the mission's reference now. Nothing when the mission is not what is flown (a run
+    /// left behind by a failsafe or a disarm is only dropped: the reference built at arming
+    /// stands).
     pub(super) fn leave_mission(&mut self) {
-        if let Some(run) = self.mission_run.take() {
+        let Some(run) = self.mission_run.take() else {
+            return;
+        };
+        if self.reference.mode() == ReferenceMode::Waypoints {
             let s = run.plan.path.sample(run.time);
             self.reference.hold_at(s.position, s.yaw());
         }

@@ -369,3 +369,46 @@ fn started_mission_reports_each_item_reached_then_hovers() {
     assert_eq!(logged, [0, 1]);
     assert_eq!(p.status().mode, Mode::Hover);
 }
+
+/// Given a mission flown and interrupted by a kill, when the vehicle is armed again and takes
+/// off, then the takeoff starts from where the vehicle is (the reference built at arming), not
+/// from the interrupted mission's point, and the mode is the takeoff's.
+#[test]
+#[cfg(not(feature = "uncertified-paper"))]
+fn interrupted_mission_is_not_resumed_after_rearming() {
+    let (mut p, now) = armed_pipeline();
+    let items = [
+        gs::mission_item_local(
+            0,
+            MavCmd::MAV_CMD_NAV_TAKEOFF,
+            [0.0, 0.0, -3.0],
+            0.0,
+            0.0,
+            f32::NAN,
+        ),
+        waypoint(1, [2.0, 0.0, -3.0], f32::NAN),
+    ];
+    assert_eq!(
+        upload(&mut p, &items, now).0,
+        MavMissionResult::MAV_MISSION_ACCEPTED
+    );
+    exchange(&mut p, &gs::mission_start(), now + 10);
+    assert_eq!(p.status().mode, Mode::Mission);
+    // Fly part of the takeoff leg (the poses hold the vehicle 1 m up), then kill.
+    let t = fly_ticks(&mut p, now + 10, 800, true);
+    exchange(&mut p, &gs::kill(), t);
+    assert_eq!(p.status().state, crate::safety::FlightState::Disarmed);
+    let t = fly_ticks(&mut p, t, 10, true);
+    exchange(&mut p, &gs::arm(false), t);
+    assert_eq!(p.status().state, crate::safety::FlightState::Armed);
+    exchange(&mut p, &gs::takeoff(0.5), t + 10);
+    assert_eq!(p.status().mode, Mode::Takeoff);
+    fly_ticks(&mut p, t + 10, 1, true);
+    // The reference starts at the vehicle (1 m up, NWU z = 1), not at the mission's point.
+    let r = p.status().reference_position;
+    assert!(
+        (r[2] - 1.0).abs() < 0.05,
+        "reference z {} (mission's was above 1 m)",
+        r[2]
+    );
+}
