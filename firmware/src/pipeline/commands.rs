@@ -430,23 +430,27 @@ impl FlightPipeline {
             Command::ResetParams => self.reset_params().map_err(Self::simple),
             // An uploaded mission is flown when one is stored; otherwise the built-in one.
             Command::StartHelix if !self.mission_items.is_empty() => self.start_mission(now_us),
-            Command::StartHelix => {
-                if state != FlightState::Armed {
-                    return Err(Self::simple("not armed"));
-                }
-                let k = self.reference.helix_constants();
-                self.accept(&k, self.filter_start())?;
-                self.leave_mission();
-                self.reference.start_helix(now_us);
-                self.set_mode(Mode::Helix);
-                Ok(())
-            }
+            Command::StartHelix => self.start_helix(now_us),
         }
     }
 
+    /// The built-in mission (the flight file's trajectory, e.g. the helix) from now on, if armed
+    /// and the gate accepts its constants.
+    fn start_helix(&mut self, now_us: u64) -> Result<(), Refusal> {
+        if self.supervisor.state() != FlightState::Armed {
+            return Err(Self::simple("not armed"));
+        }
+        let k = self.reference.helix_constants();
+        self.accept(&k, self.filter_start())?;
+        self.leave_mission();
+        self.reference.start_helix(now_us);
+        self.set_mode(Mode::Helix);
+        Ok(())
+    }
+
     /// `MAV_CMD_DO_SET_MODE`: custom mode 1 hovers where the vehicle is, 2 takes off, 3 lands,
-    /// 4 flies the mission start command's mission (the uploaded one if any, else the helix),
-    /// 5 the uploaded mission, through the same checks as their own commands.
+    /// 4 flies the built-in helix, 5 the uploaded mission, through the same checks as their own
+    /// commands.
     fn set_mode_command(&mut self, custom_mode: u8, now_us: u64) -> Result<(), Refusal> {
         match custom_mode {
             1 => {
@@ -459,7 +463,7 @@ impl FlightPipeline {
             }
             2 => self.command(Command::Takeoff { height: None }, now_us),
             3 => self.command(Command::Land, now_us),
-            4 => self.command(Command::StartHelix, now_us),
+            4 => self.start_helix(now_us),
             5 => self.start_mission(now_us),
             _ => Err(Self::simple("unknown mode")),
         }
