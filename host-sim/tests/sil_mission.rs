@@ -9,7 +9,7 @@ use controller_core::{certify, FilterStart, Trajectory};
 use firmware::frames;
 use firmware::ground_station;
 use firmware::link::mavlink::dialects::common::{MavCmd, MavMessage};
-use firmware::mission::{plan, MissionItem};
+use firmware::mission::{plan, GlobalFrame, MissionItem};
 use firmware::pipeline::{gate_check, FlightPipeline};
 use host_sim::harness::sil::{run, scenarios};
 use nalgebra::Vector3;
@@ -66,7 +66,7 @@ fn uploaded_mission_is_flown_item_by_item_inside_its_certified_bounds() {
         // ground).
         let cfg = &setup.flight;
         let start = start.expect("the mission was flown");
-        let p = plan(&items, start, 0.0, &cfg.reference).expect("plans");
+        let p = plan(&items, start, 0.0, &cfg.reference, &GlobalFrame::NONE).expect("plans");
         let cert = certify(
             &cfg.vehicle,
             &cfg.limits,
@@ -160,10 +160,16 @@ fn too_fast_path_refused_by_theorem2_then_flown_slowed_inside_its_bounds() {
         )
         .is_ok_and(|c| gate_check(&c, &cfg.thrust, pipeline.mixer(), cfg.box_margin).is_ok())
     };
-    let k = plan(&items, Vector3::zeros(), 0.0, &cfg.reference)
-        .expect("plans")
-        .path
-        .constants();
+    let k = plan(
+        &items,
+        Vector3::zeros(),
+        0.0,
+        &cfg.reference,
+        &GlobalFrame::NONE,
+    )
+    .expect("plans")
+    .path
+    .constants();
     let factor = slowdown_to_certify(&k, 100.0, gate).expect("a slower timing certifies");
     let c = factor;
     setup.flight.reference.mission_speed = 1.0 / c;
@@ -196,7 +202,14 @@ fn too_fast_path_refused_by_theorem2_then_flown_slowed_inside_its_bounds() {
     );
     assert_eq!(s.final_state, "disarmed");
     let cfg = &setup.flight;
-    let p = plan(&items, start.expect("flown"), 0.0, &cfg.reference).expect("plans");
+    let p = plan(
+        &items,
+        start.expect("flown"),
+        0.0,
+        &cfg.reference,
+        &GlobalFrame::NONE,
+    )
+    .expect("plans");
     let cert = certify(
         &cfg.vehicle,
         &cfg.limits,

@@ -1,4 +1,5 @@
-//! The mission microservice's messages (`MISSION_*`) to [`Inbound::Mission`]: addressing, the
+//! The mission microservice's messages (`MISSION_*`, and `SET_GPS_GLOBAL_ORIGIN` for global
+//! items) to [`Inbound::Mission`]: addressing, the
 //! MAVLink 2 extension field `mission_type` (read from the payload: the `mavlink` crate's
 //! structs do not carry it), and `MISSION_ITEM`'s float position scaled to the integer
 //! message's units ([`MissionItem::from_float`]).
@@ -10,7 +11,7 @@
 use mavlink::dialects::common::{
     MISSION_ACK_DATA, MISSION_CLEAR_ALL_DATA, MISSION_COUNT_DATA, MISSION_ITEM_DATA,
     MISSION_ITEM_INT_DATA, MISSION_REQUEST_DATA, MISSION_REQUEST_INT_DATA,
-    MISSION_REQUEST_LIST_DATA, MISSION_SET_CURRENT_DATA,
+    MISSION_REQUEST_LIST_DATA, MISSION_SET_CURRENT_DATA, SET_GPS_GLOBAL_ORIGIN_DATA,
 };
 use mavlink::{MavlinkVersion, MessageData};
 
@@ -28,6 +29,7 @@ pub(super) fn changes_mission(msgid: u32) -> bool {
             | MISSION_ITEM_INT_DATA::ID
             | MISSION_CLEAR_ALL_DATA::ID
             | MISSION_SET_CURRENT_DATA::ID
+            | SET_GPS_GLOBAL_ORIGIN_DATA::ID
     )
 }
 
@@ -97,6 +99,16 @@ pub(super) fn interpret(
         }
         MISSION_SET_CURRENT_DATA::ID => MissionMessage::SetCurrent {
             seq: decode!(MISSION_SET_CURRENT_DATA).seq,
+        },
+        SET_GPS_GLOBAL_ORIGIN_DATA::ID => match SET_GPS_GLOBAL_ORIGIN_DATA::deser(v, payload) {
+            // No target component in this message: the system's is enough.
+            Ok(m) if us.accepts(m.target_system, 0) => MissionMessage::SetOrigin {
+                latitude_e7: m.latitude,
+                longitude_e7: m.longitude,
+                altitude_mm: m.altitude,
+            },
+            Ok(_) => return Some(Interpretation::Ignored),
+            Err(_) => return Some(Interpretation::Malformed),
         },
         MISSION_ACK_DATA::ID => {
             decode!(MISSION_ACK_DATA);

@@ -9,13 +9,15 @@
 //! `MAV_MISSION_NO_SPACE`.
 
 pub mod item;
+pub mod origin;
 pub mod plan;
 #[cfg(test)]
 mod tests;
 pub mod transfer;
 
 pub use item::MissionItem;
-pub use plan::{plan, Plan, PlanError};
+pub use origin::GlobalOrigin;
+pub use plan::{plan, GlobalFrame, Plan, PlanError};
 pub use transfer::{MissionMessage, MissionReply, Transfer, UploadStep};
 
 /// Largest number of items a mission may have.

@@ -11,8 +11,10 @@
 //! - `MAV_CMD_NAV_LAND`: fly at the current height to above (x, y), then land there (the land
 //!   mode's descent and landed detection); it must be the last item.
 //!
-//! Refused: global frames (`MAV_MISSION_UNSUPPORTED_FRAME`: the vehicle knows no global origin;
-//! plan in the local frame), other frames (`MAV_MISSION_UNSUPPORTED_FRAME`), other commands
+//! Global frames (`MAV_FRAME_GLOBAL`, `_RELATIVE_ALT` and their `_INT` forms) are flown once the
+//! local frame's global origin is set (`SET_GPS_GLOBAL_ORIGIN`, [`super::origin`]); without one
+//! they are refused (`MAV_MISSION_UNSUPPORTED_FRAME`), as are the terrain frames and any other.
+//! Refused too: other commands
 //! (`MAV_MISSION_UNSUPPORTED`), a non-finite or negative parameter, a position beyond
 //! 10 km (`MAV_MISSION_INVALID_PARAM1`..`_PARAM7`, `MAV_MISSION_INVALID`), a land item that is
 //! not last (`MAV_MISSION_INVALID_SEQUENCE`).
@@ -22,6 +24,7 @@ use mavlink::dialects::common::{MavCmd, MavFrame, MavMissionResult};
 use nalgebra::Vector3;
 
 use super::item::{is_global, MissionItem};
+use super::origin::GlobalOrigin;
 use super::CAPACITY;
 use crate::config::ReferenceConfig;
 use crate::frames;
@@ -62,8 +65,26 @@ fn error(result: MavMissionResult, seq: u16, reason: &'static str) -> PlanError 
     }
 }
 
+/// Where global items are: the local frame's global origin, and home (the arming point) for the
+/// relative-altitude frames.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GlobalFrame {
+    /// The local frame's origin on WGS84, if set.
+    pub origin: Option<GlobalOrigin>,
+    /// Home's height \[m\] (NWU z): relative altitudes are above it.
+    pub home_up: f32,
+}
+
+impl GlobalFrame {
+    /// No origin: global items are refused.
+    pub const NONE: Self = Self {
+        origin: None,
+        home_up: 0.0,
+    };
+}
+
 /// The plan of `items` from `start` (NWU \[m\]) with yaw `start_yaw` \[rad\] at rest, with the
-/// leg limits and default acceptance radius of `cfg`.
+/// leg limits and default acceptance radius of `cfg`, global items placed by `global`.
 ///
 /// Errors: [`PlanError`] naming the first item that cannot be flown (see the module's list).
 pub fn plan(
@@ -71,6 +92,7 @@ pub fn plan(
     start: Vector3<f32>,
     start_yaw: f32,
     cfg: &ReferenceConfig,
+    global: &GlobalFrame,
 ) -> Result<Plan, PlanError> {
     use MavMissionResult as R;
     if items.len() > CAPACITY {
@@ -94,22 +116,28 @@ pub fn plan(
                 "items after a land",
             ));
         }
-        if is_global(item.frame) {
-            return Err(error(
-                R::MAV_MISSION_UNSUPPORTED_FRAME,
-                seq,
-                "global frame: no origin, use LOCAL_NED",
-            ));
-        }
-        if item.frame != MavFrame::MAV_FRAME_LOCAL_NED {
+        let ned = if is_global(item.frame) {
+            let Some(origin) = global.origin else {
+                return Err(error(
+                    R::MAV_MISSION_UNSUPPORTED_FRAME,
+                    seq,
+                    "global frame: no origin (SET_GPS_GLOBAL_ORIGIN)",
+                ));
+            };
+            origin
+                .to_local_ned(item.frame, item.x, item.y, item.z, -global.home_up)
+                .ok_or_else(|| error(R::MAV_MISSION_UNSUPPORTED_FRAME, seq, "terrain frame"))?
+        } else if item.frame == MavFrame::MAV_FRAME_LOCAL_NED {
+            item.local_ned()
+        } else {
             return Err(error(
                 R::MAV_MISSION_UNSUPPORTED_FRAME,
                 seq,
                 "frame: use LOCAL_NED",
             ));
-        }
+        };
         let [hold, accept, _, yaw_deg] = item.params;
-        let target = frames::flip_vector(item.local_ned());
+        let target = frames::flip_vector(ned);
         if !target.iter().all(|v| v.is_finite()) || target.norm() > MAX_DISTANCE {
             return Err(error(
                 R::MAV_MISSION_INVALID,

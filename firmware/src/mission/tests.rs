@@ -76,7 +76,14 @@ fn plan_converts_frames_and_keeps_what_is_not_given() {
         item(MavCmd::MAV_CMD_NAV_WAYPOINT, [1.0, 2.0, -3.0], 90.0),
         item(MavCmd::MAV_CMD_NAV_WAYPOINT, [1.0, 2.0, -3.0], f32::NAN),
     ];
-    let p = plan(&items, Vector3::new(0.5, -0.5, 0.0), 0.3, &cfg).expect("plans");
+    let p = plan(
+        &items,
+        Vector3::new(0.5, -0.5, 0.0),
+        0.3,
+        &cfg,
+        &GlobalFrame::NONE,
+    )
+    .expect("plans");
     let (s0, y0) = p.path.stop(0).expect("stop 0");
     assert_eq!(s0, Vector3::new(0.5, -0.5, 2.0));
     assert_eq!(y0, 0.3);
@@ -96,7 +103,7 @@ fn plan_refuses_far_positions_and_negative_holds() {
     let cfg = FlightConfig::paper().reference;
     let mut far = item(MavCmd::MAV_CMD_NAV_WAYPOINT, [0.0; 3], 0.0);
     far.x = i32::MAX;
-    let e = plan(&[far], Vector3::zeros(), 0.0, &cfg).expect_err("refused");
+    let e = plan(&[far], Vector3::zeros(), 0.0, &cfg, &GlobalFrame::NONE).expect_err("refused");
     assert_eq!(
         (e.result, e.seq),
         (MavMissionResult::MAV_MISSION_INVALID, 0)
@@ -104,9 +111,53 @@ fn plan_refuses_far_positions_and_negative_holds() {
     let mut hold = item(MavCmd::MAV_CMD_NAV_WAYPOINT, [0.0; 3], 0.0);
     hold.params[0] = -1.0;
     let ok = item(MavCmd::MAV_CMD_NAV_WAYPOINT, [0.0; 3], 0.0);
-    let e = plan(&[ok, hold], Vector3::zeros(), 0.0, &cfg).expect_err("refused");
+    let e =
+        plan(&[ok, hold], Vector3::zeros(), 0.0, &cfg, &GlobalFrame::NONE).expect_err("refused");
     assert_eq!(
         (e.result, e.seq),
         (MavMissionResult::MAV_MISSION_INVALID_PARAM1, 1)
     );
+}
+
+/// A global item 10⁻⁵° north and east of an origin at 47° N lands 1.11 m north and
+/// 1.11 · cos 47° m east (the tangent plane), its altitude above mean sea level or above home as
+/// its frame says; without an origin, and in a terrain frame, it is refused.
+#[test]
+fn global_items_are_placed_about_the_origin() {
+    use super::origin::EARTH_RADIUS;
+    let cfg = FlightConfig::paper().reference;
+    let origin = GlobalOrigin::new(470_000_000, 80_000_000, 400_000).expect("valid origin");
+    let global = GlobalFrame {
+        origin: Some(origin),
+        home_up: 0.25,
+    };
+    let item = |frame, z| MissionItem {
+        params: [0.0, 0.0, 0.0, f32::NAN],
+        x: 470_000_100,
+        y: 80_000_100,
+        z,
+        command: MavCmd::MAV_CMD_NAV_WAYPOINT,
+        frame,
+        autocontinue: 1,
+    };
+    let d = 1e-5f64.to_radians() * EARTH_RADIUS;
+    let east = d * 47f64.to_radians().cos();
+    let absolute = item(MavFrame::MAV_FRAME_GLOBAL, 402.0);
+    let p = plan(&[absolute], Vector3::zeros(), 0.0, &cfg, &global).expect("plans");
+    let (s, _) = p.path.stop(0).expect("stop");
+    // NWU: north, west (minus east), up.
+    assert!((f64::from(s.x) - d).abs() < 1e-4, "{s:?} vs {d}");
+    assert!((f64::from(s.y) + east).abs() < 1e-4, "{s:?} vs {east}");
+    assert!((s.z - 2.0).abs() < 1e-4, "{s:?}");
+    let relative = item(MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT, 1.5);
+    let p = plan(&[relative], Vector3::zeros(), 0.0, &cfg, &global).expect("plans");
+    assert!((p.path.stop(0).expect("stop").0.z - 1.75).abs() < 1e-5);
+    let e =
+        plan(&[relative], Vector3::zeros(), 0.0, &cfg, &GlobalFrame::NONE).expect_err("no origin");
+    assert_eq!(e.result, MavMissionResult::MAV_MISSION_UNSUPPORTED_FRAME);
+    let terrain = item(MavFrame::MAV_FRAME_GLOBAL_TERRAIN_ALT, 1.5);
+    let e = plan(&[terrain], Vector3::zeros(), 0.0, &cfg, &global).expect_err("terrain");
+    assert_eq!(e.result, MavMissionResult::MAV_MISSION_UNSUPPORTED_FRAME);
+    assert_eq!(GlobalOrigin::new(900_000_000, 0, 0), None, "a pole");
+    assert_eq!(GlobalOrigin::new(0, 1_800_000_001, 0), None);
 }

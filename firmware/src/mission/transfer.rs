@@ -66,6 +66,15 @@ pub enum MissionMessage {
         /// Mission type.
         mission_type: u8,
     },
+    /// `SET_GPS_GLOBAL_ORIGIN`: the local frame's origin on WGS84 (for global mission items).
+    SetOrigin {
+        /// Latitude \[deg × 10⁷\].
+        latitude_e7: i32,
+        /// Longitude \[deg × 10⁷\].
+        longitude_e7: i32,
+        /// Altitude above mean sea level \[mm\].
+        altitude_mm: i32,
+    },
 }
 
 /// A mission-protocol message from the vehicle.
@@ -113,6 +122,8 @@ pub enum MissionReply {
         /// Item reached.
         seq: u16,
     },
+    /// `GPS_GLOBAL_ORIGIN` (broadcast): the origin now in force.
+    Origin,
 }
 
 /// What an uploaded item leads to.

@@ -192,6 +192,7 @@ impl FlightPipeline {
             mission_run: None,
             mission_replies: Deque::new(),
             long_texts: Deque::new(),
+            global_origin: None,
         })
     }
 

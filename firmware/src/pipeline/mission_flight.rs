@@ -65,8 +65,8 @@ impl FlightPipeline {
             ));
         }
         let (start, yaw) = self.mission_start_point(now_us);
-        let plan =
-            plan(items, start, yaw, &self.cfg.reference).map_err(|e| Self::simple(e.reason))?;
+        let plan = plan(items, start, yaw, &self.cfg.reference, &self.global_frame())
+            .map_err(|e| Self::simple(e.reason))?;
         let k = plan.path.constants();
         self.accept(&k, self.filter_start())?;
         self.mission_run = Some(MissionRun {

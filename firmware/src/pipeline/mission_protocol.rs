@@ -22,8 +22,8 @@ use controller_core::waypoint_path::slowdown_to_certify;
 use controller_core::{certify, FilterStart, Trajectory, TrajectoryConstants};
 use heapless::String;
 use mavlink::dialects::common::{
-    MavMissionResult, MavSeverity, MISSION_ACK_DATA, MISSION_COUNT_DATA, MISSION_CURRENT_DATA,
-    MISSION_ITEM_REACHED_DATA, MISSION_REQUEST_INT_DATA,
+    MavMissionResult, MavSeverity, GPS_GLOBAL_ORIGIN_DATA, MISSION_ACK_DATA, MISSION_COUNT_DATA,
+    MISSION_CURRENT_DATA, MISSION_ITEM_REACHED_DATA, MISSION_REQUEST_INT_DATA,
 };
 use mavlink::error::ParserError;
 use mavlink::{MavlinkVersion, MessageData};
@@ -31,8 +31,8 @@ use mavlink::{MavlinkVersion, MessageData};
 use super::{FlightPipeline, GateFailure, Mode};
 use crate::link::Sender;
 use crate::mission::{
-    plan, MissionMessage, MissionReply, UploadStep, CAPACITY, MISSION_TYPE_ALL,
-    MISSION_TYPE_MISSION,
+    plan, GlobalFrame, GlobalOrigin, MissionMessage, MissionReply, UploadStep, CAPACITY,
+    MISSION_TYPE_ALL, MISSION_TYPE_MISSION,
 };
 use crate::safety::FlightState;
 
@@ -222,6 +222,28 @@ impl FlightPipeline {
                 });
             }
             MissionMessage::Ack { .. } => self.mission_transfer.cancel(sender),
+            MissionMessage::SetOrigin {
+                latitude_e7,
+                longitude_e7,
+                altitude_mm,
+            } => {
+                if self.mission.mode() == Mode::Mission {
+                    self.mission_text(format_args!("origin not set: flying a mission"));
+                } else if let Some(o) = GlobalOrigin::new(latitude_e7, longitude_e7, altitude_mm) {
+                    self.global_origin = Some(o);
+                    self.mission_reply(MissionReply::Origin);
+                } else {
+                    self.mission_text(format_args!("origin refused: latitude or longitude"));
+                }
+            }
+        }
+    }
+
+    /// Where global mission items are: the origin (if set) and home's height.
+    pub(super) fn global_frame(&self) -> GlobalFrame {
+        GlobalFrame {
+            origin: self.global_origin,
+            home_up: self.home.z,
         }
     }
 
@@ -247,7 +269,7 @@ impl FlightPipeline {
         now_us: u64,
     ) -> MavMissionResult {
         let (start, yaw) = self.mission_start_point(now_us);
-        let plan = match plan(items, start, yaw, &self.cfg.reference) {
+        let plan = match plan(items, start, yaw, &self.cfg.reference, &self.global_frame()) {
             Ok(p) => p,
             Err(e) => {
                 self.mission_text(format_args!("mission item {}: {}", e.seq, e.reason));
@@ -427,6 +449,17 @@ impl FlightPipeline {
                 MissionReply::Reached { seq } => {
                     self.put(&MISSION_ITEM_REACHED_DATA { seq }, &mut out[n..])
                 }
+                MissionReply::Origin => match self.global_origin {
+                    Some(o) => self.put(
+                        &GPS_GLOBAL_ORIGIN_DATA {
+                            latitude: o.latitude_e7,
+                            longitude: o.longitude_e7,
+                            altitude: o.altitude_mm,
+                        },
+                        &mut out[n..],
+                    ),
+                    None => usize::MAX,
+                },
             };
             match k {
                 0 => return (n, false),

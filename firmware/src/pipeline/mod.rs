@@ -174,6 +174,8 @@ pub struct FlightPipeline {
     mission_run: Option<mission_flight::MissionRun>,
     /// Mission-protocol replies due.
     mission_replies: Deque<crate::mission::MissionReply, 8>,
+    /// The local frame's origin on WGS84 (`SET_GPS_GLOBAL_ORIGIN`), for global mission items.
+    global_origin: Option<crate::mission::GlobalOrigin>,
     /// `STATUSTEXT`s with numbers (mission refusals), formatted when queued.
     long_texts: Deque<(MavSeverity, heapless::String<50>), 4>,
 }

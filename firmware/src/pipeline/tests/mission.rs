@@ -268,7 +268,11 @@ fn bad_uploads_are_refused_and_lose_nothing() {
     global.frame = mavlink::dialects::common::MavFrame::MAV_FRAME_GLOBAL;
     let (r, got) = upload(&mut p, &[MavMessage::MISSION_ITEM_INT(global)], now + 10);
     assert_eq!(r, MavMissionResult::MAV_MISSION_UNSUPPORTED_FRAME);
-    assert!(texts(&got)[0].contains("global frame"), "{:?}", texts(&got));
+    assert!(
+        texts(&got)[0].contains("global frame: no origin"),
+        "{:?}",
+        texts(&got)
+    );
     let loiter =
         gs::mission_item_local(0, MavCmd::MAV_CMD_NAV_LOITER_UNLIM, [0.0; 3], 0.0, 0.0, 0.0);
     assert_eq!(
@@ -410,5 +414,45 @@ fn interrupted_mission_is_not_resumed_after_rearming() {
         (r[2] - 1.0).abs() < 0.05,
         "reference z {} (mission's was above 1 m)",
         r[2]
+    );
+}
+
+/// Given an origin set by `SET_GPS_GLOBAL_ORIGIN` (answered with `GPS_GLOBAL_ORIGIN`), when a
+/// waypoint 10⁻⁵° north of it at home's height + 1 m (relative altitude) is uploaded, then it is
+/// accepted; the same before any origin was refused (above).
+#[test]
+#[cfg(not(feature = "uncertified-paper"))]
+// SET_GPS_GLOBAL_ORIGIN is superseded by MAV_CMD_DO_SET_GLOBAL_ORIGIN (2025) but is what
+// MAVProxy and QGroundControl send.
+#[allow(deprecated)]
+fn global_items_fly_once_an_origin_is_set() {
+    let (mut p, now) = armed_pipeline();
+    let origin =
+        MavMessage::SET_GPS_GLOBAL_ORIGIN(mavlink::dialects::common::SET_GPS_GLOBAL_ORIGIN_DATA {
+            latitude: 470_000_000,
+            longitude: 80_000_000,
+            altitude: 400_000,
+            target_system: 1,
+        });
+    let got = exchange(&mut p, &origin, now);
+    let echo = find::<mavlink::dialects::common::GPS_GLOBAL_ORIGIN_DATA>(&got);
+    assert_eq!(echo.len(), 1);
+    assert_eq!(
+        (echo[0].0.latitude, echo[0].0.longitude, echo[0].0.altitude),
+        (470_000_000, 80_000_000, 400_000)
+    );
+    let MavMessage::MISSION_ITEM_INT(mut global) = waypoint(0, [0.0, 0.0, -1.0], f32::NAN) else {
+        unreachable!()
+    };
+    global.frame = mavlink::dialects::common::MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT;
+    global.x = 470_000_100;
+    global.y = 80_000_000;
+    global.z = 1.0;
+    let (r, got) = upload(&mut p, &[MavMessage::MISSION_ITEM_INT(global)], now + 10);
+    assert_eq!(
+        r,
+        MavMissionResult::MAV_MISSION_ACCEPTED,
+        "{:?}",
+        texts(&got)
     );
 }
