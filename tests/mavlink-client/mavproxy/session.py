@@ -3,7 +3,8 @@
 
 Starts `host-sim sil --scenario ground` (the vehicle on the ground, waiting) sending to a free
 local UDP port, starts MAVProxy (pinned, requirements.txt) listening there, and types what a
-person would: fetch the parameters, upload mission.txt (a takeoff to 2 m, a waypoint 1.6 m away
+person would: fetch the parameters, upload mission-global.txt (refused: no origin), set the origin
+(`setorigin`), upload it again (accepted), upload mission.txt (a takeoff to 2 m, a waypoint 1.6 m away
 held 1 s, a land; MAV_FRAME_LOCAL_NED) with the wp module, download it back, arm, start the
 mission and see it move on from the takeoff to the next item. Each step waits for MAVProxy's own
 report of it; a step that does not come within its time fails the session.
@@ -46,7 +47,7 @@ def main():
         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     mavproxy = subprocess.Popen(
         [os.path.join(os.path.dirname(sys.executable), "mavproxy.py"),
-         f"--master=udpin:127.0.0.1:{port}", "--default-modules=wp,param,cmdlong,arm,mode",
+         f"--master=udpin:127.0.0.1:{port}", "--default-modules=wp,param,cmdlong,arm,mode,misc",
          f"--state-basedir={work}"],
         stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
         bufsize=1)
@@ -96,6 +97,16 @@ def main():
         type_("param show MIS_SPEED")
         step(expect(r"MIS_SPEED\s+[0-9.]+", 10) is not None, "MIS_SPEED shown")
         type_("set wp_use_mission_int 0")
+        # A global mission (relative altitudes; the same path about an origin at 47 N, 8 E) is
+        # refused until the local frame's origin is set, then accepted.
+        type_(f"wp load {os.path.join(HERE, 'mission-global.txt')}")
+        step(expect(r"MISSION_ACK: TYPE_MISSION: UNSUPPORTED_FRAME", 20) is not None,
+             "a global mission without an origin: MISSION_ACK UNSUPPORTED_FRAME")
+        type_("setorigin 47.0 8.0 400")
+        step(expect(r"GPS_GLOBAL_ORIGIN|Setting origin", 10) is not None, "origin set")
+        type_(f"wp load {os.path.join(HERE, 'mission-global.txt')}")
+        step(expect(r"MISSION_ACK: TYPE_MISSION: ACCEPTED", 20) is not None,
+             "the global mission accepted once the origin is set")
         type_(f"wp load {os.path.join(HERE, 'mission.txt')}")
         step(expect(r"Loaded 3 waypoints", 10) is not None, "mission.txt loaded")
         step(expect(r"Sent all 3 waypoints", 20) is not None, "3 items sent")
