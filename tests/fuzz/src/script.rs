@@ -58,7 +58,7 @@ pub const MISSION_RESULTS: [MavMissionResult; 4] = [
     MavMissionResult::MAV_MISSION_OPERATION_CANCELLED,
 ];
 
-/// The messages of a [`FrameSpec::Mission`] (sub-kind byte mod 8) and their fields after the
+/// The messages of a [`FrameSpec::Mission`] (sub-kind byte mod 9) and their fields after the
 /// target system byte. `mission_type` is always 0 (the mission; the `mavlink` crate's structs
 /// do not carry the extension field).
 #[derive(Clone, Debug, PartialEq)]
@@ -121,6 +121,12 @@ pub enum MissionSpec {
         /// Index into [`MISSION_RESULTS`] (mod its length).
         result: u8,
     },
+    /// Sub-kind 8, `SET_GPS_GLOBAL_ORIGIN` (the origin global items are placed about):
+    /// latitude, longitude `i32` \[deg × 10⁷\], altitude `i32` \[mm\].
+    SetOrigin {
+        /// Latitude, longitude \[deg × 10⁷\], altitude \[mm\].
+        lla: [i32; 3],
+    },
 }
 
 /// The frame kinds of [`Op::Frame`] (kind byte mod 6) and their fields after the kind byte.
@@ -180,7 +186,7 @@ pub enum FrameSpec {
         /// `time_usec` minus the clock \[µs\].
         time_offset_us: i32,
     },
-    /// Kind 5, the mission protocol (`MISSION_*`): sub-kind `u8` (mod 8, see [`MissionSpec`]),
+    /// Kind 5, the mission protocol (`MISSION_*`): sub-kind `u8` (mod 9, see [`MissionSpec`]),
     /// target system `u8`, then the sub-kind's fields.
     Mission {
         /// Target system (0: broadcast; the vehicle is 1).
@@ -326,7 +332,7 @@ pub fn parse(data: &[u8]) -> Vec<Op> {
                         time_offset_us: r.i32(),
                     },
                     _ => {
-                        let sub = r.u8() % 8;
+                        let sub = r.u8() % 9;
                         let target = r.u8();
                         let message = match sub {
                             0 => MissionSpec::Count { count: r.u16() },
@@ -350,7 +356,10 @@ pub fn parse(data: &[u8]) -> Vec<Op> {
                             4 => MissionSpec::RequestList,
                             5 => MissionSpec::ClearAll,
                             6 => MissionSpec::SetCurrent { seq: r.u16() },
-                            _ => MissionSpec::Ack { result: r.u8() },
+                            7 => MissionSpec::Ack { result: r.u8() },
+                            _ => MissionSpec::SetOrigin {
+                                lla: [r.i32(), r.i32(), r.i32()],
+                            },
                         };
                         FrameSpec::Mission { target, message }
                     }
@@ -397,6 +406,7 @@ fn put_mission(out: &mut Vec<u8>, target: u8, m: &MissionSpec) {
         MissionSpec::ClearAll => 5,
         MissionSpec::SetCurrent { .. } => 6,
         MissionSpec::Ack { .. } => 7,
+        MissionSpec::SetOrigin { .. } => 8,
     };
     out.extend_from_slice(&[5, sub, target]);
     match m {
@@ -435,6 +445,11 @@ fn put_mission(out: &mut Vec<u8>, target: u8, m: &MissionSpec) {
         }
         MissionSpec::RequestList | MissionSpec::ClearAll => {}
         MissionSpec::Ack { result } => out.push(*result),
+        MissionSpec::SetOrigin { lla } => {
+            for v in lla {
+                out.extend_from_slice(&v.to_le_bytes());
+            }
+        }
     }
 }
 
@@ -638,6 +653,14 @@ fn mission_message(target: u8, m: &MissionSpec) -> MavMessage {
             mavtype: MISSION_RESULTS[usize::from(*result) % MISSION_RESULTS.len()],
             ..Default::default()
         }),
+        MissionSpec::SetOrigin { lla } => MavMessage::SET_GPS_GLOBAL_ORIGIN(
+            firmware::link::mavlink::dialects::common::SET_GPS_GLOBAL_ORIGIN_DATA {
+                latitude: lla[0],
+                longitude: lla[1],
+                altitude: lla[2],
+                target_system: target,
+            },
+        ),
     }
 }
 
@@ -841,6 +864,15 @@ mod tests {
                 },
                 chunk: 64,
             },
+            Op::Frame {
+                spec: FrameSpec::Mission {
+                    target: 1,
+                    message: MissionSpec::SetOrigin {
+                        lla: [470_000_000, -80_000_000, 400_000],
+                    },
+                },
+                chunk: 17,
+            },
             Op::Imu {
                 gyro: [0.1, 0.2, 0.3],
                 accel: [0.0, 0.0, 9.81],
@@ -916,6 +948,9 @@ mod tests {
             MavMessage::MISSION_SET_CURRENT(m) if m.seq == 2 && m.target_system == 7));
         assert!(matches!(of(MissionSpec::Ack { result: 3 }),
             MavMessage::MISSION_ACK(m) if m.mavtype == MavMissionResult::MAV_MISSION_OPERATION_CANCELLED));
+        assert!(matches!(of(MissionSpec::SetOrigin { lla: [1, -2, 3] }),
+            MavMessage::SET_GPS_GLOBAL_ORIGIN(m)
+                if (m.latitude, m.longitude, m.altitude, m.target_system) == (1, -2, 3, 7)));
     }
 
     /// A truncated input still parses: the missing bytes read as 0.
