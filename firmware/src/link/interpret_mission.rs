@@ -17,7 +17,7 @@ use mavlink::{MavlinkVersion, MessageData};
 
 use super::interpret::{Address, Interpretation};
 use super::{Inbound, Sender};
-use crate::mission::{MissionItem, MissionMessage};
+use super::{MissionItem, MissionMessage};
 
 /// Ids of the messages that change the stored mission or what is flown: with signing active
 /// they must be signed.

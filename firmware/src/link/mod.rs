@@ -45,6 +45,8 @@ mod decoder;
 mod encode;
 mod interpret;
 mod interpret_mission;
+pub mod mission_item;
+mod mission_message;
 pub mod signing;
 #[cfg(test)]
 mod tests;
@@ -53,6 +55,8 @@ pub use ack::CommandAck;
 pub use decoder::Decoder;
 pub use encode::{encode, encode_data};
 pub use interpret::{FORCE_ARM_PARAM2, FORCE_DISARM_PARAM2};
+pub use mission_item::MissionItem;
+pub use mission_message::MissionMessage;
 pub use signing::{SigningConfig, SIGNATURE};
 
 /// MAVLink 2 start marker.
@@ -266,7 +270,7 @@ pub enum Inbound {
     /// A message of the mission microservice (`MISSION_*`, [`crate::mission`]).
     Mission {
         /// The message.
-        message: crate::mission::MissionMessage,
+        message: MissionMessage,
         /// Who sent it (replies are addressed to it).
         sender: Sender,
     },

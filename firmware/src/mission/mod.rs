@@ -1,4 +1,5 @@
-//! Missions uploaded over MAVLink's mission microservice: the stored items ([`item`]), what the
+//! Missions uploaded over MAVLink's mission microservice: the stored items
+//! ([`MissionItem`], in [`crate::link`] with the messages that carry them), what the
 //! vehicle makes of them, a certified reference through their stops ([`mod@plan`]), and the upload
 //! state ([`transfer`]). The pipeline runs the protocol and flies the plan
 //! (`crate::pipeline`'s `mission_protocol.rs` and `mission_flight.rs`).
@@ -8,17 +9,16 @@
 //! so a failed or refused upload loses nothing). A longer mission is refused with
 //! `MAV_MISSION_NO_SPACE`.
 
-pub mod item;
 pub mod origin;
 pub mod plan;
 #[cfg(test)]
 mod tests;
 pub mod transfer;
 
-pub use item::MissionItem;
+pub use crate::link::{MissionItem, MissionMessage};
 pub use origin::GlobalOrigin;
 pub use plan::{plan, GlobalFrame, Plan, PlanError};
-pub use transfer::{MissionMessage, MissionReply, Transfer, UploadStep};
+pub use transfer::{MissionReply, Transfer, UploadStep};
 
 /// Largest number of items a mission may have.
 pub const CAPACITY: usize = 32;

@@ -23,11 +23,11 @@ use controller_core::waypoint_path::{PathError, PathLimits, Stop, WaypointPath};
 use mavlink::dialects::common::{MavCmd, MavFrame, MavMissionResult};
 use nalgebra::Vector3;
 
-use super::item::{is_global, MissionItem};
 use super::origin::GlobalOrigin;
 use super::CAPACITY;
 use crate::config::ReferenceConfig;
 use crate::frames;
+use crate::link::mission_item::{is_global, MissionItem};
 
 /// Farthest a stop may be from the local origin \[m\]: a guard against mis-scaled coordinates
 /// (e.g. latitudes read as a local frame's metres × 10⁴).

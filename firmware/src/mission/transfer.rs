@@ -1,4 +1,4 @@
-//! The mission microservice's messages as the vehicle sees them ([`MissionMessage`], from the
+//! The mission microservice on the vehicle's side: the messages it receives ([`MissionMessage`], from the
 //! link), what it answers ([`MissionReply`]), and the upload in progress ([`Transfer`]): after
 //! `MISSION_COUNT` the vehicle requests each item in turn with `MISSION_REQUEST_INT`, asks
 //! again for an item that does not come within [`RETRY_US`] (at most [`RETRIES`] times, then the
@@ -10,72 +10,15 @@
 use heapless::Vec;
 use mavlink::dialects::common::MavMissionResult;
 
-use super::item::MissionItem;
 use super::CAPACITY;
+use crate::link::MissionItem;
+pub use crate::link::MissionMessage;
 use crate::link::Sender;
 
 /// An item not received this long after its request is requested again \[µs\].
 pub const RETRY_US: u64 = 1_500_000;
 /// Requests of one item before the upload is cancelled.
 pub const RETRIES: u8 = 5;
-
-/// A mission-protocol message for the vehicle (addressing already checked). `mission_type` is
-/// the MAVLink 2 extension field (`MAV_MISSION_TYPE`, 0 when absent).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum MissionMessage {
-    /// `MISSION_REQUEST_LIST`: start a download.
-    RequestList {
-        /// Mission type.
-        mission_type: u8,
-    },
-    /// `MISSION_REQUEST_INT` or `MISSION_REQUEST`: send item `seq`.
-    Request {
-        /// Item number.
-        seq: u16,
-        /// Mission type.
-        mission_type: u8,
-    },
-    /// `MISSION_COUNT`: start an upload of `count` items.
-    Count {
-        /// Number of items.
-        count: u16,
-        /// Mission type.
-        mission_type: u8,
-    },
-    /// `MISSION_ITEM_INT` or `MISSION_ITEM`: item `seq` of an upload.
-    Item {
-        /// Item number.
-        seq: u16,
-        /// The item.
-        item: MissionItem,
-        /// Mission type.
-        mission_type: u8,
-    },
-    /// `MISSION_CLEAR_ALL`.
-    ClearAll {
-        /// Mission type.
-        mission_type: u8,
-    },
-    /// `MISSION_SET_CURRENT`: the item a mission start begins with.
-    SetCurrent {
-        /// Item number.
-        seq: u16,
-    },
-    /// `MISSION_ACK` from the ground station (the end of a download, or its cancel).
-    Ack {
-        /// Mission type.
-        mission_type: u8,
-    },
-    /// `SET_GPS_GLOBAL_ORIGIN`: the local frame's origin on WGS84 (for global mission items).
-    SetOrigin {
-        /// Latitude \[deg × 10⁷\].
-        latitude_e7: i32,
-        /// Longitude \[deg × 10⁷\].
-        longitude_e7: i32,
-        /// Altitude above mean sea level \[mm\].
-        altitude_mm: i32,
-    },
-}
 
 /// A mission-protocol message from the vehicle.
 #[derive(Clone, Copy, Debug, PartialEq)]
