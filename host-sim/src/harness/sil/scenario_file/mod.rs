@@ -23,7 +23,8 @@
 //! - `[[commands]]`: ground-station messages, each `at_s` (after the release; negative: during
 //!   the hold) and `command` = `"arm"`, `"arm-inverted"`, `"takeoff"` (`height_m` above the
 //!   arming point), `"land"`, `"mission-start"`, `"kill"`, `"setpoint"` (`position_m` and
-//!   `yaw_rad`, NWU) or `"mission-upload"` (`items`: [`mission_items`]), built by
+//!   `yaw_rad`, NWU) or `"mission-upload"` (`items`, inline tables of `kind`, `position_m`,
+//!   `hold_s`, `yaw_rad`, `acceptance_radius_m`: `scenario_file/mission_items.rs`), built by
 //!   [`firmware::ground_station`].
 
 use std::path::Path;
