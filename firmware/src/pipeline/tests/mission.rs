@@ -118,15 +118,8 @@ fn waypoint(seq: u16, ned: [f32; 3], yaw_deg: f32) -> MavMessage {
 fn given_no_mission_when_lists_requested_then_each_is_empty() {
     let mut p = FlightPipeline::new(&FlightConfig::built()).expect("boots");
     for t in [0u8, 1, 2] {
-        let mut b = [0u8; link::MAX_FRAME];
-        let n = link::encode(&gs::mission_request_list(), 255, 190, 0, &mut b);
-        // The extension byte: append it and fix the frame (length, checksum) by re-encoding
-        // through the raw bytes is not needed for type 0; for 1 and 2 build the payload.
-        let bytes = if t == 0 {
-            b[..n].to_vec()
-        } else {
-            super::super::mission_protocol::tests_support::request_list_with_type(t)
-        };
+        // With the extension byte `mission_type` (left out for 0, as MAVLink 2 truncates it).
+        let bytes = super::super::mission_protocol::tests_support::request_list_with_type(t);
         p.on_link_bytes(&bytes, 1_000);
         let mut out = [0u8; 1024];
         let k = p.telemetry(1_000, &mut out);
