@@ -48,6 +48,7 @@ pub mod saturation;
 pub mod scalar;
 pub mod thrust;
 pub mod tilt_priority;
+pub mod torque_set;
 pub mod trig;
 pub mod vehicle;
 pub mod velocity_limit;
@@ -78,5 +79,6 @@ pub use reference::{
 pub use scalar::Scalar;
 pub use thrust::ThrustMode;
 pub use tilt_priority::TiltPriorityGains;
+pub use torque_set::TorqueSet;
 pub use vehicle::{Limits, Vehicle};
 pub use velocity_limit::VelocityLimit;

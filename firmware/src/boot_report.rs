@@ -153,16 +153,16 @@ pub fn certificate_verdict(c: &Certificate<f32>) -> &'static str {
     }
 }
 
-/// The banner's verdict on the box: `"box fits"` when the certified `(T, τ)` box leaves at
-/// least `required` of every rotor's range free (`margin` from
-/// [`crate::mixer::Mixer::box_margin`]); NaN fails.
-pub fn box_verdict(margin: f32, required: f32) -> &'static str {
+/// The banner's verdict on the rotor fit: `"set fits"` when the certified `(T, τ)` set leaves
+/// at least `required` of every rotor's range free (`margin` from
+/// [`crate::mixer::Mixer::set_margin`]); NaN fails.
+pub fn fit_verdict(margin: f32, required: f32) -> &'static str {
     if margin >= required {
-        "box fits"
+        "set fits"
     } else if margin >= 0.0 {
-        "box fits WITHOUT the required margin"
+        "set fits WITHOUT the required margin"
     } else {
-        "box does NOT fit"
+        "set does NOT fit"
     }
 }
 
@@ -375,13 +375,13 @@ mod tests {
             .find(|c| c.name == "theorem2.torque_max_yaw")
             .unwrap();
         assert!(condition_ratio(yaw) < 1.0);
-        assert_eq!(box_verdict(0.07, 0.05), "box fits");
+        assert_eq!(fit_verdict(0.07, 0.05), "set fits");
         assert_eq!(
-            box_verdict(0.02, 0.05),
-            "box fits WITHOUT the required margin"
+            fit_verdict(0.02, 0.05),
+            "set fits WITHOUT the required margin"
         );
-        assert_eq!(box_verdict(-0.1, 0.05), "box does NOT fit");
-        assert_eq!(box_verdict(f32::NAN, 0.05), "box does NOT fit");
+        assert_eq!(fit_verdict(-0.1, 0.05), "set does NOT fit");
+        assert_eq!(fit_verdict(f32::NAN, 0.05), "set does NOT fit");
 
         let c = crate::config::FlightConfig::built();
         let p = crate::pipeline::FlightPipeline::new(&c).unwrap();
@@ -392,6 +392,6 @@ mod tests {
             .conditions
             .iter()
             .all(|c| condition_ratio(c) >= 1.0));
-        assert_eq!(box_verdict(r.box_margin, r.required_margin), "box fits");
+        assert_eq!(fit_verdict(r.fit_margin, r.required_margin), "set fits");
     }
 }

@@ -2,13 +2,13 @@
 //! events share.
 
 /// The first reason a set-up is not certified: a violated certificate condition with both
-/// sides (`lhs > rhs` should hold), or [`BOX_FIT`](crate::pipeline::BOX_FIT) with the box's margin and the required one.
+/// sides (`lhs > rhs` should hold), or [`ROTOR_FIT`](crate::pipeline::ROTOR_FIT) with the certified set's margin and the required one.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GateFailure {
-    /// Condition name (controller-core's, e.g. `"theorem2.torque_max_yaw"`, or [`BOX_FIT`](crate::pipeline::BOX_FIT)).
+    /// Condition name (controller-core's, e.g. `"theorem2.torque_max_yaw"`, or [`ROTOR_FIT`](crate::pipeline::ROTOR_FIT)).
     pub condition: &'static str,
-    /// Left-hand side (for [`BOX_FIT`](crate::pipeline::BOX_FIT): the margin found).
+    /// Left-hand side (for [`ROTOR_FIT`](crate::pipeline::ROTOR_FIT): the margin found).
     pub lhs: f32,
-    /// Right-hand side (for [`BOX_FIT`](crate::pipeline::BOX_FIT): the margin required).
+    /// Right-hand side (for [`ROTOR_FIT`](crate::pipeline::ROTOR_FIT): the margin required).
     pub rhs: f32,
 }

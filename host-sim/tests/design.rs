@@ -1,5 +1,5 @@
 //! `host-sim design` end to end: the written scenario is re-certified independently (the
-//! core's `certify` and the firmware mixer's `box_fit` on the file as read back), it flies, and
+//! core's `certify` and the firmware mixer's `set_margin` on the file as read back), it flies, and
 //! impossible vehicles are refused with the reason.
 
 use std::path::PathBuf;
@@ -8,6 +8,11 @@ use controller_core::{certify, FilterStart, Trajectory};
 use firmware::mixer::Mixer;
 use host_sim::design::{run_design, DesignOptions};
 use host_sim::model::scenario::Scenario;
+
+/// The f32 torque set the firmware computes, from the f64 one.
+fn f32_set(s: &controller_core::TorqueSet<f64>) -> controller_core::TorqueSet<f32> {
+    host_sim::design::certificate::set_f32(s)
+}
 use host_sim::model::vehicle::{airframe, preset_path, VehicleFile};
 
 fn out_dir(name: &str) -> PathBuf {
@@ -86,43 +91,44 @@ fn certified_read_back(s: &Scenario) -> controller_core::Certificate<f64> {
 }
 
 /// A small-budget design of the Crazyflie: `all_hold` and `fits`, and the written
-/// scenario.toml, read back, passes `certify` and `box_fit` (with the 5 % margin) on its own.
+/// scenario.toml, read back, passes `certify` and the rotor fit of its certified set (with the
+/// 5 % margin) on its own.
 #[test]
 fn design_certifies_and_the_written_scenario_recertifies() {
     let out = out_dir("cf");
     let outcome = run_design(&options(preset_path("crazyflie-2.1"), out.clone(), 16)).unwrap();
     let r = &outcome.report;
-    assert!(r.certificate.all_hold && r.box_fit.fits && r.box_fit.fits_with_margin);
+    assert!(r.certificate.all_hold && r.rotor_fit.fits && r.rotor_fit.fits_with_margin);
     assert!(r.evaluations <= 16 && r.evaluations > 0);
 
     let s = Scenario::load(&out.join("scenario.toml")).unwrap();
     let cert = certified_read_back(&s);
     let b = cert.bounds;
-    let tau = b.torque_max.map(|x| x as f32);
+    let set = f32_set(&b.torque_set);
+    let (t_lo, t_hi) = (b.thrust_min as f32, b.thrust_max as f32);
     let mut rotors = rotors_of(&s);
     let mixer = Mixer::new(&rotors).unwrap();
-    let fit = mixer.box_fit(b.thrust_min as f32, b.thrust_max as f32, &tau);
-    assert!(fit.fits);
-    // The limits written are what the rotors deliver over the certified interval.
+    assert!(mixer.set_margin(t_lo, t_hi, &set) >= 0.0);
+    // The limits written are what the rotors deliver on each axis alone over the certified
+    // interval, and the set's per-axis bounds are inside them.
+    let alone = mixer.box_fit(t_lo, t_hi, &nalgebra::Vector3::zeros());
     for i in 0..3 {
-        assert!((f64::from(fit.torque_capacity[i]) - s.limits.torque_max_Nm[i]).abs() < 1e-6);
+        assert!((f64::from(alone.torque_capacity[i]) - s.limits.torque_max_Nm[i]).abs() < 1e-6);
+        assert!(b.torque_max[i] < s.limits.torque_max_Nm[i]);
     }
-    // The margin: the same box fits the range shrunk by 5 % at both ends.
+    // The margin: the same set fits the range shrunk by 5 % at both ends.
     let span = rotors.thrust_max - rotors.thrust_min;
     rotors.thrust_min += 0.05 * span;
     rotors.thrust_max -= 0.05 * span;
     let shrunk = Mixer::new(&rotors).unwrap();
-    assert!(
-        shrunk
-            .box_fit(b.thrust_min as f32, b.thrust_max as f32, &tau)
-            .fits
-    );
+    assert!(shrunk.set_margin(t_lo, t_hi, &set) >= 0.0);
 
     // design.json says the same.
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
     assert_eq!(json["certificate"]["all_hold"], true);
-    assert_eq!(json["box_fit"]["fits"], true);
+    assert_eq!(json["rotor_fit"]["fits"], true);
+    assert_eq!(json["rotor_fit"]["shape"], "set");
     assert_eq!(
         json["certificate"]["conditions"].as_array().unwrap().len(),
         10
@@ -153,7 +159,7 @@ fn tilt_priority_design_certifies_per_axis_levels() {
     o.law = host_sim::design::variables::AttitudeLaw::TiltPriority;
     let outcome = run_design(&o).unwrap();
     let r = &outcome.report;
-    assert!(r.certificate.all_hold && r.box_fit.fits && r.box_fit.fits_with_margin);
+    assert!(r.certificate.all_hold && r.rotor_fit.fits && r.rotor_fit.fits_with_margin);
     let s = Scenario::load(&out.join("scenario.toml")).unwrap();
     let gains = s.gains::<f64>();
     let tilt = gains
@@ -180,12 +186,12 @@ fn tilt_priority_design_certifies_per_axis_levels() {
     let span = rotors.thrust_max - rotors.thrust_min;
     rotors.thrust_min += 0.05 * span;
     rotors.thrust_max -= 0.05 * span;
-    let tau = b.torque_max.map(|x| x as f32);
     assert!(
-        Mixer::new(&rotors)
-            .unwrap()
-            .box_fit(b.thrust_min as f32, b.thrust_max as f32, &tau)
-            .fits
+        Mixer::new(&rotors).unwrap().set_margin(
+            b.thrust_min as f32,
+            b.thrust_max as f32,
+            &f32_set(&b.torque_set)
+        ) >= 0.0
     );
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
@@ -226,7 +232,7 @@ fn tight_bounds_certify_a_faster_reference_than_the_papers() {
     o.bounds = BoundsKind::Tight;
     let tight = run_design(&o).unwrap();
     let r = &tight.report;
-    assert!(r.certificate.all_hold && r.box_fit.fits && r.box_fit.fits_with_margin);
+    assert!(r.certificate.all_hold && r.rotor_fit.fits && r.rotor_fit.fits_with_margin);
     assert!(
         r.reference.scale > paper.report.reference.scale,
         "tight {} vs paper {}",
@@ -435,13 +441,13 @@ fn uncertifiable_reference_is_slowed_down_and_said() {
     let paper = Scenario::paper().trajectory::<f64>().constants();
     let k = s.trajectory::<f64>().constants();
     assert!(k.heading_rate < paper.heading_rate && k.jerk < paper.jerk);
-    assert!(outcome.report.certificate.all_hold && outcome.report.box_fit.fits);
+    assert!(outcome.report.certificate.all_hold && outcome.report.rotor_fit.fits);
     let _ = std::fs::remove_dir_all(&out);
 }
 
 /// The integral action (`design`'s default): the design carries the bounded integral action sized for a 20 % mass error and
 /// a force of 10 % of the weight. The written scenario, read back, passes the extended
-/// certificate (the loop's local stability conditions included) and its extended box fits the
+/// certificate (the loop's local stability conditions included) and its extended set fits the
 /// rotors; the flight file switches it on; and flown from hover with a plant 20 % heavier, it
 /// ends within 1 cm, where the same gains without the estimate cannot even hold the weight.
 #[test]
@@ -453,7 +459,7 @@ fn integral_design_certifies_the_extended_bounds_and_removes_a_mass_error() {
     let spec = IntegralSpec::covering(9.81, 0.2, 0.1).unwrap();
     o.integral = Some(spec);
     let r = run_design(&o).unwrap().report;
-    assert!(r.certificate.all_hold && r.box_fit.fits_with_margin);
+    assert!(r.certificate.all_hold && r.rotor_fit.fits_with_margin);
     assert_eq!(r.integral, Some(spec));
     let written = r.gains.integral.as_ref().expect("gains.integral written");
     assert_eq!(written.M_i_m_s2, spec.level_m_s2);
@@ -478,11 +484,12 @@ fn integral_design_certifies_the_extended_bounds_and_removes_a_mass_error() {
     let b = cert.bounds;
     assert!(b.thrust_min < paper.thrust_min && b.thrust_max > paper.thrust_max);
     let mixer = Mixer::new(&rotors_of(&s)).unwrap();
-    let tau = b.torque_max.map(|x| x as f32);
     assert!(
-        mixer
-            .box_fit(b.thrust_min as f32, b.thrust_max as f32, &tau)
-            .fits
+        mixer.set_margin(
+            b.thrust_min as f32,
+            b.thrust_max as f32,
+            &f32_set(&b.torque_set)
+        ) >= 0.0
     );
     let flight = std::fs::read_to_string(out.join("firmware.toml")).unwrap();
     assert!(flight.contains("[gains.integral]"), "{flight}");
@@ -551,8 +558,8 @@ fn vertical_priority_design_certifies_its_floor() {
     let b = certified_read_back(&s).bounds;
     assert_eq!(s.thrust_interval(&b).unwrap(), [t.floor_N, b.thrust_max]);
     let mixer = Mixer::new(&rotors_of(&s)).unwrap();
-    let tau = b.torque_max.map(|x| x as f32);
-    let margin = |floor: f64| mixer.box_margin(floor as f32, b.thrust_max as f32, &tau);
+    let set = f32_set(&b.torque_set);
+    let margin = |floor: f64| mixer.set_margin(floor as f32, b.thrust_max as f32, &set);
     assert!(margin(t.floor_N) >= 0.05, "{}", margin(t.floor_N));
     assert!(
         margin(0.99 * t.floor_N) < 0.05,

@@ -126,9 +126,9 @@ fn the_firmware_certifies_the_integral_configuration() {
     let boot = with.boot_report();
     assert!(boot.gate.is_ok(), "{:?}", boot.gate);
     assert!(
-        boot.box_margin >= boot.required_margin,
+        boot.fit_margin >= boot.required_margin,
         "{}",
-        boot.box_margin
+        boot.fit_margin
     );
     let extended = boot
         .certificate

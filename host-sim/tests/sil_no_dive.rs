@@ -80,7 +80,7 @@ fn the_gate_certifies_the_floor_the_rotors_can_hold() {
     assert_eq!(r.a_priori_fit.thrust_needed[0], floor);
     let below = FlightPipeline::new(&flight(vertical_priority(0.99 * floor))).unwrap();
     let refusal = below.boot_report().gate.unwrap_err();
-    assert_eq!(refusal.condition, "box_fit.margin");
+    assert_eq!(refusal.condition, "rotor_fit.margin");
     let above = FlightPipeline::new(&flight(vertical_priority(1.01 * t_min))).unwrap();
     let refusal = above.boot_report().gate.unwrap_err();
     assert_eq!(refusal.condition, "thrust_floor");

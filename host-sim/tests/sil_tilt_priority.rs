@@ -31,7 +31,7 @@ fn the_pipeline_flies_tilt_priority_inside_its_certificate() {
     let mut seen = FlightExtremes::new(40.0);
     let s = run(&setup, |r| seen.observe(r)).unwrap();
     assert!(s.certificate_holds, "{:?}", s.violated_conditions);
-    assert!(s.a_priori_box_fits && s.box_margin >= s.required_box_margin);
+    assert!(s.fit_margin >= s.required_fit_margin);
     assert_eq!(s.final_state, "armed", "{:#?}", s.events);
     assert_eq!(s.refused_commands, 0, "{:#?}", s.events);
     assert!(s.below_5cm_from_s.is_some(), "never below 5 cm");

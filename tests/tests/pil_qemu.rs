@@ -4,7 +4,7 @@
 //! port, in lockstep with the rotor plant. The same checks as host-sim's `sil_paper.rs` where
 //! the telemetry carries them, plus: the firmware neither crashed nor stalled (the stall
 //! timeout bounds the wall time) and its defmt log decodes and holds the boot banner: the x500,
-//! "certificate holds", "box fits" and its UART untrusted (a `SETUP_SIGNING` must be signed).
+//! "certificate holds", "set fits" and its UART untrusted (a `SETUP_SIGNING` must be signed).
 //!
 //! Twice: at the default 100 Hz, and with the law at 1 kHz (the same flight file built with
 //! `FIRMWARE_CONTROL_RATE_HZ=1000`), where every control step must also finish within its
@@ -222,21 +222,21 @@ fn fly_and_check(elf: PathBuf, rate_hz: f64, tag: &str) {
     assert!(c.ticks >= ticks - (rate_hz as u32), "{c:?}");
     // Certified at boot, as in SIL.
     assert!(f.certificate_holds, "{:?}", f.violated_conditions);
-    assert!(f.a_priori_box_fits && f.box_margin >= f.required_box_margin);
-    // The defmt boot banner: the vehicle, "certificate holds", "box fits".
+    assert!(f.fit_margin >= f.required_fit_margin);
+    // The defmt boot banner: the vehicle, "certificate holds", "set fits".
     assert!(s.defmt_error.is_none(), "{:?}", s.defmt_error);
     assert_eq!(s.defmt_malformed, 0);
     let line = s.certificate_line.as_deref().expect("no certificate line");
     assert!(line.contains("certificate holds"), "{line}");
     let line = s.box_line.as_deref().expect("no box-fit line");
     assert!(
-        line.contains("box fits") && !line.contains("WITHOUT") && !line.contains("NOT"),
+        line.contains("set fits") && !line.contains("WITHOUT") && !line.contains("NOT"),
         "{line}"
     );
     let line = s.vehicle_line.as_deref().expect("no vehicle line");
     assert!(line.contains("x500"), "{line}");
     let log = std::fs::read_to_string(out.join("defmt.log")).unwrap();
-    assert!(log.contains("gate: certificate holds and box fits"));
+    assert!(log.contains("gate: certificate holds and set fits"));
     // The default build's UART is untrusted, as a radio would be: a SETUP_SIGNING must be
     // signed with the key in force (tests/mavlink-client checks the refusal over the link).
     let link = log

@@ -17,6 +17,7 @@ use crate::parameter_error::ParameterError;
 use crate::position_saturation::PositionSaturation;
 use crate::reference::TrajectoryConstants;
 use crate::scalar::{lit, to_f64, Scalar};
+use crate::torque_set::TorqueSet;
 use crate::vehicle::{Limits, Vehicle};
 
 /// Where the filter states start; Lemma 1's `U_l` depends on it.
@@ -96,6 +97,9 @@ pub struct Bounds<T: Scalar> {
     pub feedback_torque_axes: Vector3<T>,
     /// Per-axis torque bound `J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd² + ι_i` [N m] (Theorem 2).
     pub torque_max: Vector3<T>,
+    /// The set the torque stays in, with its shape (ellipsoid, boxes and ball; extension of
+    /// Theorem 2, [`crate::torque_set`]); its per-axis extents are [`Bounds::torque_max`].
+    pub torque_set: TorqueSet<T>,
     /// The `U*` bounds of Assumption 1.
     pub assumption: AssumptionBounds<T>,
 }
@@ -323,6 +327,20 @@ pub fn certify<T: Scalar>(
         Some(t) => t.feedback_levels(a_gains.mrp_saturation, gains.hysteresis),
     };
     let feedback_torque = feedback_torque_axes.max();
+    // The radial part of the feedback: all of it for the paper's law, the MRP term with tilt
+    // priority (its trace term and per-axis damping are a box).
+    let radial_mrp = (T::one() + alpha_theta * alpha_theta) * a_gains.mrp_saturation * lit(0.25);
+    let feedback_radius = match &gains.tilt_priority {
+        None => radial_mrp + a_gains.omega_saturation,
+        Some(_) => radial_mrp,
+    };
+    let torque_set = TorqueSet::new(
+        inertia,
+        angular_velocity,
+        angular_acceleration,
+        feedback_radius,
+        feedback_torque_axes,
+    );
     let torque_max = feedforward_torque_bound(&inertia, angular_acceleration, angular_velocity)
         + feedback_torque_axes;
 
@@ -445,6 +463,7 @@ pub fn certify<T: Scalar>(
             feedback_torque,
             feedback_torque_axes,
             torque_max,
+            torque_set,
             assumption,
         },
         conditions,

@@ -2,7 +2,7 @@
 //! source, the `[design]` fields), the MAVLink link's trust and signing set-up, the set-up, its
 //! a-priori bound certificate (every condition with `lhs`, `rhs` and their ratio; a failing one
 //! blocks arming), the mixer fit of the a-priori `(T, τ)` box with its margin, the verdicts
-//! `certificate holds` / `box fits`, and refusals with the violated condition and its numbers.
+//! `certificate holds` / `set fits`, and refusals with the violated condition and its numbers.
 
 use controller_core::{Certificate, ParameterError};
 use defmt::{error, info, warn};
@@ -124,21 +124,21 @@ pub fn log_boot_report(r: &BootReport) {
             f.torque_shortfall[i]
         );
     }
-    let verdict = report::box_verdict(r.box_margin, r.required_margin);
-    if r.box_margin >= r.required_margin {
+    let verdict = report::fit_verdict(r.fit_margin, r.required_margin);
+    if r.fit_margin >= r.required_margin {
         info!(
-            "mixer fit: box margin {=f32} of the rotor range (required {=f32}): {=str}",
-            r.box_margin, r.required_margin, verdict
+            "mixer fit: certified set margin {=f32} of the rotor range (required {=f32}): {=str}",
+            r.fit_margin, r.required_margin, verdict
         );
     } else {
         error!(
-            "mixer fit: box margin {=f32} of the rotor range (required {=f32}): {=str} \
+            "mixer fit: certified set margin {=f32} of the rotor range (required {=f32}): {=str} \
              (see shortfalls)",
-            r.box_margin, r.required_margin, verdict
+            r.fit_margin, r.required_margin, verdict
         );
     }
     match r.gate {
-        Ok(_) => info!("gate: certificate holds and box fits; arming allowed"),
+        Ok(_) => info!("gate: certificate holds and set fits; arming allowed"),
         Err(f) => error!(
             "gate: NOT certified: {=str} (lhs = {=f32}, rhs = {=f32}); arming refused unless \
              the build allows uncertified set-ups",

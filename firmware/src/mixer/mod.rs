@@ -19,6 +19,7 @@
 //! Nothing is clipped silently: what was given up is returned in [`MixOutput`].
 
 use controller_core::scalar::{fmax, fmin};
+use controller_core::TorqueSet;
 use nalgebra::{Matrix4, Vector3, Vector4};
 
 use crate::config::RotorConfig;
@@ -262,6 +263,28 @@ impl Mixer {
             }
             let a: f32 = (0..3).map(|i| m[(k, i + 1)].abs() * tau[i]).sum();
             margin = margin.min(hi - (w * t_hi + a)).min(w * t_lo - a - lo);
+        }
+        margin / (hi - lo)
+    }
+
+    /// The smallest headroom the certified set `T ∈ [t_lo, t_hi]`, `τ ∈ set` leaves inside the
+    /// rotor range, as a fraction of the range `f_max − f_min` \[dimensionless\]. Rotor `k`
+    /// receives `f_k = w_k T + c_kᵀτ` (`w_k`, `c_k` its row of `M`), linear, so its extremes over
+    /// the set are `w_k t_hi + h(c_k)` and `w_k t_lo − h(c_k)` with `h` the set's support function
+    /// ([`TorqueSet::support`]): exact, where [`Mixer::box_margin`] of the set's per-axis extents
+    /// takes `Σ_i |c_ki| τ_i ≥ h(c_k)`. Negative when the set does not fit; `−∞` when a rotor's
+    /// thrust column entry is not positive. Source: extension of Theorem 2 (docs/torque-set.md).
+    pub fn set_margin(&self, t_lo: f32, t_hi: f32, set: &TorqueSet<f32>) -> f32 {
+        let (lo, hi) = (self.f_min, self.f_max);
+        let m = &self.mix;
+        let mut margin = f32::INFINITY;
+        for k in 0..4 {
+            let w = m[(k, 0)];
+            if w <= 0.0 {
+                return f32::NEG_INFINITY;
+            }
+            let h = set.support(&Vector3::new(m[(k, 1)], m[(k, 2)], m[(k, 3)]));
+            margin = margin.min(hi - (w * t_hi + h)).min(w * t_lo - h - lo);
         }
         margin / (hi - lo)
     }

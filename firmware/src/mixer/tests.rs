@@ -1,5 +1,6 @@
 use super::*;
 use crate::config::FlightConfig;
+use controller_core::TorqueSet;
 
 fn mixer() -> Mixer {
     Mixer::new(&FlightConfig::paper().rotors).unwrap()
@@ -200,4 +201,69 @@ fn box_margin_by_hand() {
         !m.box_fit(3.512, 6.188, &Vector3::new(0.379, 0.446, 0.664))
             .fits
     );
+}
+
+/// A torque set that is a box (no ellipsoid, no ball) has the box's margin.
+#[test]
+fn set_margin_of_a_box_is_the_box_margin() {
+    let m = mixer();
+    let tau = Vector3::new(0.05f32, 0.04, 0.03);
+    let set = TorqueSet::new(Vector3::repeat(0.1), 0.0, 0.0, 0.0, tau);
+    let (a, b) = (m.set_margin(3.0, 6.0, &set), m.box_margin(3.0, 6.0, &tau));
+    assert!((a - b).abs() < 1e-6, "{a} vs {b}");
+}
+
+mod set_margin_properties {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn unit(theta: f32, phi: f32) -> Vector3<f32> {
+        Vector3::new(
+            theta.sin() * phi.cos(),
+            theta.sin() * phi.sin(),
+            theta.cos(),
+        )
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(3000))]
+
+        /// Given a torque set (ellipsoid, boxes, ball) and a thrust interval, when points of the
+        /// set at either thrust end are allocated through `M` (no desaturation), then every
+        /// rotor's headroom is at least the set margin; and the set margin is at least the
+        /// box margin of the set's per-axis extents.
+        #[test]
+        fn points_of_the_set_keep_the_margin(
+            inertia in (0.01..0.1f32, 0.01..0.1f32, 0.01..0.2f32),
+            rates in (0.0..3.0f32, 0.0..1.0f32),
+            radius in 0.0..0.1f32,
+            levels in (0.0..0.05f32, 0.0..0.05f32, 0.0..0.05f32),
+            thrust in (2.0..5.0f32, 0.0..3.0f32, any::<bool>()),
+            v in (0.0..std::f32::consts::PI, 0.0..std::f32::consts::TAU, 0.0..=1.0f32),
+            w in (0.0..std::f32::consts::PI, 0.0..std::f32::consts::TAU, 0.0..=1.0f32),
+            ball in (0.0..std::f32::consts::PI, 0.0..std::f32::consts::TAU, 0.0..=1.0f32),
+            signs in any::<[bool; 3]>(),
+        ) {
+            let m = mixer();
+            let j = Vector3::new(inertia.0, inertia.1, inertia.2);
+            let (speed, accel) = (rates.0, rates.1 * 10.0);
+            let axes = Vector3::new(levels.0, levels.1, levels.2).add_scalar(radius);
+            let set = TorqueSet::new(j, speed, accel, radius, axes);
+            let (t_lo, t_hi) = (thrust.0, thrust.0 + thrust.1);
+            // A point of each summand, on the boundary for the radii drawn as 1.
+            let ellipsoid = j.component_mul(&(unit(v.0, v.1) * (v.2 * accel)));
+            let wv = unit(w.0, w.1) * (w.2 * speed);
+            let gyro = j.component_mul(&wv).cross(&wv);
+            let pick = |s: [bool; 3], h: Vector3<f32>| Vector3::from_fn(|i, _| if s[i] { h[i] } else { -h[i] });
+            let tau = -ellipsoid + gyro + unit(ball.0, ball.1) * (ball.2 * radius)
+                + pick(signs, set.feedback_box);
+            let margin = m.set_margin(t_lo, t_hi, &set);
+            let (lo, hi) = m.thrust_range();
+            let t = if thrust.2 { t_hi } else { t_lo };
+            let f = m.mixing() * nalgebra::Vector4::new(t, tau.x, tau.y, tau.z);
+            let worst = (0..4).map(|k| (f[k] - lo).min(hi - f[k])).fold(f32::INFINITY, f32::min) / (hi - lo);
+            prop_assert!(worst >= margin - 1e-5, "{worst} < {margin}");
+            prop_assert!(margin >= m.box_margin(t_lo, t_hi, &set.axis_extents()) - 1e-6);
+        }
+    }
 }

@@ -45,8 +45,8 @@ pub struct BootReport {
     /// configured thrust's interval, [`crate::config::ThrustChoice::interval`]).
     pub a_priori_fit: BoxFit,
     /// The box's smallest headroom inside the rotors, a fraction of the rotor range
-    /// ([`crate::mixer::Mixer::box_margin`]; negative: it does not fit).
-    pub box_margin: f32,
+    /// ([`crate::mixer::Mixer::set_margin`]; negative: it does not fit).
+    pub fit_margin: f32,
     /// The margin the configuration requires ([`FlightConfig::box_margin`]).
     pub required_margin: f32,
     /// The gate on this set-up: `Ok(margin)` when every condition holds and the box fits
@@ -90,7 +90,7 @@ pub(super) fn certify_setup(
     Ok(BootReport {
         certificate,
         a_priori_fit: mixer.box_fit(lo, hi, &b.torque_max),
-        box_margin: gate::box_margin(&certificate, &cfg.thrust, mixer),
+        fit_margin: gate::fit_margin(&certificate, &cfg.thrust, mixer),
         required_margin: cfg.box_margin,
         gate: gate::check(&certificate, &cfg.thrust, mixer, cfg.box_margin),
         thrust_capacity: 4.0 * cfg.rotors.thrust_max,

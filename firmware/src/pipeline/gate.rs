@@ -1,10 +1,12 @@
 //! The certification gate: a set-up (vehicle, limits, gains, a reference's Assumption 1
 //! constants) is flown only if every condition of the a-priori bound certificate holds
-//! (Assumption 1, Theorem 1, Lemma 1 and Theorem 2) and the certified `(T, τ)` box
-//! `[T_lo, T_hi] × Π[−τ_i, τ_i]` fits inside the rotors with the configured margin, with
+//! (Assumption 1, Theorem 1, Lemma 1 and Theorem 2) and the certified `(T, τ)` set
+//! `[T_lo, T_hi] × S` fits inside the rotors with the configured margin (`S` the torque set of
+//! Theorem 2's terms, [`controller_core::TorqueSet`]: inside the box `Π[−τ_i, τ_i]` of its
+//! per-axis bounds, so every box that fitted still fits), with
 //! `[T_lo, T_hi]` the configured thrust's interval (Theorem 1's `[T_min, T_max]` for the paper's
 //! `T = m|u|`, `[T_floor, T_max]` for the no-dive thrust; [`ThrustChoice::interval`])
-//! ([`crate::mixer::Mixer::box_margin`]). Pure functions, so the boot report, the arm check and
+//! ([`crate::mixer::Mixer::set_margin`]). Pure functions, so the boot report, the arm check and
 //! every reference change apply the very same test.
 
 pub use crate::gate_failure::GateFailure;
@@ -13,9 +15,9 @@ use controller_core::Certificate;
 use crate::config::ThrustChoice;
 use crate::mixer::Mixer;
 
-/// Name of the box-fit "condition" in refusals and events: `lhs` is the box's smallest
-/// headroom, `rhs` the required margin (fractions of the rotor thrust range).
-pub const BOX_FIT: &str = "box_fit.margin";
+/// Name of the rotor-fit "condition" in refusals and events: `lhs` is the certified set's
+/// smallest headroom, `rhs` the required margin (fractions of the rotor thrust range).
+pub const ROTOR_FIT: &str = "rotor_fit.margin";
 
 /// Name of the thrust-floor "condition": `lhs` is the floor, `rhs` Theorem 1's `T_min` \[N\]
 /// (a floor above it would raise the thrust above the paper's).
@@ -38,19 +40,19 @@ pub fn thrust_interval(
     })
 }
 
-/// The smallest headroom of the certified `(T, τ)` box (`thrust`'s interval, `certificate`'s
-/// torque bounds) inside the rotors of `mixer`, as a fraction of the rotor range (negative:
+/// The smallest headroom of the certified `(T, τ)` set (`thrust`'s interval, `certificate`'s
+/// torque set) inside the rotors of `mixer`, as a fraction of the rotor range (negative:
 /// it does not fit; NaN when the interval itself is refused).
-pub fn box_margin(certificate: &Certificate<f32>, thrust: &ThrustChoice, mixer: &Mixer) -> f32 {
+pub fn fit_margin(certificate: &Certificate<f32>, thrust: &ThrustChoice, mixer: &Mixer) -> f32 {
     match thrust_interval(certificate, thrust) {
-        Ok((lo, hi)) => mixer.box_margin(lo, hi, &certificate.bounds.torque_max),
+        Ok((lo, hi)) => mixer.set_margin(lo, hi, &certificate.bounds.torque_set),
         Err(_) => f32::NAN,
     }
 }
 
 /// `Ok(margin)` when every condition of `certificate` holds, `thrust`'s interval exists and
-/// its box leaves at least `required_margin` of every rotor's range free; otherwise the first
-/// violated condition, in the paper's order, then the thrust floor, then the box fit. A NaN
+/// its certified set leaves at least `required_margin` of every rotor's range free; otherwise the
+/// first violated condition, in the paper's order, then the thrust floor, then the rotor fit. A NaN
 /// margin fails.
 pub fn check(
     certificate: &Certificate<f32>,
@@ -66,12 +68,12 @@ pub fn check(
         });
     }
     let (lo, hi) = thrust_interval(certificate, thrust)?;
-    let margin = mixer.box_margin(lo, hi, &certificate.bounds.torque_max);
+    let margin = mixer.set_margin(lo, hi, &certificate.bounds.torque_set);
     if margin >= required_margin {
         Ok(margin)
     } else {
         Err(GateFailure {
-            condition: BOX_FIT,
+            condition: ROTOR_FIT,
             lhs: margin,
             rhs: required_margin,
         })

@@ -43,7 +43,7 @@ mod tests;
 
 pub use boot::{BootError, BootReport};
 pub use events::{Counters, Event, PipelineStatus};
-pub use gate::{box_margin, check as gate_check, GateFailure, BOX_FIT};
+pub use gate::{check as gate_check, fit_margin, GateFailure, ROTOR_FIT};
 pub use landed::{LandedDetector, LandedInputs};
 pub use mission::{Mode, ModeMachine};
 pub use param_protocol::{ParamRefusal, RestoreError, STREAM_PERIOD_US as PARAM_STREAM_PERIOD_US};

@@ -3,18 +3,25 @@
 //! per-axis torque bound of Theorem 2 is `ff_i + ι` with
 //! `ff_i = J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd²` and `ι = (1 + (1 + δ)²) M_ϑ/4 + M_ω`.
 //!
-//! The box fit (`firmware::mixer::Mixer::box_fit`): rotor `k` receives
-//! `f_k = w_k T + Σ_i M_k,i+1 τ_i` (`M = B⁻¹`, `w_k = M_k0 > 0`), so the box `T ∈ [T_min, T_max]`,
-//! `|τ_i| ≤ ff_i + ι` fits the range shrunk by the margin, `[lo', hi'] = [lo + m Δ, hi − m Δ]`
-//! (`Δ = hi − lo`), iff for every rotor
-//! `w_k T_max + Σ_i e_ki (ff_i + ι) ≤ hi'` and `w_k T_min − Σ_i e_ki (ff_i + ι) ≥ lo'`
-//! (`e_ki = |M_k,i+1|`): linear in `ι`, hence the largest `ι` in closed form ([`iota_max`]).
+//! The rotor fit (`firmware::mixer::Mixer::set_margin`): rotor `k` receives
+//! `f_k = w_k T + c_kᵀτ` (`M = B⁻¹`, `w_k = M_k0 > 0`, `c_k` the rest of row `k`), and the torque
+//! lies in the certified set `S` of Theorem 2's terms (`controller_core::TorqueSet`: the
+//! feedforward's ellipsoid and gyroscopic box, plus the feedback's ball of radius `ι` for the
+//! paper's law), so `[T_min, T_max] × S` fits the range shrunk by the margin,
+//! `[lo', hi'] = [lo + m Δ, hi − m Δ]` (`Δ = hi − lo`), iff for every rotor
+//! `w_k T_max + h_ff(c_k) + ι |c_k| ≤ hi'` and `w_k T_min − h_ff(c_k) − ι |c_k| ≥ lo'`
+//! (`h_ff` the support function of the feedforward's part): linear in `ι`, hence the largest
+//! `ι` in closed form ([`iota_max`]). Per-axis feedback levels (tilt priority) are proposed
+//! with their box, `Σ_i |c_ki| ι_i` (it contains their set, so the certificate can only find
+//! more room). With the tight bounds (`--bounds tight`) the certified set is the box of their
+//! per-axis bounds, and the fit is the box's (`Σ_i |c_ki| (ff_i + ι_i)`).
 //! This module only *proposes* numbers; the certificate of a design comes from
-//! `controller_core::bounds::certify` and `Mixer::box_fit` ([`super::certificate`]).
+//! `controller_core::bounds::certify` and `Mixer::set_margin` ([`super::certificate`]).
 
 use super::integral::IntegralSpec;
 use controller_core::{
-    certify, Bounds, FilterStart, Gains, Limits, PositionSaturation, TrajectoryConstants, Vehicle,
+    certify, Bounds, FilterStart, Gains, Limits, PositionSaturation, TorqueSet,
+    TrajectoryConstants, Vehicle,
 };
 use firmware::config::RotorConfig;
 use firmware::mixer::Mixer;
@@ -73,6 +80,10 @@ pub struct Envelope {
     pub thrust: (f64, f64),
     /// `ff_i = J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd²` [N m].
     pub feedforward: Vector3<f64>,
+    /// The feedforward's part of the certified torque set (ellipsoid and gyroscopic box, no
+    /// feedback; [`TorqueSet`]); `None` with the tight bounds, whose certified set is the box
+    /// of [`Envelope::feedforward`] plus the feedback levels.
+    pub feedforward_set: Option<TorqueSet<f64>>,
     /// All bounds (with the probe's `ι`, which [`Envelope::feedforward`] removes).
     pub bounds: Bounds<f64>,
 }
@@ -138,6 +149,13 @@ pub fn envelope(
     Some(Envelope {
         thrust: (b.thrust_min, b.thrust_max),
         feedforward: b.torque_max - b.feedback_torque_axes,
+        feedforward_set: Some(TorqueSet::new(
+            vehicle.inertia,
+            b.angular_velocity,
+            b.angular_acceleration,
+            0.0,
+            Vector3::zeros(),
+        )),
         bounds: b,
     })
 }
@@ -164,33 +182,54 @@ pub fn envelope_with(
         env.feedforward = env
             .feedforward
             .inf(&super::tight::tight_feedforward(vehicle, rates));
+        env.feedforward_set = None;
     }
     Some(env)
 }
 
-/// The largest `ι` [N m] for which the box of `env` fits `rotors` with `margin` (fraction of
-/// the range at both ends); negative when even `ι = 0` does not fit.
+/// The largest `ι` [N m] for which the certified set of `env` with the paper's feedback (a
+/// ball of radius `ι`; the box `ι` per axis with the tight bounds) fits `rotors` with `margin`
+/// (fraction of the range at both ends); negative when even `ι = 0` does not fit.
 pub fn iota_max(rotors: &RotorSet, env: &Envelope, margin: f64) -> f64 {
-    iota_max_along(rotors, env, margin, &Vector3::repeat(1.0))
+    iota_max_shaped(rotors, env, margin, None)
 }
 
-/// The largest `ι` [N m] for which the box with per-axis feedback levels `ι d`
-/// (`d` \[dimensionless\], each `≥ 0`, body axes: tilt priority's `(1, 1, ρ)`) fits `rotors`
-/// with `margin`: the same closed form as [`iota_max`] with `Σ_i e_ki` replaced by
-/// `Σ_i e_ki d_i`. Negative when even `ι = 0` does not fit.
+/// The largest `ι` [N m] for which the set with per-axis feedback levels `ι d` (a box;
+/// `d` \[dimensionless\], each `≥ 0`, body axes: tilt priority's `(1, 1, ρ)`) fits `rotors`
+/// with `margin`: the closed form of [`iota_max`] with the ball's `|c_k|` replaced by
+/// `Σ_i |c_ki| d_i`. Negative when even `ι = 0` does not fit.
 pub fn iota_max_along(
     rotors: &RotorSet,
     env: &Envelope,
     margin: f64,
     direction: &Vector3<f64>,
 ) -> f64 {
+    iota_max_shaped(rotors, env, margin, Some(direction))
+}
+
+/// [`iota_max`] (`levels` `None`: the paper's radial feedback) or [`iota_max_along`].
+fn iota_max_shaped(
+    rotors: &RotorSet,
+    env: &Envelope,
+    margin: f64,
+    levels: Option<&Vector3<f64>>,
+) -> f64 {
     let (lo, hi) = rotors.shrunk(margin);
     let (t_lo, t_hi) = env.thrust;
     let mut best = f64::INFINITY;
     for k in 0..4 {
         let w = rotors.mix[(k, 0)];
-        let e = Vector3::from_fn(|i, _| rotors.mix[(k, i + 1)].abs());
-        let (ff, s) = (e.dot(&env.feedforward), e.dot(direction));
+        let c = Vector3::from_fn(|i, _| rotors.mix[(k, i + 1)]);
+        let e = c.abs();
+        let ff = match &env.feedforward_set {
+            Some(set) => set.support(&c),
+            None => e.dot(&env.feedforward),
+        };
+        let s = match (levels, &env.feedforward_set) {
+            (Some(d), _) => e.dot(d),
+            (None, Some(_)) => c.norm(),
+            (None, None) => e.sum(),
+        };
         if w <= 0.0 || s <= 0.0 {
             return f64::NEG_INFINITY;
         }
@@ -290,16 +329,34 @@ pub fn box_margin(rotors: &RotorSet, thrust: (f64, f64), tau: &Vector3<f64>) -> 
     worst
 }
 
+/// Smallest headroom of `[thrust.0, thrust.1] × set` over the rotors, as a fraction of the
+/// rotor range (negative: the set leaves the range): rotor `k`'s extremes are
+/// `w_k T_hi + h(c_k)` and `w_k T_lo − h(c_k)` ([`TorqueSet::support`]). The f64 twin of the
+/// firmware's `Mixer::set_margin`, for reports.
+pub fn set_margin(rotors: &RotorSet, thrust: (f64, f64), set: &TorqueSet<f64>) -> f64 {
+    let (lo, hi) = rotors.range;
+    let mut worst = f64::INFINITY;
+    for k in 0..4 {
+        let w = rotors.mix[(k, 0)];
+        let h = set.support(&Vector3::from_fn(|i, _| rotors.mix[(k, i + 1)]));
+        worst = worst
+            .min(hi - (w * thrust.1 + h))
+            .min(w * thrust.0 - h - lo);
+    }
+    worst / (hi - lo)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use controller_core::{ReferenceTrajectory, Trajectory};
     use firmware::config::FlightConfig;
 
-    /// `iota_max` agrees with a bisection on the firmware's own `Mixer::box_fit` over a rotor
-    /// set shrunk by the margin.
+    /// `iota_max` agrees with a bisection on the firmware's own `Mixer::set_margin` over a
+    /// rotor set shrunk by the margin; at `ι_max` the set's headroom is the margin exactly; and
+    /// it is at least the largest `ι` of the per-axis box (the box contains the set).
     #[test]
-    fn closed_form_iota_matches_box_fit_bisection() {
+    fn closed_form_iota_matches_set_fit_bisection() {
         let cfg = FlightConfig::paper();
         let mut rotors = cfg.rotors;
         rotors.thrust_max = 6.0;
@@ -315,43 +372,71 @@ mod tests {
         let mixer = Mixer::new(&shrunk).unwrap();
         for (mp, kf, ks) in [(0.3, 0.3, 0.6), (0.5, 0.5, 1.5), (1.5, 0.3, 1.0)] {
             let env = envelope(&vehicle, &k, (mp, kf, ks), PositionLaw::paper()).unwrap();
+            let b = &env.bounds;
+            let torque_set = |iota: f64, levels: Vector3<f64>| {
+                TorqueSet::new(
+                    vehicle.inertia,
+                    b.angular_velocity,
+                    b.angular_acceleration,
+                    iota,
+                    levels,
+                )
+            };
             let closed = iota_max(&set, &env, margin);
             let fits = |iota: f64| {
-                let tau = (env.feedforward.add_scalar(iota)).map(|x| x as f32);
-                mixer
-                    .box_fit(env.thrust.0 as f32, env.thrust.1 as f32, &tau)
-                    .fits
+                let t = torque_set(iota, Vector3::repeat(iota));
+                let t32 = TorqueSet::new(
+                    t.inertia.map(|x| x as f32),
+                    b.angular_velocity as f32,
+                    b.angular_acceleration as f32,
+                    iota as f32,
+                    Vector3::repeat(iota as f32),
+                );
+                mixer.set_margin(env.thrust.0 as f32, env.thrust.1 as f32, &t32) >= 0.0
             };
-            let (mut a, mut b) = (0.0, 10.0);
+            let (mut a, mut c) = (0.0, 10.0);
             assert!(
-                closed > 0.0 && fits(a) && !fits(b),
+                closed > 0.0 && fits(a) && !fits(c),
                 "bracket at {mp} {kf} {ks}: {closed}"
             );
             for _ in 0..50 {
-                let m = 0.5 * (a + b);
+                let m = 0.5 * (a + c);
                 if fits(m) {
                     a = m;
                 } else {
-                    b = m;
+                    c = m;
                 }
             }
             assert!(
                 (a - closed).abs() <= 1e-5 * closed.abs().max(1e-3),
                 "closed form {closed} vs bisection {a} at ({mp}, {kf}, {ks})"
             );
-            // At ι_max the worst corner sits exactly at the margin.
-            let tau = env.feedforward.add_scalar(closed);
-            let m = box_margin(&set, env.thrust, &tau);
-            assert!((m - margin).abs() < 1e-9, "corner margin {m}");
-            // Along tilt priority's direction (1, 1, ρ): the same, corner by corner.
+            // At ι_max the set's worst rotor sits exactly at the margin.
+            let m = set_margin(
+                &set,
+                env.thrust,
+                &torque_set(closed, Vector3::repeat(closed)),
+            );
+            assert!((m - margin).abs() < 1e-9, "set margin {m}");
+            // The per-axis box of the same bounds fits at its own, smaller, ι_max, whose worst
+            // corner sits at the margin.
+            let boxed = Envelope {
+                feedforward_set: None,
+                ..env
+            };
+            let box_iota = iota_max(&set, &boxed, margin);
+            let corner = box_margin(&set, env.thrust, &env.feedforward.add_scalar(box_iota));
+            assert!((corner - margin).abs() < 1e-9, "corner margin {corner}");
+            assert!(closed > box_iota, "set {closed} vs box {box_iota}");
+            // Per-axis levels ι d (tilt priority's direction (1, 1, ρ)), proposed as a box.
             for rho in [0.05, 0.3, 1.0] {
                 let d = Vector3::new(1.0, 1.0, rho);
                 let along = iota_max_along(&set, &env, margin, &d);
-                let m = box_margin(&set, env.thrust, &(env.feedforward + along * d));
-                assert!((m - margin).abs() < 1e-9, "rho {rho}: corner margin {m}");
+                let m = set_margin(&set, env.thrust, &torque_set(0.0, d * along));
+                assert!((m - margin).abs() < 1e-9, "rho {rho}: set margin {m}");
                 assert!(
-                    along >= closed - 1e-12,
-                    "a smaller yaw share frees roll: {along} {closed}"
+                    along >= iota_max_along(&set, &boxed, margin, &d) - 1e-12,
+                    "the ellipsoid frees room: {along}"
                 );
             }
         }

@@ -1,42 +1,49 @@
 //! The certificate of a design, from the two functions the firmware trusts:
-//! `controller_core::bounds::certify` (Assumption 1, Theorem 1, Lemma 1, Theorem 2) and
-//! `firmware::mixer::Mixer::box_fit` (the certified `(T, τ)` box inside the rotor range).
+//! `controller_core::bounds::certify` (Assumption 1, Theorem 1, Lemma 1, Theorem 2, and the
+//! torque set of Theorem 2's terms) and `firmware::mixer::Mixer::set_margin` (the certified
+//! `(T, τ)` set inside the rotor range).
 //!
 //! The actuator limits the conditions are evaluated against are what the rotor set delivers:
-//! `T_max = Σ_k f_max` and `τ_max,i` = the box fit's per-axis torque capacity over the certified
+//! `T_max = Σ_k f_max` and `τ_max,i` = the rotors' capacity on axis `i` alone over the certified
 //! thrust interval (the largest `|τ_i|` realisable at both thrust ends with the other torques at
-//! their box bounds).
+//! zero). The certified set contains `±τ_i e_i` for its per-axis bound `τ_i`, so a set that fits
+//! meets Theorem 2's per-axis conditions against these limits. With the tight bounds the
+//! certified set is the box of their per-axis bounds, and `τ_max,i` is the box fit's capacity
+//! with the other torques at their box bounds.
 
 use anyhow::{anyhow, Result};
 use controller_core::{
-    certify, Certificate, FilterStart, Gains, Limits, TrajectoryConstants, Vehicle,
+    certify, Certificate, FilterStart, Gains, Limits, TorqueSet, TrajectoryConstants, Vehicle,
 };
 use firmware::config::RotorConfig;
 use firmware::mixer::{BoxFit, Mixer};
 use nalgebra::Vector3;
 
-use super::authority::{box_margin, RotorSet};
+use super::authority::{box_margin, set_margin, RotorSet};
 use crate::bounds::certificate::TightCondition;
 
-/// A set-up checked by `certify` and `box_fit`.
+/// A set-up checked by `certify` and `set_margin`.
 #[derive(Clone, Debug)]
 pub struct Certified {
     /// The limits derived from the rotor set \[N\], [N m].
     pub limits: Limits<f64>,
     /// `certify` with those limits.
     pub certificate: Certificate<f64>,
-    /// `box_fit` of the certified box on the vehicle's rotor range.
+    /// `box_fit` of the box of the certified per-axis bounds on the vehicle's rotor range (a
+    /// per-axis report; the certified set is inside it).
     pub box_fit: BoxFit,
-    /// `box_fit` of the certified box on the range shrunk by the requested margin at both ends.
+    /// The certified set fits the vehicle's rotor range.
+    pub fits: bool,
+    /// The certified set fits the range shrunk by the requested margin at both ends.
     pub fits_with_margin: bool,
-    /// Smallest headroom over rotors and corners, fraction of the rotor range.
+    /// Smallest headroom of the certified set over the rotors, fraction of the rotor range.
     pub margin: f64,
     /// The certified torque box [N m] (body axes): Theorem 2's bounds, or the tight box.
     pub torque_box: Vector3<f64>,
     /// With the tight bounds: Theorem 2's torque conditions judged with both bounds (they
     /// replace the paper's verdict on those three); `None`: the paper's bounds.
     pub tight: Option<Vec<TightCondition>>,
-    /// `box_fit` of the paper's box (Theorem 1's interval × Theorem 2's bounds) on the range
+    /// The paper's certified set (Theorem 1's interval × Theorem 2's torque set) fits the range
     /// shrunk by the margin: what the firmware's gate measures (the same as
     /// [`Certified::fits_with_margin`] when certified with the paper's bounds).
     pub paper_fits_with_margin: bool,
@@ -44,13 +51,13 @@ pub struct Certified {
 
 impl Certified {
     /// Every condition holds (Theorem 2's torque conditions with the tight bounds when
-    /// certified with them) and the box fits with the margin.
+    /// certified with them) and the certified set fits with the margin.
     pub fn ok(&self) -> bool {
-        self.all_hold() && self.box_fit.fits && self.fits_with_margin
+        self.all_hold() && self.fits && self.fits_with_margin
     }
 
     /// What the firmware's gate re-checks on board (`firmware::pipeline::gate::check`): every
-    /// condition with the paper's bounds, and the paper's box fits with the margin.
+    /// condition with the paper's bounds, and the paper's certified set fits with the margin.
     pub fn paper_certified(&self) -> bool {
         self.certificate.require_feasible().is_ok() && self.paper_fits_with_margin
     }
@@ -96,10 +103,22 @@ pub fn certify_design(
     certify_design_with(vehicle, rotors, gains, constants, margin, None)
 }
 
+/// The f32 copy of a torque set (what the firmware computes from the flight file).
+pub fn set_f32(s: &TorqueSet<f64>) -> TorqueSet<f32> {
+    TorqueSet {
+        inertia: s.inertia.map(|x| x as f32),
+        angular_acceleration: s.angular_acceleration as f32,
+        gyroscopic: s.gyroscopic.map(|x| x as f32),
+        feedback_radius: s.feedback_radius as f32,
+        feedback_box: s.feedback_box.map(|x| x as f32),
+    }
+}
+
 /// [`certify_design`] with the torque box `tight_box` [N m] (body axes; a sound bound on each
 /// `|τ_i|` smaller than Theorem 2's, [`super::tight::tight_torque_box`]) in place of Theorem
-/// 2's: the box fit, the torque capacity over the thrust interval and Theorem 2's torque
-/// conditions use it; the paper's verdicts are kept beside ([`Certified::tight`]).
+/// 2's torque set: the rotor fit (of that box), the torque capacity over the thrust interval
+/// and Theorem 2's torque conditions use it; the paper's verdicts are kept beside
+/// ([`Certified::tight`]).
 ///
 /// Errors: as [`certify_design`].
 pub fn certify_design_with(
@@ -120,10 +139,18 @@ pub fn certify_design_with(
     let first = certify(vehicle, &probe, gains, constants, FilterStart::Zero)
         .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))?;
     let b = &first.bounds;
+    let (t_lo, t_hi) = (b.thrust_min as f32, b.thrust_max as f32);
     let torque_box = tight_box.map_or(b.torque_max, |t| t.inf(&b.torque_max));
     let tau32 = torque_box.map(|x| x as f32);
-    let fit = mixer.box_fit(b.thrust_min as f32, b.thrust_max as f32, &tau32);
-    let capacity = Vector3::from(fit.torque_capacity.map(f64::from));
+    let fit = mixer.box_fit(t_lo, t_hi, &tau32);
+    let paper_set = set_f32(&b.torque_set);
+    // The capacity the per-axis conditions are judged against: axis alone for the set, with
+    // the other axes at their bounds for the tight box.
+    let capacity_fit = match tight_box {
+        None => mixer.box_fit(t_lo, t_hi, &Vector3::zeros()),
+        Some(_) => fit,
+    };
+    let capacity = Vector3::from(capacity_fit.torque_capacity.map(f64::from));
     // A zero capacity is a limit `certify` refuses; keep it positive and let the condition fail.
     let limits = Limits {
         thrust_max: set.thrust_total_max(),
@@ -133,16 +160,14 @@ pub fn certify_design_with(
         .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))?;
     let shrunk = Mixer::new(&shrunk_rotors(rotors, margin))
         .map_err(|e| anyhow!("rotor range shrunk by the margin {margin}: {e:?}"))?;
-    let fits_with_margin = shrunk
-        .box_fit(b.thrust_min as f32, b.thrust_max as f32, &tau32)
-        .fits;
-    let paper_fits_with_margin = shrunk
-        .box_fit(
-            b.thrust_min as f32,
-            b.thrust_max as f32,
-            &b.torque_max.map(|x| x as f32),
-        )
-        .fits;
+    let paper_fits_with_margin = shrunk.set_margin(t_lo, t_hi, &paper_set) >= 0.0;
+    let (fits, fits_with_margin) = match tight_box {
+        None => (
+            mixer.set_margin(t_lo, t_hi, &paper_set) >= 0.0,
+            paper_fits_with_margin,
+        ),
+        Some(_) => (fit.fits, shrunk.box_fit(t_lo, t_hi, &tau32).fits),
+    };
     let tight = tight_box.map(|_| {
         certificate
             .conditions
@@ -159,12 +184,17 @@ pub fn certify_design_with(
             })
             .collect()
     });
+    let thrust = (b.thrust_min, b.thrust_max);
     Ok(Certified {
         limits,
         certificate,
         box_fit: fit,
+        fits,
         fits_with_margin,
-        margin: box_margin(&set, (b.thrust_min, b.thrust_max), &torque_box),
+        margin: match tight_box {
+            None => set_margin(&set, thrust, &b.torque_set),
+            Some(_) => box_margin(&set, thrust, &torque_box),
+        },
         torque_box,
         tight,
         paper_fits_with_margin,

@@ -50,7 +50,7 @@ pub(crate) fn binding_condition(
         });
         return Some(if floor <= 0.0 {
             format!(
-                "theorem2 + box fit: no feedback torque level iota > 0 fits the rotors with margin {margin} even as \
+                "theorem2 + rotor fit: no feedback torque level iota > 0 fits the rotors with margin {margin} even as \
                  M_p -> 0: iota_max = {floor:.4e} N m{detail}"
             )
         } else {
@@ -72,7 +72,7 @@ pub(crate) fn binding_condition(
     };
     let Some(m) = map(&ctx, &probe) else {
         return Some(
-            "theorem2 + box fit: no M_p > 0 leaves a positive feedback torque level".to_owned(),
+            "theorem2 + rotor fit: no M_p > 0 leaves a positive feedback torque level".to_owned(),
         );
     };
     match certify_mapped(vehicle, &constants, &m, (margin, bounds, SEARCH_BOXES)) {
@@ -91,7 +91,7 @@ pub(crate) fn binding_condition(
                 .collect();
             if !c.fits_with_margin {
                 why.push(format!(
-                    "box fit with margin {margin}: smallest headroom {:.4}",
+                    "rotor fit of the certified set with margin {margin}: smallest headroom {:.4}",
                     c.margin
                 ));
             }

@@ -46,26 +46,28 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
     }
     let _ = writeln!(
         s,
-        "## Certificate\n\nEvery condition holds: **{}**. Box fit: **{}** (with the {:.0} % margin: **{}**; \
-         smallest headroom {:.2} % of the rotor range).\n",
+        "## Certificate\n\nEvery condition holds: **{}**. Rotor fit of the certified {} (docs/torque-set.md): **{}** (with the {:.0} % margin: **{}**; \
+         smallest headroom {:.2} % of the rotor range; the box of the per-axis bounds, every corner at once, fits: {}).\n",
         r.certificate.all_hold,
-        r.box_fit.fits,
-        100.0 * r.box_fit.requested_margin,
-        r.box_fit.fits_with_margin,
-        100.0 * r.box_fit.margin
+        if r.rotor_fit.shape == "set" { "torque set" } else { "box" },
+        r.rotor_fit.fits,
+        100.0 * r.rotor_fit.requested_margin,
+        r.rotor_fit.fits_with_margin,
+        100.0 * r.rotor_fit.margin,
+        r.rotor_fit.box_fits
     );
     if r.certificate.bounds == super::tight::BoundsKind::Tight {
         let _ = writeln!(
             s,
             "Certified with the **tight** a-priori bounds (`--bounds tight`, docs/tight-bounds.md): \
-             Theorem 2's torque conditions and the box fit use them; the paper's bound is beside. \
-             With the paper's bounds every condition holds and the box fits with the margin (the \
+             Theorem 2's torque conditions and the rotor fit (of their box) use them; the paper's bound is beside. \
+             With the paper's bounds every condition holds and the torque set fits with the margin (the \
              firmware's gate): **{}**{}.\n",
             r.certificate.paper_certified,
             if r.certificate.paper_certified {
                 ""
             } else {
-                " (the firmware's gate re-checks the paper's certificate and box fit on board and \
+                " (the firmware's gate re-checks the paper's certificate and rotor fit on board and \
                  would refuse to arm this design, so no `firmware.toml` is written: fly \
                  `scenario.toml` in simulation)"
             }
@@ -233,12 +235,12 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
     let t = &r.thrust;
     let _ = writeln!(
         s,
-        "Thrust: `{}`{}; certified thrust interval [{:.4}, {:.4}] N (the box the firmware's gate \
-         checks against the rotors).\n",
+        "Thrust: `{}`{}; certified thrust interval [{:.4}, {:.4}] N (with the torque set, what the \
+         firmware's gate checks against the rotors).\n",
         t.mode,
         if t.floor_N > 0.0 {
             format!(
-                ", floor {:.4} N (the lowest at which the certified torques still fit the rotors \
+                ", floor {:.4} N (the lowest at which the certified torque set still fits the rotors \
                  with the margin)",
                 t.floor_N
             )
@@ -311,10 +313,10 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
     let m = &r.margins;
     let _ = writeln!(
         s,
-        "\n## Margins\n\n- box fit: {:.2} % of the rotor range (requested {:.0} %)\n- motor time constant: {} s; \
+        "\n## Margins\n\n- rotor fit: {:.2} % of the rotor range (requested {:.0} %)\n- motor time constant: {} s; \
          doubled converges: {}; largest that still converges (seven 180 degree starts, bisection): {}\n",
-        100.0 * m.box_fit,
-        100.0 * r.box_fit.requested_margin,
+        100.0 * m.rotor_fit,
+        100.0 * r.rotor_fit.requested_margin,
         m.motor_time_constant_s,
         m.doubled_lag_converges,
         opt(m.motor_time_constant_max_converging_s, "s")

@@ -2,10 +2,10 @@
 //! on a stated objective measured by simulation.
 //!
 //! Certified by construction: [`authority`] computes, for `(M_p, k_f, k_s)`, the largest
-//! feedback torque level `ι` whose certified `(T, τ)` box fits the rotor set with the margin
+//! feedback torque level `ι` whose certified `(T, τ)` set fits the rotor set with the margin
 //! (closed form); [`variables`] maps nine numbers in `[0, 1]` onto gains inside that envelope;
 //! [`certificate`] checks every design with the functions the firmware trusts
-//! (`controller_core::bounds::certify`, `Mixer::box_fit`); [`evaluate`] flies it (the seven
+//! (`controller_core::bounds::certify`, `Mixer::set_margin`); [`evaluate`] flies it (the seven
 //! 180° starts, upside down at hover, the doubled motor time constant); [`optimise`] runs
 //! argmin's particle swarm; [`mod@reference`] scales the reference down when it cannot be
 //! certified; [`report`] writes `design.json`, `design.md`, the plots, `scenario.toml` and

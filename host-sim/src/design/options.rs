@@ -68,7 +68,7 @@ pub struct DesignOptions {
     pub duration_s: f64,
     /// The attitude feedback searched: the paper's law or tilt priority (per-axis levels).
     pub law: AttitudeLaw,
-    /// The bounds that certify Theorem 2's torque condition and the box fit.
+    /// The bounds that certify Theorem 2's torque condition and the rotor fit.
     pub bounds: BoundsKind,
     /// `Some`: the design carries the bounded integral action sized to cover this disturbance,
     /// certified with the extended bounds (the default, [`super::integral`]; `None` with `--no-integral`).

@@ -65,7 +65,7 @@ pub(crate) fn write_flight_file(
         "objective".into(),
         report.objective.definition.clone().into(),
     );
-    design.insert("margin".into(), report.box_fit.requested_margin.into());
+    design.insert("margin".into(), report.rotor_fit.requested_margin.into());
     flight.insert("design".into(), toml::Value::Table(design));
     let text = ordered_toml(&flight)?;
     let header = format!(

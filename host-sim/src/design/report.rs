@@ -39,36 +39,44 @@ pub struct ConditionEntry {
 /// `certificate`.
 #[derive(Clone, Debug, Serialize)]
 pub struct CertificateEntry {
-    /// The bounds Theorem 2's torque conditions and the box fit are judged with.
+    /// The bounds Theorem 2's torque conditions and the rotor fit are judged with.
     pub bounds: super::tight::BoundsKind,
     /// Every condition holds.
     pub all_hold: bool,
-    /// Every condition holds and the box fits with the margin with the paper's bounds too: what
+    /// Every condition holds and the certified set fits with the margin with the paper's bounds too: what
     /// the firmware's gate re-checks on board (a flight file is written only then).
     pub paper_certified: bool,
     /// Every condition, in the paper's order (from `controller_core::bounds::certify`).
     pub conditions: Vec<ConditionEntry>,
 }
 
-/// `box_fit` (from `firmware::mixer::Mixer::box_fit`).
+/// The rotor fit of the certified `(T, τ)` set (`firmware::mixer::Mixer::set_margin`), and the
+/// per-axis report of the box of its bounds (`Mixer::box_fit`).
 #[derive(Clone, Debug, Serialize)]
 #[allow(non_snake_case)]
-pub struct BoxFitEntry {
-    /// The certified box fits the rotor range.
+pub struct RotorFitEntry {
+    /// The shape of the certified torque set: `"set"` (Theorem 2's terms,
+    /// `controller_core::TorqueSet`) or `"box"` (the tight bounds' per-axis box).
+    pub shape: &'static str,
+    /// The certified set fits the rotor range.
     pub fits: bool,
     /// It fits the range shrunk by the requested margin at both ends.
     pub fits_with_margin: bool,
-    /// Smallest headroom over rotors and box corners, fraction of the rotor range.
+    /// Smallest headroom of the set over the rotors, fraction of the rotor range.
     pub margin: f64,
     /// The requested margin.
     pub requested_margin: f64,
+    /// The box of the per-axis bounds fits too (every corner at once; not required).
+    pub box_fits: bool,
     /// Certified thrust interval \[N\].
     pub thrust_needed_N: [f32; 2],
-    /// Thrust interval the rotors realise with every torque at its bound \[N\].
+    /// Thrust interval the rotors realise with every torque at its per-axis bound at once \[N\]
+    /// (the box's; informative).
     pub thrust_capacity_N: [f32; 2],
     /// Certified per-axis torque bounds [N m].
     pub torque_needed_Nm: [f32; 3],
-    /// Per-axis torque capacity over the certified thrust interval [N m] (the `τ_max` limits).
+    /// Per-axis torque capacity over the certified thrust interval [N m]: the `τ_max` limits
+    /// (each axis alone for the set; with the other axes at their bounds for the tight box).
     pub torque_capacity_Nm: [f32; 3],
 }
 
@@ -139,8 +147,8 @@ pub struct AuthorityEntry {
 /// `margins`.
 #[derive(Clone, Debug, Serialize)]
 pub struct MarginsEntry {
-    /// Box-fit margin (fraction of the rotor range).
-    pub box_fit: f64,
+    /// Rotor-fit margin of the certified set (fraction of the rotor range).
+    pub rotor_fit: f64,
     /// Smallest relative slack over the conditions, `(lhs − rhs)/|rhs|`, and its condition.
     pub tightest_condition: (String, f64),
     /// The vehicle's motor time constant \[s\].
@@ -176,8 +184,8 @@ pub struct Report {
     pub fallback: Option<String>,
     /// The certificate.
     pub certificate: CertificateEntry,
-    /// The box fit.
-    pub box_fit: BoxFitEntry,
+    /// The rotor fit of the certified set.
+    pub rotor_fit: RotorFitEntry,
     /// Gains (scenario `[gains]`).
     pub gains: GainsConfig,
     /// Limits (scenario `[limits]`): what the rotors deliver.
@@ -188,7 +196,8 @@ pub struct Report {
     /// `M_i` [m/s²] (its gains are in `gains.integral`); `null` without.
     pub integral: Option<super::integral::IntegralSpec>,
     /// The thrust flown and written (`--thrust`): its mode, vertical priority's floor and the
-    /// certified thrust interval `[T_lo, T_hi]` \[N\] of the box `[T_lo, T_hi] × Π[−τ_i, τ_i]`.
+    /// certified thrust interval `[T_lo, T_hi]` \[N\] of the set `[T_lo, T_hi] × S` (`S` the torque
+    /// set).
     pub thrust: super::thrust::ThrustDesign,
     /// The physical choices behind the gains.
     pub choices: Choices,
@@ -277,15 +286,17 @@ impl Report {
                 paper_certified: c.paper_certified(),
                 conditions,
             },
-            box_fit: BoxFitEntry {
-                fits: c.box_fit.fits,
+            rotor_fit: RotorFitEntry {
+                shape: if c.tight.is_some() { "box" } else { "set" },
+                fits: c.fits,
+                box_fits: c.box_fit.fits,
                 fits_with_margin: c.fits_with_margin,
                 margin: c.margin,
                 requested_margin: o.margin,
                 thrust_needed_N: c.box_fit.thrust_needed,
                 thrust_capacity_N: c.box_fit.thrust_capacity,
                 torque_needed_Nm: c.box_fit.torque_needed,
-                torque_capacity_Nm: c.box_fit.torque_capacity,
+                torque_capacity_Nm: c.limits.torque_max.map(|x| x as f32).into(),
             },
             gains: gains_config(g),
             limits: limits_config(&c.limits),
@@ -332,7 +343,7 @@ impl Report {
                 },
             },
             margins: MarginsEntry {
-                box_fit: c.margin,
+                rotor_fit: c.margin,
                 tightest_condition: tightest,
                 motor_time_constant_s: vehicle.motor_time_constant_s,
                 motor_time_constant_max_converging_s: lag_max,

@@ -4,7 +4,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{bail, Context as _, Result};
-use controller_core::Bounds;
+use controller_core::{Bounds, TorqueSet};
+use nalgebra::Vector3;
 
 use super::authority::PositionLaw;
 use super::certificate::Certified;
@@ -113,9 +114,9 @@ fn firmware_bounds(scenario: &crate::model::scenario::Scenario) -> Result<Bounds
 }
 
 /// The thrust of a certified candidate: vertical priority's floor is the lowest at which the
-/// box the firmware's gate measures (Theorem 1's `T_max`, Theorem 2's torque bounds, each the
-/// larger of the f64 certificate's and the firmware's f32 one, `firmware`; the design's own box
-/// when the paper's does not fit) leaves the margin free.
+/// set the firmware's gate measures (Theorem 1's `T_max`, Theorem 2's torque set, each part
+/// the larger of the f64 certificate's and the firmware's f32 one, `firmware`; the design's own
+/// box when the paper's set does not fit) leaves the margin free.
 fn thrust_of(
     vehicle: &DesignVehicle,
     certified: &Certified,
@@ -127,16 +128,26 @@ fn thrust_of(
         .map_err(|e| anyhow::anyhow!("rotor set refused by the mixer: {e:?}"))?;
     let mut b = certified.certificate.bounds;
     b.thrust_max = b.thrust_max.max(f64::from(firmware.thrust_max));
-    let paper_box = b
-        .torque_max
-        .zip_map(&firmware.torque_max, |x, y| x.max(f64::from(y)));
-    let gate_box = if certified.paper_fits_with_margin {
-        paper_box
+    let gate_set = if certified.paper_fits_with_margin {
+        // Every part of the set grows its support function, so the part-wise larger set
+        // contains both the f64 and the f32 one.
+        let (d, f) = (
+            super::certificate::set_f32(&b.torque_set),
+            firmware.torque_set,
+        );
+        TorqueSet {
+            inertia: d.inertia.sup(&f.inertia),
+            angular_acceleration: d.angular_acceleration.max(f.angular_acceleration),
+            gyroscopic: d.gyroscopic.sup(&f.gyroscopic),
+            feedback_radius: d.feedback_radius.max(f.feedback_radius),
+            feedback_box: d.feedback_box.sup(&f.feedback_box),
+        }
     } else {
-        certified.torque_box
+        let boxed = certified.torque_box.map(|x| x as f32);
+        TorqueSet::new(Vector3::zeros(), 0.0, 0.0, 0.0, boxed)
     };
     let mut thrust =
-        ThrustDesign::new(kind, &b, &mixer, &gate_box, margin).map_err(anyhow::Error::msg)?;
+        ThrustDesign::new(kind, &b, &mixer, &gate_set, margin).map_err(anyhow::Error::msg)?;
     // The f32 end only bounds the floor's bisection; the interval reported is the certificate's.
     thrust.interval_N[1] = certified.certificate.bounds.thrust_max;
     Ok(thrust)
@@ -317,7 +328,7 @@ mod firmware_gate_tests {
     use crate::model::scenario::Scenario;
 
     /// Given the committed x500 design (integral action on, vertical priority's floor), when its
-    /// box is rebuilt as the firmware's boot gate builds it (f32 certificate, `[T_floor, T_max]`),
+    /// set is rebuilt as the firmware's boot gate builds it (f32 certificate, `[T_floor, T_max]`),
     /// then it still leaves the design's 5 % margin of every rotor's range free; and the f32
     /// bounds are the wider ones, which is why the floor is bisected on them.
     #[test]
@@ -334,7 +345,7 @@ mod firmware_gate_tests {
             crate::model::vehicle::load(&crate::model::vehicle::preset_path("x500")).unwrap();
         let mixer = Mixer::new(&crate::model::vehicle::airframe(&vehicle).rotors).unwrap();
         let floor = s.controller.thrust_floor_N as f32;
-        let margin = mixer.box_margin(floor, f32_bounds.thrust_max, &f32_bounds.torque_max);
+        let margin = mixer.set_margin(floor, f32_bounds.thrust_max, &f32_bounds.torque_set);
         assert!(margin >= 0.05, "{margin}");
     }
 }

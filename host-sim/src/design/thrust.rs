@@ -4,16 +4,15 @@
 //! upside-down vehicle is driven towards the ground at about `T_min/m + g` while it turns over.
 //! Vertical priority ([`controller_core::ThrustMode::VerticalPriority`], docs/no-dive-thrust.md)
 //! cuts the thrust while the body z axis points down, but not below a floor `T_floor`: the
-//! certified box is then `[T_floor, T_max] × Π[−τ_i, τ_i]`, and the rotors must realise every
-//! torque of the box at the floor too. The design takes the lowest floor for which that box
-//! still leaves the margin of every rotor's range free, measured with the firmware's own
-//! [`Mixer::box_margin`] (the function its boot gate uses), so the firmware certifies the flight
+//! certified set is then `[T_floor, T_max] × S` (`S` the torque set), and the rotors must
+//! realise every torque of `S` at the floor too. The design takes the lowest floor for which
+//! that set still leaves the margin of every rotor's range free, measured with the firmware's
+//! own [`Mixer::set_margin`] (the function its boot gate uses), so the firmware certifies the flight
 //! file it writes. The torque levels are chosen first, for `[T_min, T_max]` as without the
 //! option; the floor then spends what headroom is left at the bottom of the rotors' range.
 
-use controller_core::Bounds;
+use controller_core::{Bounds, TorqueSet};
 use firmware::mixer::Mixer;
-use nalgebra::Vector3;
 use serde::Serialize;
 
 use crate::model::scenario::{ControllerConfig, ThrustKind};
@@ -27,18 +26,18 @@ const BISECTION_STEPS: usize = 40;
 /// 0.049999993 against 0.05). A ten-thousandth of the range costs nothing measurable.
 pub const GATE_SLACK: f64 = 1e-4;
 
-/// The lowest thrust floor \[N\] in `[0, t_min]` at which the box `[floor, t_max] × Π[−τ_i, τ_i]`
-/// (`tau` [N m], body axes) leaves at least `margin` (fraction of the rotor range) of every
-/// rotor's range free on `mixer`; `None` when even `t_min` does not (the paper's box does not fit).
-/// The box's headroom only grows with the floor (its lower end rises), so the bisection keeps
-/// the certified end.
+/// The lowest thrust floor \[N\] in `[0, t_min]` at which the set `[floor, t_max] × torques`
+/// (body axes) leaves at least `margin` (fraction of the rotor range) of every rotor's range
+/// free on `mixer`; `None` when even `t_min` does not (the certified set does not fit). The
+/// headroom only grows with the floor (the set's lower end rises), so the bisection keeps the
+/// certified end.
 pub fn lowest_floor(
     mixer: &Mixer,
     (t_min, t_max): (f32, f32),
-    tau: &Vector3<f32>,
+    torques: &TorqueSet<f32>,
     margin: f32,
 ) -> Option<f32> {
-    let fits = |floor: f32| mixer.box_margin(floor, t_max, tau) >= margin;
+    let fits = |floor: f32| mixer.set_margin(floor, t_max, torques) >= margin;
     if !fits(t_min) {
         return None;
     }
@@ -63,16 +62,16 @@ pub struct ThrustDesign {
 }
 
 impl ThrustDesign {
-    /// The design's thrust for `kind` with the certificate's `bounds` and the torque box `tau`
-    /// [N m] the firmware's gate measures, on the vehicle's `mixer` with `margin` (plus
+    /// The design's thrust for `kind` with the certificate's `bounds` and the torque set
+    /// `torques` the firmware's gate measures, on the vehicle's `mixer` with `margin` (plus
     /// [`GATE_SLACK`] for vertical priority's floor).
     /// Errors: a thrust the firmware does not fly (only `norm` and `vertical-priority`), or no
-    /// floor fits (the box does not fit even at `T_min`; not expected for a certified design).
+    /// floor fits (the certified set does not fit even at `T_min`; not expected for a certified design).
     pub fn new(
         kind: ThrustKind,
         bounds: &Bounds<f64>,
         mixer: &Mixer,
-        tau: &Vector3<f64>,
+        torques: &TorqueSet<f32>,
         margin: f64,
     ) -> Result<Self, String> {
         let (t_min, t_max) = (bounds.thrust_min, bounds.thrust_max);
@@ -87,11 +86,11 @@ impl ThrustDesign {
                 let floor = lowest_floor(
                     mixer,
                     (t_min as f32, t_max as f32),
-                    &tau.map(|x| x as f32),
+                    torques,
                     (margin + GATE_SLACK) as f32,
                 )
                 .ok_or_else(|| {
-                    format!("no thrust floor fits the rotors with margin {margin}: the box does not fit even at T_min = {t_min} N")
+                    format!("no thrust floor fits the rotors with margin {margin}: the certified set does not fit even at T_min = {t_min} N")
                 })?;
                 // The floor must stay within T_min in the scalar the scenario stores.
                 let floor = f64::from(floor).min(t_min);
@@ -141,24 +140,33 @@ fn not_flown(kind: ThrustKind) -> String {
 mod tests {
     use super::*;
     use firmware::config::FlightConfig;
+    use nalgebra::Vector3;
 
-    /// The floor is where the box's headroom crosses the margin: the box fits with the margin at
-    /// the floor and not 1 % below it; a margin the box cannot leave even at `T_min` gives none;
-    /// with nothing to hold the floor is the rotors' idle.
+    /// The floor is where the set's headroom crosses the margin: the set fits with the margin
+    /// at the floor and not 1 % below it; a margin the set cannot leave even at `T_min` gives
+    /// none; with nothing to hold the floor is the rotors' idle.
     #[test]
     fn the_floor_is_where_the_margin_binds() {
         let c = FlightConfig::built();
         let mixer = Mixer::new(&c.rotors).unwrap();
         let (t_min, t_max) = (18.0f32, 24.0f32);
-        let tau = Vector3::new(0.1f32, 0.1, 0.1);
+        // The x500's inertia, a small feedforward and a 0.05 N m feedback ball: about 1.1 N of a
+        // rotor's range for the torques (the yaw row dominates), so the floor is near 7 N.
+        let tau = TorqueSet::new(
+            Vector3::new(0.024f32, 0.024, 0.044),
+            0.5,
+            0.5,
+            0.05,
+            Vector3::repeat(0.05),
+        );
         let floor = lowest_floor(&mixer, (t_min, t_max), &tau, 0.05).unwrap();
         assert!(floor > 0.0 && floor < t_min);
-        assert!(mixer.box_margin(floor, t_max, &tau) >= 0.05);
-        assert!(mixer.box_margin(0.99 * floor, t_max, &tau) < 0.05);
+        assert!(mixer.set_margin(floor, t_max, &tau) >= 0.05);
+        assert!(mixer.set_margin(0.99 * floor, t_max, &tau) < 0.05);
         assert_eq!(lowest_floor(&mixer, (t_min, t_max), &tau, 0.6), None);
         // With (almost) no torque to hold and no margin, the floor is the rotors' idle: four
         // times each rotor's least thrust.
-        let tiny = Vector3::repeat(1e-6f32);
+        let tiny = TorqueSet::new(Vector3::zeros(), 0.0, 0.0, 1e-6f32, Vector3::repeat(1e-6));
         let idle = 4.0 * c.rotors.thrust_min;
         let floor = lowest_floor(&mixer, (t_min, t_max), &tiny, 0.0).unwrap();
         assert!(

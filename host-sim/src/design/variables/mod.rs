@@ -15,7 +15,7 @@
 //!
 //! With `--law tilt-priority` ([`AttitudeLaw::TiltPriority`], `docs/tilt-priority.md`) three
 //! more choose how the per-axis levels `ι_i` are spent; `ι` above is then roll's and pitch's
-//! level `ι₁ = ι₂`, the box fit's `ι_max` taken along the direction `(1, 1, ρ)`:
+//! level `ι₁ = ι₂`, the rotor fit's `ι_max` taken along the direction `(1, 1, ρ)`:
 //!
 //! | # | variable | maps to |
 //! |---|----------|---------|
@@ -43,8 +43,8 @@ use controller_core::{Gains, TiltPriorityGains, TrajectoryConstants, Vehicle, Ve
 use nalgebra::Vector3;
 
 use super::authority::{
-    envelope_with, iota_max_along, mrp_factor, probe_gains, saturation_max_with, PositionLaw,
-    RotorSet, ALPHA, DELTA,
+    envelope_with, iota_max, iota_max_along, mrp_factor, probe_gains, saturation_max_with,
+    PositionLaw, RotorSet, ALPHA, DELTA,
 };
 
 /// Number of decision variables of the paper's attitude law.
@@ -235,7 +235,7 @@ pub struct Context<'a> {
     pub rotors: &'a RotorSet,
     /// Box-fit margin (fraction of the rotor range).
     pub margin: f64,
-    /// The bounds that certify the torque condition and the box fit.
+    /// The bounds that certify the torque condition and the rotor fit.
     pub bounds: super::tight::BoundsKind,
     /// The position law's options that enter the bounds: the bounded integral action (`Some`:
     /// sized by this spec, every bound the extended one, [`super::integral`]) and the shape of
@@ -323,8 +323,16 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
         (mp, c.kf, c.ks),
         law,
     )?;
-    let direction = Vector3::new(1.0, 1.0, c.tilt.map_or(1.0, |t| t.yaw_share));
-    let i_max = iota_max_along(ctx.rotors, &env, ctx.margin, &direction);
+    // The paper's feedback is a ball of radius ι; tilt priority's per-axis levels a box.
+    let i_max = match c.tilt {
+        None => iota_max(ctx.rotors, &env, ctx.margin),
+        Some(t) => iota_max_along(
+            ctx.rotors,
+            &env,
+            ctx.margin,
+            &Vector3::new(1.0, 1.0, t.yaw_share),
+        ),
+    };
     if i_max <= 0.0 {
         return None;
     }

@@ -256,7 +256,7 @@ fn helix_flight_through_the_pil_protocol_converges() {
     let g = setup.flight.gains.position;
     let (s, records) = fly(setup, Fault::None);
     let s = s.unwrap();
-    assert!(s.certificate_holds && s.box_margin >= s.required_box_margin);
+    assert!(s.certificate_holds && s.fit_margin >= s.required_fit_margin);
     assert_eq!(records.len(), 3151); // `fly` stops at 30 s
     assert_eq!(s.final_state, "armed", "{:#?}", s.events);
     assert!(s

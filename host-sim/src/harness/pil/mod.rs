@@ -165,8 +165,9 @@ pub struct PilSummary {
     /// The boot certificate line of the log (`certificate: …`, ending in the verdict
     /// `certificate holds` or `certificate FAILS`), if present.
     pub certificate_line: Option<String>,
-    /// The boot banner's box-fit line (`mixer fit: box margin …`, ending in the verdict `box
-    /// fits`, `box fits WITHOUT the required margin` or `box does NOT fit`), if present.
+    /// The boot banner's rotor-fit line (`mixer fit: certified set margin …`, ending in the
+    /// verdict `set fits`, `set fits WITHOUT the required margin` or `set does NOT fit`), if
+    /// present.
     pub box_line: Option<String>,
     /// The boot banner's vehicle line (`flight: vehicle <name> (<source>)`), if present.
     pub vehicle_line: Option<String>,
@@ -290,7 +291,7 @@ pub fn run(
         certificate_line: lines.iter().find(|l| l.contains("certificate:")).cloned(),
         box_line: lines
             .iter()
-            .find(|l| l.contains("mixer fit: box margin"))
+            .find(|l| l.contains("mixer fit: certified set margin"))
             .cloned(),
         vehicle_line: lines
             .iter()

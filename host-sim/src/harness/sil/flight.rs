@@ -15,7 +15,7 @@ use std::collections::VecDeque;
 
 /// The simulation loop of [`run`](super::run) for any flight software: plant, IMU, motion capture and
 /// ground-station frames, motors, records (one per control tick, `observe`) and the summary.
-/// `boot` is the set-up's boot report (certificate, a-priori box fit) and `effectiveness` the
+/// `boot` is the set-up's boot report (certificate, rotor fit) and `effectiveness` the
 /// mixer's matrix (rotor thrusts \[N\] → `(T [N], τ [N m])`), both from
 /// `FlightPipeline::new(&setup.flight)`.
 ///
@@ -73,8 +73,8 @@ pub fn fly(
         seed: setup.seed,
         vehicle: cfg.identity.name.to_string(),
         certificate_holds: boot.certificate.violations().next().is_none(),
-        box_margin: f64::from(boot.box_margin),
-        required_box_margin: f64::from(boot.required_margin),
+        fit_margin: f64::from(boot.fit_margin),
+        required_fit_margin: f64::from(boot.required_margin),
         a_priori_box_fits: boot.a_priori_fit.fits,
         a_priori_box_shortfall: {
             let f = &boot.a_priori_fit;

@@ -79,13 +79,14 @@ pub struct SilSummary {
     /// Whether every condition of the boot certificate holds (the firmware's boot banner:
     /// "certificate holds").
     pub certificate_holds: bool,
-    /// The a-priori box's smallest headroom inside the rotors, a fraction of the rotor range
-    /// (negative: it does not fit).
-    pub box_margin: f64,
-    /// The margin the configuration requires (the banner says "box fits" when
-    /// `box_margin >= required_box_margin`).
-    pub required_box_margin: f64,
-    /// Whether the certificate's a-priori `(T, τ)` box fits inside the rotors.
+    /// The certified `(T, τ)` set's smallest headroom inside the rotors, a fraction of the rotor
+    /// range (negative: it does not fit; what the gate checks).
+    pub fit_margin: f64,
+    /// The margin the configuration requires (the banner says "set fits" when
+    /// `fit_margin >= required_fit_margin`).
+    pub required_fit_margin: f64,
+    /// Whether the box of the certificate's per-axis bounds fits inside the rotors, every corner
+    /// at once (a per-axis report; the certified set inside it is what must fit).
     pub a_priori_box_fits: bool,
     /// Shortfall of that box per axis: thrust below/above \[N\], then torque x, y, z [N m].
     pub a_priori_box_shortfall: [f64; 5],
@@ -144,12 +145,12 @@ pub fn human_summary(s: &SilSummary) -> String {
     );
     let _ = writeln!(
         o,
-        "  boot: certificate holds: {}; box margin {:.4} of the rotor range (required {:.4})",
-        s.certificate_holds, s.box_margin, s.required_box_margin
+        "  boot: certificate holds: {}; certified set margin {:.4} of the rotor range (required {:.4})",
+        s.certificate_holds, s.fit_margin, s.required_fit_margin
     );
     let _ = writeln!(
         o,
-        "  a-priori (T, tau) box inside the rotors: {}{}",
+        "  box of the per-axis bounds inside the rotors (every corner at once; informative): {}{}",
         s.a_priori_box_fits,
         if s.a_priori_box_fits {
             String::new()

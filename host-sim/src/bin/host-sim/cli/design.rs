@@ -83,10 +83,10 @@ pub struct DesignArgs {
     /// `tilt-priority` (per-axis levels, yaw's small; docs/tilt-priority.md).
     #[arg(long, value_enum, default_value_t = DesignLaw::Paper)]
     pub law: DesignLaw,
-    /// Bounds that certify Theorem 2's torque condition and the box fit: `paper` (Lemma 1 and
+    /// Bounds that certify Theorem 2's torque condition and the rotor fit: `paper` (Lemma 1 and
     /// Theorem 2 as written; the firmware re-checks them on board) or `tight` (the tight
     /// a-priori bounds, docs/tight-bounds.md; no firmware file unless the paper's certificate
-    /// and box fit, which the firmware re-checks, pass too).
+    /// and rotor fit, which the firmware re-checks, pass too).
     #[arg(long, value_enum, default_value_t = DesignBounds::Paper)]
     pub bounds: DesignBounds,
     /// Design without the bounded integral action (the paper's law alone). By default the
@@ -186,12 +186,12 @@ pub fn run(args: &DesignArgs) -> Result<()> {
     })?;
     let r = &outcome.report;
     println!(
-        "design for {}: certificate all_hold = {}, box_fit fits = {} (margin {:.2} %), worst settling from 180 deg {}, \
+        "design for {}: certificate all_hold = {}, rotor_fit fits = {} (margin {:.2} %), worst settling from 180 deg {}, \
          altitude lost upside down {:.3} m, {} evaluations in {:.1} s{}",
         r.vehicle,
         r.certificate.all_hold,
-        r.box_fit.fits,
-        100.0 * r.box_fit.margin,
+        r.rotor_fit.fits,
+        100.0 * r.rotor_fit.margin,
         r.objective
             .worst_settling_180_s
             .map_or("not settled".to_owned(), |s| format!("{s:.2} s")),

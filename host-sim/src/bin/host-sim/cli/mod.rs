@@ -61,7 +61,7 @@ pub enum Command {
     /// runs; writes compare.md (tables, embedded plots) and compare.json.
     Compare(compare::CompareArgs),
     /// Certified gains for a vehicle file: every condition of the paper holds, the certified
-    /// (T, tau) box fits the rotors with a margin, best on a simulated objective; writes
+    /// (T, tau) set fits the rotors with a margin, best on a simulated objective; writes
     /// design.json, design.md, scenario.toml and firmware.toml.
     Design(design::DesignArgs),
     /// The a-priori bounds of a set-up three ways: the paper's (Lemma 1, Theorem 2), the tight

@@ -1,0 +1,149 @@
+//! The certified torque set against the law it bounds: its axis extents are Theorem 2's bounds,
+//! it lies in the paper's box, and no torque the law commands inside Theorem 2's hypotheses
+//! leaves it in any direction.
+
+use approx::assert_relative_eq;
+use nalgebra::Vector3;
+use proptest::prelude::*;
+
+use super::TorqueSet;
+use crate::mrp::rotation_from_mrp;
+use crate::reference::Trajectory;
+use crate::{certify, FilterStart, Gains, Limits, ReferenceTrajectory, TiltPriorityGains, Vehicle};
+
+fn tilt_priority() -> TiltPriorityGains<f64> {
+    TiltPriorityGains {
+        trace_weights: Vector3::new(0.04, 0.06, 0.4),
+        omega_gains: Vector3::new(0.08, 0.09, 0.05),
+        omega_levels: Vector3::new(0.12, 0.11, 0.03),
+    }
+}
+
+fn set_up(tilt: bool) -> (Gains<f64>, crate::Bounds<f64>) {
+    let mut gains = Gains::<f64>::paper();
+    if tilt {
+        gains.tilt_priority = Some(tilt_priority());
+    }
+    let c = certify(
+        &Vehicle::paper(),
+        &Limits::paper(),
+        &gains,
+        &ReferenceTrajectory::paper_helix().constants(),
+        FilterStart::Zero,
+    )
+    .expect("the paper's set-up is accepted");
+    (gains, c.bounds)
+}
+
+/// Given the paper's set-up, with and without tilt priority, when the set's extent along each
+/// body axis is taken, then it is Theorem 2's per-axis bound, and the support along an axis is
+/// that extent.
+#[test]
+fn axis_extents_are_theorem2_bounds() {
+    for tilt in [false, true] {
+        let (_, b) = set_up(tilt);
+        let s = b.torque_set;
+        for i in 0..3 {
+            assert_relative_eq!(s.axis_extents()[i], b.torque_max[i], max_relative = 1e-14);
+            let e = Vector3::from_fn(|k, _| if k == i { 1.0 } else { 0.0 });
+            assert_relative_eq!(s.support(&e), b.torque_max[i], max_relative = 1e-14);
+            assert_relative_eq!(s.support(&-e), b.torque_max[i], max_relative = 1e-14);
+        }
+    }
+}
+
+/// The paper's law has only radial feedback, so the box part is zero and the ball's radius is
+/// `ι`; the support along a diagonal is then smaller than the box's by the ball's `√3` and the
+/// ellipsoid's norm ratio (an independent evaluation of the formula).
+#[test]
+fn paper_law_support_along_a_diagonal() {
+    let (g, b) = set_up(false);
+    let s = b.torque_set;
+    assert_eq!(s.feedback_box, Vector3::zeros());
+    assert_relative_eq!(s.feedback_radius, b.feedback_torque, max_relative = 1e-15);
+    let iota =
+        (1.0 + 1.02f64.powi(2)) / 4.0 * g.attitude.mrp_saturation + g.attitude.omega_saturation;
+    assert_relative_eq!(s.feedback_radius, iota, max_relative = 1e-15);
+    let j = Vehicle::<f64>::paper().inertia;
+    let c = Vector3::new(1.0, -1.0, 1.0);
+    let w2 = b.angular_velocity.powi(2);
+    let by_hand = b.angular_acceleration * (j.x * j.x + j.y * j.y + j.z * j.z).sqrt()
+        + 0.5 * ((j.y - j.z).abs() + (j.z - j.x).abs() + (j.x - j.y).abs()) * w2
+        + iota * 3f64.sqrt();
+    assert_relative_eq!(s.support(&c), by_hand, max_relative = 1e-14);
+    let box_support: f64 = c.abs().dot(&b.torque_max);
+    assert!(
+        s.support(&c) < box_support,
+        "{} vs {box_support}",
+        s.support(&c)
+    );
+}
+
+/// A unit vector from two angles.
+fn unit(theta: f64, phi: f64) -> Vector3<f64> {
+    Vector3::new(
+        theta.sin() * phi.cos(),
+        theta.sin() * phi.sin(),
+        theta.cos(),
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(4000))]
+
+    /// Given any state inside Theorem 2's hypotheses (`|ϑ̃| ≤ 1 + δ`, `|ω_d| ≤ U_ωd`,
+    /// `|ω̇_d| ≤ U_ω̇d`, any `ω`) and any direction `c`, when the law's torque is evaluated (the
+    /// paper's law or tilt priority), then `cᵀτ ≤ h(c)`: the torque never leaves the set.
+    #[test]
+    fn the_law_never_leaves_the_set(
+        tilt in any::<bool>(),
+        mrp in (0.0..=1.0f64, 0.0..std::f64::consts::PI, 0.0..std::f64::consts::TAU),
+        omega in (0.0..50.0f64, 0.0..std::f64::consts::PI, 0.0..std::f64::consts::TAU),
+        w_d in (0.0..=1.0f64, 0.0..std::f64::consts::PI, 0.0..std::f64::consts::TAU),
+        w_d_dot in (0.0..=1.0f64, 0.0..std::f64::consts::PI, 0.0..std::f64::consts::TAU),
+        c in (0.0..std::f64::consts::PI, 0.0..std::f64::consts::TAU),
+    ) {
+        let (g, b) = set_up(tilt);
+        let inertia = Vehicle::<f64>::paper().inertia;
+        // Radii up to the bound, pushed to it for half the range (the worst cases are on it).
+        let radius = |r: f64, max: f64| (2.0 * r).min(1.0) * max;
+        let theta = unit(mrp.1, mrp.2) * radius(mrp.0, 1.0 + g.hysteresis);
+        let w = unit(omega.1, omega.2) * omega.0;
+        let wd = unit(w_d.1, w_d.2) * radius(w_d.0, b.angular_velocity);
+        let wdd = unit(w_d_dot.1, w_d_dot.2) * radius(w_d_dot.0, b.angular_acceleration);
+        let r = rotation_from_mrp(&theta);
+        let tau = match &g.tilt_priority {
+            None => g.attitude.evaluate(&theta, &w, &r, &wd, &wdd, &inertia).torque,
+            Some(t) => t.evaluate(&g.attitude, &theta, &w, &r, &wd, &wdd, &inertia).torque,
+        };
+        let dir = unit(c.0, c.1);
+        let h = b.torque_set.support(&dir);
+        prop_assert!(dir.dot(&tau) <= h * (1.0 + 1e-12), "{} > {h}", dir.dot(&tau));
+        // And each component within Theorem 2's box.
+        for i in 0..3 {
+            prop_assert!(tau[i].abs() <= b.torque_max[i] * (1.0 + 1e-12));
+        }
+    }
+
+    /// The set lies in the paper's box: along any direction its support is at most the box's.
+    #[test]
+    fn the_set_is_inside_the_box(tilt in any::<bool>(), c in (0.0..std::f64::consts::PI, 0.0..std::f64::consts::TAU)) {
+        let (_, b) = set_up(tilt);
+        let dir = unit(c.0, c.1);
+        prop_assert!(b.torque_set.support(&dir) <= dir.abs().dot(&b.torque_max) * (1.0 + 1e-14));
+    }
+}
+
+/// `TorqueSet::new` takes a level below the radius as the radius: the box part is never
+/// negative.
+#[test]
+fn a_level_below_the_radius_gives_no_negative_box() {
+    let s = TorqueSet::new(
+        Vector3::repeat(1.0),
+        0.0,
+        0.0,
+        0.5,
+        Vector3::new(0.4, 0.5, 0.9),
+    );
+    assert_eq!(s.feedback_box, Vector3::new(0.0, 0.0, 0.4));
+}
