@@ -11,15 +11,21 @@
 //!   **box** `½|J_jj − J_kk| U_ωd²` (as in Theorem 2, since `|w_j w_k| ≤ ½|w|²`);
 //! - the paper's feedback `(1 + |ϑ̃|²)/4 s_ϑ + s_ω` has radial saturations, so it lies in the
 //!   **ball** of radius `ι = (1 + (1 + δ)²) M_ϑ/4 + M_ω` (the triangle inequality on norms, the
-//!   step Theorem 2 takes per component). With tilt priority only the radial MRP term is a ball;
-//!   the trace term and the per-axis damping are a **box** (`ι_i` minus the ball's radius).
+//!   step Theorem 2 takes per component);
+//! - with tilt priority the radial MRP term is a ball too, the per-axis damping a **box**
+//!   (`M_ω,i`), and the trace term `½ vee(G R̃ − R̃ᵀG)` (`G = diag(g)`, `g_min` its least
+//!   entry) splits as `G = g_min I + Σ_k (g_k − g_min) e_k e_kᵀ`: the first part is
+//!   `g_min vee(½(R̃ − R̃ᵀ))`, of norm `g_min |sin θ| ≤ g_min` (a **ball**), and each rank-one
+//!   part is `½(g_k − g_min) (R̃ᵀe_k) × e_k`, orthogonal to `e_k` with norm at most
+//!   `½(g_k − g_min)` (a **disk** in the plane orthogonal to body axis `k`). Along axis `i` the
+//!   ball and the two other disks add up to `½(g_j + g_k)`, the trace term's per-axis bound.
 //!
 //! The torque is in the Minkowski sum `S` of these four sets. `S` is convex and symmetric, and
 //! its extent along each body axis is Theorem 2's bound `J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd² + ι_i`
 //! (each summand attains its extent on the axis), so `S` lies inside the paper's box and
 //! touches each of its faces. A linear function `cᵀτ` (a rotor's share of the torque) is at
 //! most the support function
-//! `h(c) = U_ω̇d |J c| + Σ_i |c_i| (½|J_jj − J_kk| U_ωd² + b_i) + r |c|` over `S`
+//! `h(c) = U_ω̇d |J c| + Σ_i |c_i| (½|J_jj − J_kk| U_ωd² + b_i) + r |c| + Σ_k d_k |c − c_k e_k|` over `S`
 //! ([`TorqueSet::support`]); over the box it is `Σ_i |c_i| τ_max,i`, up to `√3` times more.
 //! That is what lets the rotor fit ([`TorqueSet`] with the mixer, firmware `Mixer::set_margin`)
 //! certify larger feedback levels on the same rotors.
@@ -45,12 +51,42 @@ pub struct TorqueSet<T: Scalar> {
     /// Radius of the feedback's ball [N m]: `ι` for the paper's law, the radial MRP term's
     /// `(1 + (1 + δ)²) M_ϑ/4` with tilt priority.
     pub feedback_radius: T,
-    /// Half-widths of the feedback's box [N m], body axes: zero for the paper's law, the trace
-    /// term plus the damping level per axis with tilt priority.
+    /// Half-widths of the feedback's box [N m], body axes: zero for the paper's law, the damping
+    /// level `M_ω,i` per axis with tilt priority.
     pub feedback_box: Vector3<T>,
+    /// Radii `d_k` [N m] of the feedback's disks, disk `k` in the plane orthogonal to body axis
+    /// `k`: zero for the paper's law, tilt priority's trace term `½(g_k − g_min)`.
+    pub feedback_disks: Vector3<T>,
 }
 
 impl<T: Scalar> TorqueSet<T> {
+    /// The set of tilt priority's law (docs/tilt-priority.md): the feedforward's parts as in
+    /// [`TorqueSet::new`], and the feedback's ball of radius `radial + g_min` (`radial` [N m] the
+    /// MRP term's `(1 + (1 + δ)²) M_ϑ/4`), disks `½(g_k − g_min)` from the trace weights
+    /// `trace_weights` (`g` [N m], each `≥ 0`) and the damping box `omega_levels` (`M_ω,i`
+    /// [N m]). No errors. Source: extension of Theorem 2 (module documentation).
+    pub fn tilt_priority(
+        inertia: Vector3<T>,
+        angular_velocity: T,
+        angular_acceleration: T,
+        radial: T,
+        trace_weights: Vector3<T>,
+        omega_levels: Vector3<T>,
+    ) -> Self {
+        let g_min = trace_weights.min();
+        let half = lit::<T>(0.5);
+        let mut s = Self::new(
+            inertia,
+            angular_velocity,
+            angular_acceleration,
+            radial + g_min,
+            Vector3::zeros(),
+        );
+        s.feedback_box = omega_levels;
+        s.feedback_disks = trace_weights.map(|g| (g - g_min) * half);
+        s
+    }
+
     /// The set of a set-up from its inertia diagonal `inertia` [kg m²], the bounds `U_ωd`
     /// (`angular_velocity` [rad/s]) and `U_ω̇d` (`angular_acceleration` [rad/s²]), the radius of
     /// the feedback's radial part `feedback_radius` [N m] and the per-axis feedback levels
@@ -82,27 +118,41 @@ impl<T: Scalar> TorqueSet<T> {
                     T::zero()
                 }
             }),
+            feedback_disks: Vector3::zeros(),
         }
     }
 
     /// The support function `h(c) = sup_{τ ∈ S} cᵀτ` for a direction `c` (any length; units of
-    /// `c` times N m): `U_ω̇d |J c| + Σ_i |c_i| (gyroscopic_i + feedback_box_i) + r |c|`.
-    /// `S` is symmetric, so `inf_{τ ∈ S} cᵀτ = −h(c)`. Exact for the Minkowski sum (the support
-    /// function of a sum is the sum of the summands' support functions).
+    /// `c` times N m): `U_ω̇d |J c| + Σ_i |c_i| (gyroscopic_i + feedback_box_i) + r |c|
+    /// + Σ_k d_k |c − c_k e_k|`. `S` is symmetric, so `inf_{τ ∈ S} cᵀτ = −h(c)`. Exact for the
+    /// Minkowski sum (the support function of a sum is the sum of the summands' support
+    /// functions; a disk's is its radius times the length of `c` projected on its plane).
     pub fn support(&self, c: &Vector3<T>) -> T {
         let abs = c.abs();
+        let n2 = c.norm_squared();
+        let disks = (0..3).fold(T::zero(), |acc, k| {
+            let d = self.feedback_disks[k];
+            if d > T::zero() {
+                acc + d * (n2 - c[k] * c[k]).sqrt()
+            } else {
+                acc
+            }
+        });
         self.angular_acceleration * self.inertia.component_mul(c).norm()
             + abs.dot(&(self.gyroscopic + self.feedback_box))
-            + self.feedback_radius * c.norm()
+            + self.feedback_radius * n2.sqrt()
+            + disks
     }
 
     /// The extent along each body axis `h(e_i)` [N m]: Theorem 2's per-axis bound
     /// `J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd² + ι_i`.
     pub fn axis_extents(&self) -> Vector3<T> {
+        let d = &self.feedback_disks;
         self.inertia * self.angular_acceleration
             + self.gyroscopic
             + self.feedback_box
             + Vector3::repeat(self.feedback_radius)
+            + Vector3::new(d.y + d.z, d.z + d.x, d.x + d.y)
     }
 }
 

@@ -327,20 +327,26 @@ pub fn certify<T: Scalar>(
         Some(t) => t.feedback_levels(a_gains.mrp_saturation, gains.hysteresis),
     };
     let feedback_torque = feedback_torque_axes.max();
-    // The radial part of the feedback: all of it for the paper's law, the MRP term with tilt
-    // priority (its trace term and per-axis damping are a box).
+    // The feedback's shapes: one ball for the paper's law; with tilt priority the MRP term's
+    // ball, the trace term's ball and disks and the damping's box.
     let radial_mrp = (T::one() + alpha_theta * alpha_theta) * a_gains.mrp_saturation * lit(0.25);
-    let feedback_radius = match &gains.tilt_priority {
-        None => radial_mrp + a_gains.omega_saturation,
-        Some(_) => radial_mrp,
+    let torque_set = match &gains.tilt_priority {
+        None => TorqueSet::new(
+            inertia,
+            angular_velocity,
+            angular_acceleration,
+            radial_mrp + a_gains.omega_saturation,
+            feedback_torque_axes,
+        ),
+        Some(t) => TorqueSet::tilt_priority(
+            inertia,
+            angular_velocity,
+            angular_acceleration,
+            radial_mrp,
+            t.trace_weights,
+            t.omega_levels,
+        ),
     };
-    let torque_set = TorqueSet::new(
-        inertia,
-        angular_velocity,
-        angular_acceleration,
-        feedback_radius,
-        feedback_torque_axes,
-    );
     let torque_max = feedforward_torque_bound(&inertia, angular_acceleration, angular_velocity)
         + feedback_torque_axes;
 

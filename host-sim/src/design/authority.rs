@@ -207,6 +207,46 @@ pub fn iota_max_along(
     iota_max_shaped(rotors, env, margin, Some(direction))
 }
 
+/// The largest `ι` [N m] for which the feedforward's set of `env` plus the feedback set
+/// `feedback(ι)` (its ball, disks and box; the feedforward fields of what it returns are
+/// ignored) fits `rotors` with `margin`, by bisection (60 steps) between `lower` (a level known
+/// to fit, e.g. [`iota_max_along`]'s box, `> 0`) and the first of `2ᵏ lower` that does not fit.
+/// For feedback sets that grow with `ι` (tilt priority's, whose shape changes with `ι` where
+/// the hysteresis band caps `g₃`, so no closed form). `lower` itself when `env` has no
+/// feedforward set (the tight bounds' box).
+pub fn iota_max_by(
+    rotors: &RotorSet,
+    env: &Envelope,
+    margin: f64,
+    lower: f64,
+    feedback: impl Fn(f64) -> TorqueSet<f64>,
+) -> f64 {
+    let Some(ff) = env.feedforward_set else {
+        return lower;
+    };
+    let fits = |iota: f64| {
+        let fb = feedback(iota);
+        let set = TorqueSet {
+            feedback_radius: fb.feedback_radius,
+            feedback_box: fb.feedback_box,
+            feedback_disks: fb.feedback_disks,
+            ..ff
+        };
+        set_margin(rotors, env.thrust, &set) >= margin
+    };
+    if !(lower > 0.0 && fits(lower)) {
+        return lower;
+    }
+    let mut upper = 2.0 * lower;
+    for _ in 0..40 {
+        if !fits(upper) {
+            break;
+        }
+        upper *= 2.0;
+    }
+    super::bisect::bisect(lower, upper, 60, fits)
+}
+
 /// [`iota_max`] (`levels` `None`: the paper's radial feedback) or [`iota_max_along`].
 fn iota_max_shaped(
     rotors: &RotorSet,
@@ -440,6 +480,43 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// `iota_max_by` with tilt priority's shapes (a ball, a disk orthogonal to yaw, a box): the
+    /// set at its result leaves exactly the margin, and it is at least the box's level along
+    /// the same per-axis levels (the box contains the set).
+    #[test]
+    fn bisected_iota_of_a_shaped_feedback_sits_on_the_margin() {
+        let mut rotors = FlightConfig::paper().rotors;
+        rotors.thrust_max = 6.0;
+        rotors.drag_coefficient = 0.03 * rotors.thrust_coefficient;
+        let set = RotorSet::new(&rotors).unwrap();
+        let vehicle = Vehicle::<f64>::paper();
+        let k = ReferenceTrajectory::<f64>::paper_helix().constants();
+        let env = envelope(&vehicle, &k, (0.5, 0.5, 1.5), PositionLaw::paper()).unwrap();
+        // Per-axis levels (ι, ι, 0.2 ι): a radial 0.1 ι on every axis, trace weights
+        // g = (0.05, 0.05, 1.05) ι (roll, pitch 0.55 ι; yaw 0.05 ι), damping the rest.
+        let feedback = |iota: f64| {
+            let g = Vector3::new(0.05, 0.05, 1.05) * iota;
+            let omega = Vector3::new(0.35, 0.35, 0.05) * iota;
+            TorqueSet::tilt_priority(Vector3::zeros(), 0.0, 0.0, 0.1 * iota, g, omega)
+        };
+        let d = Vector3::new(1.0, 1.0, 0.2);
+        let boxed = iota_max_along(&set, &env, 0.05, &d);
+        // The levels above are the box's direction: extents (ι, ι, 0.2 ι).
+        let extents = feedback(1.0).axis_extents();
+        assert!((extents - d).norm() < 1e-12, "{extents:?}");
+        let shaped = iota_max_by(&set, &env, 0.05, boxed, feedback);
+        assert!(shaped > boxed, "{shaped} vs {boxed}");
+        let fb = feedback(shaped);
+        let whole = TorqueSet {
+            feedback_radius: fb.feedback_radius,
+            feedback_box: fb.feedback_box,
+            feedback_disks: fb.feedback_disks,
+            ..env.feedforward_set.unwrap()
+        };
+        let m = set_margin(&set, env.thrust, &whole);
+        assert!((m - 0.05).abs() < 1e-9, "set margin {m}");
     }
 
     /// `M_p` at `saturation_max` leaves `ι_max` at zero (from above).

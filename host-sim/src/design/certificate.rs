@@ -111,6 +111,7 @@ pub fn set_f32(s: &TorqueSet<f64>) -> TorqueSet<f32> {
         gyroscopic: s.gyroscopic.map(|x| x as f32),
         feedback_radius: s.feedback_radius as f32,
         feedback_box: s.feedback_box.map(|x| x as f32),
+        feedback_disks: s.feedback_disks.map(|x| x as f32),
     }
 }
 

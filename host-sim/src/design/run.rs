@@ -141,6 +141,7 @@ fn thrust_of(
             gyroscopic: d.gyroscopic.sup(&f.gyroscopic),
             feedback_radius: d.feedback_radius.max(f.feedback_radius),
             feedback_box: d.feedback_box.sup(&f.feedback_box),
+            feedback_disks: d.feedback_disks.sup(&f.feedback_disks),
         }
     } else {
         let boxed = certified.torque_box.map(|x| x as f32);

@@ -39,12 +39,14 @@
 //! `z̈₁ = ubar_p = −σ_p(k_p z₁ + k_v ż₁)`, so `k_p = ω_p²`, `k_v = 2 ζ_p ω_p` (Table I: `ω_p = 3`,
 //! `ζ_p = 1`).
 
-use controller_core::{Gains, TiltPriorityGains, TrajectoryConstants, Vehicle, VelocityLimit};
+use controller_core::{
+    Gains, TiltPriorityGains, TorqueSet, TrajectoryConstants, Vehicle, VelocityLimit,
+};
 use nalgebra::Vector3;
 
 use super::authority::{
-    envelope_with, iota_max, iota_max_along, mrp_factor, probe_gains, saturation_max_with,
-    PositionLaw, RotorSet, ALPHA, DELTA,
+    envelope_with, iota_max, iota_max_along, iota_max_by, mrp_factor, probe_gains,
+    saturation_max_with, PositionLaw, RotorSet, ALPHA, DELTA,
 };
 
 /// Number of decision variables of the paper's attitude law.
@@ -323,22 +325,38 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
         (mp, c.kf, c.ks),
         law,
     )?;
-    // The paper's feedback is a ball of radius ι; tilt priority's per-axis levels a box.
+    let j = ctx.vehicle.inertia.min();
+    let w = c.attitude_frequency_rad_s;
+    let k_mrp = 16.0 * j * w * w;
+    // The paper's feedback is a ball of radius ι (closed form); tilt priority's the set of its
+    // gains for ι (ball, disks and box), found from the box's level by bisection.
     let i_max = match c.tilt {
         None => iota_max(ctx.rotors, &env, ctx.margin),
-        Some(t) => iota_max_along(
-            ctx.rotors,
-            &env,
-            ctx.margin,
-            &Vector3::new(1.0, 1.0, t.yaw_share),
-        ),
+        Some(t) => {
+            let boxed = iota_max_along(
+                ctx.rotors,
+                &env,
+                ctx.margin,
+                &Vector3::new(1.0, 1.0, t.yaw_share),
+            );
+            iota_max_by(ctx.rotors, &env, ctx.margin, boxed, |iota| {
+                let (tilt, mrp_saturation) =
+                    tilt_gains(&t, iota, k_mrp, &ctx.vehicle.inertia, c.attitude_damping);
+                TorqueSet::tilt_priority(
+                    Vector3::zeros(),
+                    0.0,
+                    0.0,
+                    mrp_factor() * mrp_saturation,
+                    tilt.trace_weights,
+                    tilt.omega_levels,
+                )
+            })
+        }
     };
     if i_max <= 0.0 {
         return None;
     }
     let iota = c.iota_fraction * i_max;
-    let j = ctx.vehicle.inertia.min();
-    let w = c.attitude_frequency_rad_s;
     let wp = c.position_frequency_rad_s;
     let mut g = probe_gains(mp, c.kf, c.ks, law);
     g.position.kp = wp * wp;
@@ -346,7 +364,7 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     if let Some(spec) = law.integral {
         g.integral = Some(spec.gains(&g.position)?);
     }
-    g.attitude.k_mrp = 16.0 * j * w * w;
+    g.attitude.k_mrp = k_mrp;
     g.attitude.k_omega = 2.0 * c.attitude_damping * w * j;
     g.attitude.mrp_saturation = c.mrp_share * iota / mrp_factor();
     g.attitude.omega_saturation = (1.0 - c.mrp_share) * iota;
