@@ -60,6 +60,20 @@ pub struct TorqueSet<T: Scalar> {
 }
 
 impl<T: Scalar> TorqueSet<T> {
+    /// The box `|τ_i| ≤ half_widths_i` [N m] (body axes) as a torque set: no ellipsoid, ball or
+    /// disk. No errors. Used where only per-axis bounds are known (the tight bounds' box, the
+    /// mixer's box margin).
+    pub fn boxed(half_widths: Vector3<T>) -> Self {
+        Self {
+            inertia: Vector3::zeros(),
+            angular_acceleration: T::zero(),
+            gyroscopic: Vector3::zeros(),
+            feedback_radius: T::zero(),
+            feedback_box: half_widths,
+            feedback_disks: Vector3::zeros(),
+        }
+    }
+
     /// The set of tilt priority's law (docs/tilt-priority.md): the feedforward's parts as in
     /// [`TorqueSet::new`], and the feedback's ball of radius `radial + g_min` (`radial` [N m] the
     /// MRP term's `(1 + (1 + δ)²) M_ϑ/4`), disks `½(g_k − g_min)` from the trace weights

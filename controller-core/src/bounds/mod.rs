@@ -319,17 +319,15 @@ pub fn certify<T: Scalar>(
     // Theorem 2.
     let a_gains = &gains.attitude;
     let alpha_theta = T::one() + gains.hysteresis;
+    // The radial MRP term's bound `(1 + (1 + δ)²) M_ϑ/4`.
+    let radial_mrp = (T::one() + alpha_theta * alpha_theta) * a_gains.mrp_saturation * lit(0.25);
     let feedback_torque_axes = match &gains.tilt_priority {
-        None => Vector3::repeat(
-            (T::one() + alpha_theta * alpha_theta) * a_gains.mrp_saturation * lit(0.25)
-                + a_gains.omega_saturation,
-        ),
+        None => Vector3::repeat(radial_mrp + a_gains.omega_saturation),
         Some(t) => t.feedback_levels(a_gains.mrp_saturation, gains.hysteresis),
     };
     let feedback_torque = feedback_torque_axes.max();
     // The feedback's shapes: one ball for the paper's law; with tilt priority the MRP term's
     // ball, the trace term's ball and disks and the damping's box.
-    let radial_mrp = (T::one() + alpha_theta * alpha_theta) * a_gains.mrp_saturation * lit(0.25);
     let torque_set = match &gains.tilt_priority {
         None => TorqueSet::new(
             inertia,

@@ -253,18 +253,8 @@ impl Mixer {
     /// the box does not fit; `−∞` when a rotor's thrust column entry is not positive (it cannot
     /// carry collective).
     pub fn box_margin(&self, t_lo: f32, t_hi: f32, tau: &Vector3<f32>) -> f32 {
-        let (lo, hi) = (self.f_min, self.f_max);
-        let m = &self.mix;
-        let mut margin = f32::INFINITY;
-        for k in 0..4 {
-            let w = m[(k, 0)];
-            if w <= 0.0 {
-                return f32::NEG_INFINITY;
-            }
-            let a: f32 = (0..3).map(|i| m[(k, i + 1)].abs() * tau[i]).sum();
-            margin = margin.min(hi - (w * t_hi + a)).min(w * t_lo - a - lo);
-        }
-        margin / (hi - lo)
+        // A box's support function is `Σ_i |c_i| τ_i`: the box is the set with only a box part.
+        self.set_margin(t_lo, t_hi, &TorqueSet::boxed(*tau))
     }
 
     /// The smallest headroom the certified set `T ∈ [t_lo, t_hi]`, `τ ∈ set` leaves inside the
@@ -272,7 +262,7 @@ impl Mixer {
     /// receives `f_k = w_k T + c_kᵀτ` (`w_k`, `c_k` its row of `M`), linear, so its extremes over
     /// the set are `w_k t_hi + h(c_k)` and `w_k t_lo − h(c_k)` with `h` the set's support function
     /// ([`TorqueSet::support`]): exact, where [`Mixer::box_margin`] of the set's per-axis extents
-    /// takes `Σ_i |c_ki| τ_i ≥ h(c_k)`. Negative when the set does not fit; `−∞` when a rotor's
+    /// takes `Σ_i |c_ki| τ_i ≥ h(c_k)` (that is this function on the box, [`TorqueSet::boxed`]). Negative when the set does not fit; `−∞` when a rotor's
     /// thrust column entry is not positive. Source: extension of Theorem 2 (docs/torque-set.md).
     pub fn set_margin(&self, t_lo: f32, t_hi: f32, set: &TorqueSet<f32>) -> f32 {
         let (lo, hi) = (self.f_min, self.f_max);

@@ -203,16 +203,6 @@ fn box_margin_by_hand() {
     );
 }
 
-/// A torque set that is a box (no ellipsoid, no ball) has the box's margin.
-#[test]
-fn set_margin_of_a_box_is_the_box_margin() {
-    let m = mixer();
-    let tau = Vector3::new(0.05f32, 0.04, 0.03);
-    let set = TorqueSet::new(Vector3::repeat(0.1), 0.0, 0.0, 0.0, tau);
-    let (a, b) = (m.set_margin(3.0, 6.0, &set), m.box_margin(3.0, 6.0, &tau));
-    assert!((a - b).abs() < 1e-6, "{a} vs {b}");
-}
-
 mod set_margin_properties {
     use super::*;
     use proptest::prelude::*;

@@ -5,7 +5,6 @@ use std::time::Instant;
 
 use anyhow::{bail, Context as _, Result};
 use controller_core::{Bounds, TorqueSet};
-use nalgebra::Vector3;
 
 use super::authority::PositionLaw;
 use super::certificate::Certified;
@@ -145,7 +144,7 @@ fn thrust_of(
         }
     } else {
         let boxed = certified.torque_box.map(|x| x as f32);
-        TorqueSet::new(Vector3::zeros(), 0.0, 0.0, 0.0, boxed)
+        TorqueSet::boxed(boxed)
     };
     let mut thrust =
         ThrustDesign::new(kind, &b, &mixer, &gate_set, margin).map_err(anyhow::Error::msg)?;
