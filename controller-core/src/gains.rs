@@ -5,6 +5,7 @@ use nalgebra::{Matrix3, Vector3};
 
 use crate::attitude_control::{AttitudeGains, TorqueOutput};
 use crate::integral::IntegralGains;
+use crate::lemma1_form::Lemma1Form;
 use crate::parameter_error::{positive, ParameterError};
 use crate::position::PositionGains;
 use crate::reference::TrajectoryConstants;
@@ -32,6 +33,9 @@ pub struct Gains<T: Scalar> {
     /// Velocity-limited position feedback (extension, docs/velocity-limit.md): `None` is the
     /// paper's `ubar_p = −σ_p(k_p z₁ + k_v z₂)`, bit for bit.
     pub velocity_limit: Option<VelocityLimit<T>>,
+    /// The chain [`crate::certify`] bounds `|ω̇_d|` with: the paper's Lemma 1 (bit for bit) or
+    /// the tangential form (extension, docs/tangential-lemma1.md). No effect on the law.
+    pub lemma1: Lemma1Form,
 }
 
 impl<T: Scalar> Gains<T> {
@@ -58,6 +62,7 @@ impl<T: Scalar> Gains<T> {
             integral: None,
             tilt_priority: None,
             velocity_limit: None,
+            lemma1: Lemma1Form::Paper,
         }
     }
 }

@@ -20,7 +20,8 @@
 //! [`condition`] (one inequality of a certificate), [`clamped_estimate`] (the rate-limited
 //! estimates of the integral action), [`thrust`] (the paper's `T = m|u|` or the no-dive projection),
 //! [`tilt_priority`] (per-axis attitude feedback levels, an extension: docs/tilt-priority.md),
-//! [`velocity_limit`] (a braking profile in the position feedback, an extension:
+//! [`lemma1_form`] (the paper's Lemma 1 or its tangential form, an extension:
+//! docs/tangential-lemma1.md), [`velocity_limit`] (a braking profile in the position feedback, an extension:
 //! docs/velocity-limit.md), [`waypoint_path`] (a reference through a mission's stops with
 //! closed-form Assumption 1 constants, so a mission is certified before it is flown), and
 //! [`controller`] which composes them.
@@ -38,6 +39,7 @@ pub mod feedforward_scale;
 pub mod gains;
 pub mod integral;
 pub mod integral_stability;
+pub mod lemma1_form;
 pub mod mrp;
 pub mod parameter_error;
 pub mod path_lifting;
@@ -70,6 +72,7 @@ pub use disturbance_observer::ObserverGains;
 pub use feedforward_scale::{FeedforwardScaleGains, FeedforwardScaleState};
 pub use gains::Gains;
 pub use integral::{IntegralGains, IntegralState};
+pub use lemma1_form::Lemma1Form;
 pub use parameter_error::ParameterError;
 pub use path_lifting::JumpCounters;
 pub use position_saturation::PositionSaturation;

@@ -42,7 +42,9 @@ for p in "${presets[@]}"; do
   case "$p" in
     hummingbird) extra=(--duration-s 120) ;;
     # The norm-saturated position feedback wins on the Crazyflie (docs/position-saturation.md).
-    crazyflie-2.1) extra=(--position-saturation norm) ;;
+    # Seed 3: seed 1's design scores better (43.5 against 44.0) but converges in only 48 % of
+    # the 200 runs with the motor lag doubled, seed 3's in 100 % (docs/design.md).
+    crazyflie-2.1) extra=(--position-saturation norm --seed 3) ;;
     # Tilt priority with the norm-saturated position feedback wins on the x500, whose yaw
     # authority is a twentieth of roll's (docs/design.md, "What the presets give").
     x500) extra=(--law tilt-priority --position-saturation norm) ;;

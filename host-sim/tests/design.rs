@@ -37,6 +37,7 @@ fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOptions 
         integral: None,
         thrust: host_sim::model::scenario::ThrustKind::Norm,
         position_saturation: Default::default(),
+        lemma1: controller_core::Lemma1Form::Tangential,
         speed_limit: None,
         fallback: host_sim::design::options::Fallback::Off,
         out,
@@ -129,6 +130,23 @@ fn design_certifies_and_the_written_scenario_recertifies() {
     assert_eq!(json["certificate"]["all_hold"], true);
     assert_eq!(json["rotor_fit"]["fits"], true);
     assert_eq!(json["rotor_fit"]["shape"], "set");
+    // Certified with the tangential Lemma 1 (the default), and so is what is read back.
+    assert_eq!(json["certificate"]["lemma1"], "tangential");
+    assert_eq!(
+        s.gains::<f64>().lemma1,
+        controller_core::Lemma1Form::Tangential
+    );
+    let mut paper_gains = s.gains::<f64>();
+    paper_gains.lemma1 = controller_core::Lemma1Form::Paper;
+    let paper = certify(
+        &s.vehicle::<f64>(),
+        &s.limits::<f64>(),
+        &paper_gains,
+        &s.trajectory::<f64>().constants(),
+        FilterStart::Zero,
+    )
+    .unwrap();
+    assert!(b.angular_acceleration < paper.bounds.angular_acceleration);
     assert_eq!(
         json["certificate"]["conditions"].as_array().unwrap().len(),
         10
@@ -139,6 +157,7 @@ fn design_certifies_and_the_written_scenario_recertifies() {
     }
     // The flight file carries the vehicle file's tables: the firmware's parser reads them.
     let flight = std::fs::read_to_string(out.join("firmware.toml")).unwrap();
+    assert!(flight.contains("lemma1 = \"tangential\""), "{flight}");
     VehicleFile::parse_embedded(
         &flight,
         "firmware.toml",

@@ -76,18 +76,27 @@ pub struct Bounds<T: Scalar> {
     pub u_acceleration: T,
     /// `U_ρ̇ = m U_u̇ / T_min` [1/s].
     pub thrust_direction_rate: T,
-    /// `U_ρ̈ = m U_ü / T_min + 3 U_ρ̇²` [1/s²].
+    /// `U_ρ̈ = m U_ü / T_min + 3 U_ρ̇²` [1/s²], the bound on `|ρ̈|`; with
+    /// [`crate::Lemma1Form::Tangential`] `m U_ü / T_min + (2/√3) U_ρ̇²` (reported; the chain
+    /// uses the projected bound below).
     pub thrust_direction_acceleration: T,
+    /// The bound on the part of `ρ̈` orthogonal to `ρ`, the only part eq:DesiredAngularAcceleration
+    /// reads [1/s²]: `U_ρ̈` itself with [`crate::Lemma1Form::Paper`], `m U_ü / T_min + U_ρ̇²` with
+    /// [`crate::Lemma1Form::Tangential`] (docs/tangential-lemma1.md).
+    pub thrust_direction_acceleration_projected: T,
     /// `L_ϖ`, lower bound of `|ϖ|` (dimensionless); the horizontal part of `u_f` is at most
     /// `√2 M_p` (`M_p` with the norm shape).
     pub heading_projection_min: T,
     /// `U_υ̇ = (U_ρ̇ + K_ν̇)/L_ϖ` [1/s].
     pub heading_axis_rate: T,
-    /// `U_ϋ = (U_ρ̈ + 2U_ρ̇K_ν̇ + K_ν̈)/L_ϖ + 3U_υ̇²` [1/s²].
+    /// `U_ϋ = (U_ρ̈ + 2U_ρ̇K_ν̇ + K_ν̈)/L_ϖ + 3U_υ̇²` [1/s²]; with [`crate::Lemma1Form::Tangential`]
+    /// the projected `U_ρ̈` and `+ U_υ̇²`: the bound on the part of `ϋ` orthogonal to `υ` (all
+    /// that eq:DesiredAngularAcceleration reads).
     pub heading_axis_acceleration: T,
     /// `U_ωd = sqrt(U_ρ̇² + U_υ̇²)` [rad/s] (Lemma 1).
     pub angular_velocity: T,
-    /// `U_ω̇d = U_ρ̇ U_υ̇ + sqrt(U_ρ̈² + U_ϋ²)` [rad/s²] (Lemma 1).
+    /// `U_ω̇d = U_ρ̇ U_υ̇ + sqrt(U_ρ̈² + U_ϋ²)` [rad/s²] (Lemma 1); with
+    /// [`crate::Lemma1Form::Tangential`] the projected `U_ρ̈` in place of `U_ρ̈`.
     pub angular_acceleration: T,
     /// `ι = (1 + (1 + δ)²) M_ϑ/4 + M_ω` [N m]: bound of the saturated feedback per axis; with
     /// tilt priority the largest of [`Bounds::feedback_torque_axes`].
@@ -238,7 +247,6 @@ pub fn certify<T: Scalar>(
         }
     }
     let two = lit::<T>(2.0);
-    let three = lit::<T>(3.0);
 
     // Theorem 1. `T_min` needs only the vertical level (`M_p`, plus `M_i,z` with the integral
     // action). `T_max`: `|u| ≤ sup|u_f| + |g e₃ + p̈_d (+ η_f)|`, where `u_f` is a convex
@@ -293,8 +301,12 @@ pub fn certify<T: Scalar>(
         u_rate += rate_term;
         u_acceleration += acceleration_term;
     }
+    // The quadratic terms of Lemma 1's chain: the paper's 3, or the tangential form's
+    // (crate::lemma1_form); the paper's form gives its numbers bit for bit.
+    let quadratic = gains.lemma1.coefficients::<T>();
     let rho_d = m * u_rate / thrust_min;
-    let rho_dd = m * u_acceleration / thrust_min + three * rho_d * rho_d;
+    let rho_dd = m * u_acceleration / thrust_min + quadratic.whole * rho_d * rho_d;
+    let rho_dd_projected = m * u_acceleration / thrust_min + quadratic.projected * rho_d * rho_d;
     let a = thrust_min / m;
     // `|u_xy|² − K_a12²` at most: the paper's `2M_p² + 2√2 M_p K_a12` for the cube; otherwise
     // from the largest horizontal feedback `l_xy`: `|L_xy|` (the extended bound) or
@@ -310,11 +322,14 @@ pub fn certify<T: Scalar>(
     };
     let heading_projection_min = a / (a * a + lateral).sqrt();
     let ups_d = (rho_d + k.heading_rate) / heading_projection_min;
-    let ups_dd = (rho_dd + two * rho_d * k.heading_rate + k.heading_acceleration)
+    // `ω̇_d` reads `ϋ` only across `υ`, where the radial part of `ρ̈` drops out of `ϖ̈`
+    // (crate::lemma1_form), so the paper's form takes the projected bound too: it is `U_ρ̈`.
+    let ups_dd = (rho_dd_projected + two * rho_d * k.heading_rate + k.heading_acceleration)
         / heading_projection_min
-        + three * ups_d * ups_d;
+        + quadratic.projected * ups_d * ups_d;
     let angular_velocity = (rho_d * rho_d + ups_d * ups_d).sqrt();
-    let angular_acceleration = rho_d * ups_d + (rho_dd * rho_dd + ups_dd * ups_dd).sqrt();
+    let angular_acceleration =
+        rho_d * ups_d + (rho_dd_projected * rho_dd_projected + ups_dd * ups_dd).sqrt();
 
     // Theorem 2.
     let a_gains = &gains.attitude;
@@ -351,11 +366,13 @@ pub fn certify<T: Scalar>(
     // Assumption 1 (the U* quantities).
     let margin = g - ka3;
     let s_rho_d = k.jerk / margin;
-    let s_rho_dd = k.snap / margin + three * s_rho_d * s_rho_d;
+    let s_rho_dd = k.snap / margin + quadratic.whole * s_rho_d * s_rho_d;
+    let s_rho_dd_projected = k.snap / margin + quadratic.projected * s_rho_d * s_rho_d;
     let s_l = margin / (ka12 * ka12 + margin * margin).sqrt();
     let s_ups_d = (s_rho_d + k.heading_rate) / s_l;
-    let s_ups_dd = (s_rho_dd + k.heading_acceleration + two * s_rho_d * k.heading_rate) / s_l
-        + three * s_ups_d * s_ups_d;
+    let s_ups_dd = (s_rho_dd_projected + k.heading_acceleration + two * s_rho_d * k.heading_rate)
+        / s_l
+        + quadratic.projected * s_ups_d * s_ups_d;
     let assumption = AssumptionBounds {
         thrust_direction_rate: s_rho_d,
         thrust_direction_acceleration: s_rho_dd,
@@ -364,7 +381,7 @@ pub fn certify<T: Scalar>(
         heading_axis_acceleration: s_ups_dd,
         angular_velocity: (s_rho_d * s_rho_d + s_ups_d * s_ups_d).sqrt(),
         angular_acceleration: s_rho_d * s_ups_d
-            + (s_rho_dd * s_rho_dd + s_ups_dd * s_ups_dd).sqrt(),
+            + (s_rho_dd_projected * s_rho_dd_projected + s_ups_dd * s_ups_dd).sqrt(),
     };
     let assumption_torque = feedforward_torque_bound(
         &inertia,
@@ -459,6 +476,7 @@ pub fn certify<T: Scalar>(
             u_acceleration,
             thrust_direction_rate: rho_d,
             thrust_direction_acceleration: rho_dd,
+            thrust_direction_acceleration_projected: rho_dd_projected,
             heading_projection_min,
             heading_axis_rate: ups_d,
             heading_axis_acceleration: ups_dd,

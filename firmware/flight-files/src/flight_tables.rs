@@ -57,6 +57,10 @@ pub struct GainsTable {
         skip_serializing_if = "PositionSaturationTable::is_componentwise"
     )]
     pub position_saturation: PositionSaturationTable,
+    /// The chain the certificate bounds `|ω̇_d|` with: `"paper"` (absent: Lemma 1 as the paper
+    /// states it) or `"tangential"` (extension, docs/tangential-lemma1.md). The law is the same.
+    #[serde(default, skip_serializing_if = "Lemma1Table::is_paper")]
+    pub lemma1: Lemma1Table,
     /// `[gains.integral]`: the bounded integral action (absent = off, the paper's law;
     /// extension, docs/integral-action.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -87,6 +91,25 @@ impl PositionSaturationTable {
     /// Whether this is the paper's shape (then the key is left out when written).
     pub fn is_componentwise(&self) -> bool {
         *self == Self::Componentwise
+    }
+}
+
+/// `[gains] lemma1`: the chain the certificate bounds `|ω̇_d|` with (controller-core's
+/// `Lemma1Form`).
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Lemma1Table {
+    /// Lemma 1 as the paper states it.
+    #[default]
+    Paper,
+    /// Only the parts of `ρ̈`, `ϋ` that `ω̇_d` reads (extension, docs/tangential-lemma1.md).
+    Tangential,
+}
+
+impl Lemma1Table {
+    /// Whether this is the paper's chain (then the key is left out when written).
+    pub fn is_paper(&self) -> bool {
+        *self == Self::Paper
     }
 }
 

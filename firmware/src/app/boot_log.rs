@@ -176,6 +176,15 @@ pub fn log_identity(config: &crate::config::FlightConfig) {
             info!("flight: position saturation: norm (|ubar_p| < M_p; docs/position-saturation.md)")
         }
     }
+    match config.gains.lemma1 {
+        controller_core::Lemma1Form::Paper => {
+            info!("flight: Lemma 1: as the paper states it (U_wd_dot)")
+        }
+        controller_core::Lemma1Form::Tangential => info!(
+            "flight: Lemma 1: tangential form (U_wd_dot from the parts of rho'' and ups'' that \
+             w_d' reads; docs/tangential-lemma1.md)"
+        ),
+    }
     if config.allow_uncertified {
         error!(
             "flight: UNCERTIFIED BUILD (feature uncertified-paper): this firmware arms set-ups \

@@ -66,6 +66,9 @@ pub struct BoundsTable {
     pub boxes: (usize, usize),
     /// Law evaluations the witness search spent (0 when skipped).
     pub witness_evaluations: usize,
+    /// The form of Lemma 1 the certificate's column uses (the scenario's `[gains] lemma1`):
+    /// `"paper"` or `"tangential"` (docs/tangential-lemma1.md).
+    pub lemma1: &'static str,
 }
 
 /// Options of `host-sim bounds`.
@@ -145,6 +148,7 @@ pub fn bounds_table(options: &BoundsOptions) -> Result<BoundsTable> {
         relative_gap: relative_gap(&tight),
         boxes: (options.max_boxes, options.coupled_boxes),
         witness_evaluations: found.as_ref().map_or(0, |w| w.evaluations),
+        lemma1: scenario.gains::<f64>().lemma1.name(),
     })
 }
 
@@ -153,6 +157,14 @@ pub fn markdown(table: &BoundsTable) -> String {
     let opt = |x: Option<f64>, f: fn(f64) -> String| x.map_or("–".into(), f);
     let mut s = String::new();
     let _ = writeln!(s, "# A-priori bounds of `{}`\n", table.scenario);
+    if table.lemma1 != "paper" {
+        let _ = writeln!(
+            s,
+            "The scenario certifies with the {} form of Lemma 1 (docs/tangential-lemma1.md): the \
+             \"paper\" column is Lemma 1 in that form and Theorem 2 as written.\n",
+            table.lemma1
+        );
+    }
     let mut rows = Table::new(
         &mut s,
         &[

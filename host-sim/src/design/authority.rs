@@ -20,7 +20,7 @@
 
 use super::integral::IntegralSpec;
 use controller_core::{
-    certify, Bounds, FilterStart, Gains, Limits, PositionSaturation, TorqueSet,
+    certify, Bounds, FilterStart, Gains, Lemma1Form, Limits, PositionSaturation, TorqueSet,
     TrajectoryConstants, Vehicle,
 };
 use firmware::config::RotorConfig;
@@ -98,10 +98,14 @@ pub struct PositionLaw<'a> {
     /// The shape of `σ_p`: the paper's componentwise one or the norm one
     /// (docs/position-saturation.md).
     pub shape: PositionSaturation,
+    /// The chain `certify` bounds `|ω̇_d|` with: the paper's Lemma 1 or its tangential form
+    /// (docs/tangential-lemma1.md); not a position law, but it enters the same bounds.
+    pub lemma1: Lemma1Form,
 }
 
 impl PositionLaw<'_> {
-    /// The paper's position law: no integral action, the componentwise `σ_p`.
+    /// The paper's position law: no integral action, the componentwise `σ_p`, the paper's
+    /// Lemma 1.
     pub fn paper() -> Self {
         Self::default()
     }
@@ -115,6 +119,7 @@ pub fn probe_gains(mp: f64, kf: f64, ks: f64, law: PositionLaw<'_>) -> Gains<f64
     let mut g = Gains::<f64>::paper();
     g.position.saturation = mp;
     g.position.saturation_shape = law.shape;
+    g.lemma1 = law.lemma1;
     g.position.kf = kf;
     g.position.ks = ks;
     g.hysteresis = DELTA;

@@ -31,6 +31,12 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
                 firmware::flight_tables::PositionSaturationTable::Norm
             }
         },
+        lemma1: match g.lemma1 {
+            controller_core::Lemma1Form::Paper => firmware::flight_tables::Lemma1Table::Paper,
+            controller_core::Lemma1Form::Tangential => {
+                firmware::flight_tables::Lemma1Table::Tangential
+            }
+        },
         M_theta: g.attitude.mrp_saturation,
         M_omega: g.attitude.omega_saturation,
         delta: g.hysteresis,

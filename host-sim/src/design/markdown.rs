@@ -56,6 +56,16 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
         100.0 * r.rotor_fit.margin,
         r.rotor_fit.box_fits
     );
+    let _ = writeln!(
+        s,
+        "Lemma 1's bound on `|ω̇_d|`: the {} chain{}.\n",
+        r.certificate.lemma1,
+        if r.certificate.lemma1 == "tangential" {
+            " (only the parts of `ρ̈` and `ϋ` that `ω̇_d` reads, docs/tangential-lemma1.md; the flight file carries `lemma1 = \"tangential\"` and the firmware's gate certifies with it)"
+        } else {
+            " (as the paper states it)"
+        }
+    );
     if r.certificate.bounds == super::tight::BoundsKind::Tight {
         let _ = writeln!(
             s,

@@ -8,7 +8,7 @@ use super::thrust::ThrustDesign;
 use super::tight::BoundsKind;
 use super::variables::{AttitudeLaw, Mapped};
 use crate::model::scenario::ThrustKind;
-use controller_core::{Gains, PositionSaturation};
+use controller_core::{Gains, Lemma1Form, PositionSaturation};
 use std::path::PathBuf;
 
 /// Default length of each scoring run and of the written scenario \[s\]: the paper's 30 s (the
@@ -79,6 +79,9 @@ pub struct DesignOptions {
     /// The shape of the position feedback's saturation `σ_p` searched and written
     /// (`--position-saturation`, docs/position-saturation.md).
     pub position_saturation: PositionSaturation,
+    /// The chain the certificate bounds `|ω̇_d|` with (`--lemma1`, docs/tangential-lemma1.md):
+    /// the tangential form by default; the law is the same.
+    pub lemma1: Lemma1Form,
     /// `Some(V)`: the design flies the velocity-limited position feedback with speed limit `V`
     /// [m/s] (`--speed-limit`, docs/velocity-limit.md); `None`: the paper's.
     pub speed_limit: Option<f64>,

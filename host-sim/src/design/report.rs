@@ -41,6 +41,9 @@ pub struct ConditionEntry {
 pub struct CertificateEntry {
     /// The bounds Theorem 2's torque conditions and the rotor fit are judged with.
     pub bounds: super::tight::BoundsKind,
+    /// The chain Lemma 1's `U_ω̇d` comes from: `"paper"` or `"tangential"`
+    /// (docs/tangential-lemma1.md); the flight file carries the same.
+    pub lemma1: &'static str,
     /// Every condition holds.
     pub all_hold: bool,
     /// Every condition holds and the certified set fits with the margin with the paper's bounds too: what
@@ -282,6 +285,7 @@ impl Report {
             },
             certificate: CertificateEntry {
                 bounds: o.bounds,
+                lemma1: o.lemma1.name(),
                 all_hold: c.all_hold(),
                 paper_certified: c.paper_certified(),
                 conditions,

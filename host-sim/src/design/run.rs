@@ -184,6 +184,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
     let position = PositionLaw {
         integral,
         shape: o.position_saturation,
+        lemma1: o.lemma1,
     };
     let binding = binding_condition(
         &vehicle,

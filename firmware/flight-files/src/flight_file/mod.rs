@@ -266,7 +266,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
          controller_core::Gains {{\n        \
          position: controller_core::position::PositionGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {}, saturation_shape: controller_core::PositionSaturation::{:?} }},\n        \
          attitude: controller_core::attitude_control::AttitudeGains {{ k_mrp: {}, k_omega: {}, mrp_saturation: {}, omega_saturation: {} }},\n        \
-         hysteresis: {},\n        reset_threshold: {},\n        integral: {},\n        tilt_priority: {},\n        velocity_limit: {},\n    }}\n}}",
+         hysteresis: {},\n        reset_threshold: {},\n        integral: {},\n        tilt_priority: {},\n        velocity_limit: {},\n        lemma1: controller_core::Lemma1Form::{:?},\n    }}\n}}",
         lit(g.kp),
         lit(g.kv),
         lit(g.kf),
@@ -316,7 +316,9 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
             "Some(controller_core::VelocityLimit {{ speed: {}, braking: {} }})",
             lit(v.speed_m_s),
             lit(v.braking_m_s2)
-        ))
+        )),
+        // `[gains] lemma1` (absent = the paper's chain); the variant names match.
+        g.lemma1
     ));
     put(format!(
         "/// `[trajectory]`: the demo mission.\n\

@@ -81,6 +81,49 @@ fn failing_certificate_refuses_to_arm() {
     assert!(rhs > iota, "{rhs} vs iota {iota}");
 }
 
+/// The board certifies with the chain the flight file names: a yaw limit between the tangential
+/// Lemma 1's Theorem 2 bound and the paper's arms with `lemma1 = "tangential"` and is refused with
+/// `lemma1 = "paper"`, naming `theorem2.torque_max_yaw` and the paper's bound.
+#[test]
+#[cfg(not(feature = "uncertified-paper"))] // the default flight file's x500
+fn the_tangential_certificate_is_what_the_board_checks() {
+    let yaw_bound = |form| {
+        let mut c = FlightConfig::built();
+        c.gains.lemma1 = form;
+        let cert = FlightPipeline::new(&c).unwrap().boot_report().certificate;
+        let k = cert.conditions.iter();
+        k.clone()
+            .find(|k| k.name == "theorem2.torque_max_yaw")
+            .unwrap()
+            .rhs
+    };
+    let tangential = yaw_bound(controller_core::Lemma1Form::Tangential);
+    let paper = yaw_bound(controller_core::Lemma1Form::Paper);
+    assert!(tangential < paper, "{tangential} vs {paper}");
+    for (form, arms) in [
+        (controller_core::Lemma1Form::Tangential, true),
+        (controller_core::Lemma1Form::Paper, false),
+    ] {
+        let mut c = FlightConfig::built();
+        c.gains.lemma1 = form;
+        c.limits.torque_max.z = 0.5 * (tangential + paper);
+        let (mut p, _) = arm_attempt(c);
+        let events = drain_events(&mut p);
+        if arms {
+            assert_eq!(
+                p.status().state,
+                crate::safety::FlightState::Armed,
+                "{events:?}"
+            );
+        } else {
+            assert_eq!(p.status().state, crate::safety::FlightState::Disarmed);
+            let (condition, lhs, rhs) = arm_refusal(&events);
+            assert_eq!(condition, "theorem2.torque_max_yaw");
+            assert_eq!((lhs, rhs), (c.limits.torque_max.z, paper));
+        }
+    }
+}
+
 /// A configuration whose certified set does not fit its rotors refuses to arm, and so does one
 /// whose set fits with less than the required margin; the refusal carries the margin, checked
 /// against a hand computation for the symmetric X (`d` the hub offset per axis, `c` the yaw

@@ -62,6 +62,7 @@ fn every_point_of_the_box_is_certified() {
             position: PositionLaw {
                 integral: None,
                 shape,
+                lemma1: controller_core::Lemma1Form::Tangential,
             },
             speed_limit: None,
         };

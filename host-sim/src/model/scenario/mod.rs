@@ -15,8 +15,8 @@ use std::path::Path;
 use anyhow::{anyhow, Context, Result};
 use controller_core::scalar::{lit, Scalar};
 use controller_core::{
-    Gains, HeadingProfile, IntegralGains, Limits, PositionSaturation, ReferenceTrajectory,
-    TiltPriorityGains, Vehicle, VelocityLimit,
+    Gains, HeadingProfile, IntegralGains, Lemma1Form, Limits, PositionSaturation,
+    ReferenceTrajectory, TiltPriorityGains, Vehicle, VelocityLimit,
 };
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -76,7 +76,7 @@ pub type VehicleConfig = VehicleTable;
 // definition: the firmware build reads the same tables from its flight file).
 pub use firmware::flight_tables::{
     GainsTable as GainsConfig, HeadingTable as HeadingConfig, IntegralTable as IntegralConfig,
-    LimitsTable as LimitsConfig, ObserverTable as ObserverConfig,
+    Lemma1Table as Lemma1Config, LimitsTable as LimitsConfig, ObserverTable as ObserverConfig,
     PositionSaturationTable as PositionSaturationConfig, TrajectoryTable as TrajectoryConfig,
 };
 
@@ -285,6 +285,10 @@ impl Scenario {
         out.position.saturation_shape = match g.position_saturation {
             PositionSaturationConfig::Componentwise => PositionSaturation::Componentwise,
             PositionSaturationConfig::Norm => PositionSaturation::Norm,
+        };
+        out.lemma1 = match g.lemma1 {
+            Lemma1Config::Paper => Lemma1Form::Paper,
+            Lemma1Config::Tangential => Lemma1Form::Tangential,
         };
         out.attitude.k_mrp = lit(g.k_theta);
         out.attitude.k_omega = lit(g.k_omega);

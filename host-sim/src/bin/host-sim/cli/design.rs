@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
-use controller_core::PositionSaturation;
+use controller_core::{Lemma1Form, PositionSaturation};
 use host_sim::design::{
     integral::IntegralSpec,
     options::{Fallback, DEFAULT_DURATION_S, DEFAULT_EVALUATIONS},
@@ -51,6 +51,15 @@ pub enum DesignPositionSaturation {
     Componentwise,
     /// `M_p y / sqrt(M_p² + |y|²)`: `|ubar_p| < M_p` (docs/position-saturation.md).
     Norm,
+}
+
+/// The chains bounding `|ω̇_d|` `design` offers (the library's `Lemma1Form`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DesignLemma1 {
+    /// Lemma 1 as the paper states it.
+    Paper,
+    /// Only the parts of `ρ̈`, `ϋ` that `ω̇_d` reads (docs/tangential-lemma1.md).
+    Tangential,
 }
 
 /// Options of `host-sim design`.
@@ -124,6 +133,12 @@ pub struct DesignArgs {
     /// docs/position-saturation.md; the Crazyflie preset's choice).
     #[arg(long, value_enum, default_value_t = DesignPositionSaturation::Componentwise)]
     pub position_saturation: DesignPositionSaturation,
+    /// The chain the certificate bounds `|ω̇_d|` with: `tangential` (only the parts of `ρ̈` and
+    /// `ϋ` that `ω̇_d` reads; a proven, smaller bound: docs/tangential-lemma1.md) or `paper`
+    /// (Lemma 1 as stated). The law flown is the same; the flight file carries the choice and
+    /// the firmware's gate certifies with it.
+    #[arg(long, value_enum, default_value_t = DesignLemma1::Tangential)]
+    pub lemma1: DesignLemma1,
     /// Fly the velocity-limited position feedback (docs/velocity-limit.md) with this speed limit
     /// [m/s] and braking at 0.7 of `M_p`: the same law near the reference, a braking profile
     /// instead of the paper's overshoot far from it (the certificate is unchanged). Absent: the
@@ -175,6 +190,10 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         position_saturation: match args.position_saturation {
             DesignPositionSaturation::Componentwise => PositionSaturation::Componentwise,
             DesignPositionSaturation::Norm => PositionSaturation::Norm,
+        },
+        lemma1: match args.lemma1 {
+            DesignLemma1::Paper => Lemma1Form::Paper,
+            DesignLemma1::Tangential => Lemma1Form::Tangential,
         },
         speed_limit: args.speed_limit,
         fallback: if args.duration_s.is_none() && args.speed_limit.is_none() {
