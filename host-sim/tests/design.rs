@@ -244,10 +244,14 @@ fn tilt_priority_design_certifies_per_axis_levels() {
 #[test]
 fn tight_bounds_certify_a_faster_reference_than_the_papers() {
     use host_sim::design::tight::{tight_feedforward, BoundsKind};
+    // Both with Lemma 1 as the paper states it: this compares the tight bounds with the paper's.
     let paper_out = out_dir("x500-paper");
-    let paper = run_design(&options(preset_path("x500"), paper_out.clone(), 1)).unwrap();
+    let mut p = options(preset_path("x500"), paper_out.clone(), 1);
+    p.lemma1 = controller_core::Lemma1Form::Paper;
+    let paper = run_design(&p).unwrap();
     let out = out_dir("x500-tight");
     let mut o = options(preset_path("x500"), out.clone(), 2);
+    o.lemma1 = controller_core::Lemma1Form::Paper;
     o.bounds = BoundsKind::Tight;
     let tight = run_design(&o).unwrap();
     let r = &tight.report;
