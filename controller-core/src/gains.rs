@@ -6,6 +6,7 @@ use nalgebra::{Matrix3, Vector3};
 use crate::attitude_control::{AttitudeGains, TorqueOutput};
 use crate::integral::IntegralGains;
 use crate::lemma1_form::Lemma1Form;
+use crate::local_regime::LocalGains;
 use crate::parameter_error::{positive, ParameterError};
 use crate::position::PositionGains;
 use crate::reference::TrajectoryConstants;
@@ -36,6 +37,10 @@ pub struct Gains<T: Scalar> {
     /// The chain [`crate::certify`] bounds `|ω̇_d|` with: the paper's Lemma 1 (bit for bit) or
     /// the tangential form (extension, docs/tangential-lemma1.md). No effect on the law.
     pub lemma1: Lemma1Form,
+    /// The envelope design's local regime (extension, docs/envelope-design.md,
+    /// [`crate::local_regime`]): faster position gains flown while the attitude energy is inside
+    /// a sublevel set; `None` flies `position` always, bit for bit.
+    pub local: Option<LocalGains<T>>,
 }
 
 impl<T: Scalar> Gains<T> {
@@ -63,6 +68,7 @@ impl<T: Scalar> Gains<T> {
             tilt_priority: None,
             velocity_limit: None,
             lemma1: Lemma1Form::Paper,
+            local: None,
         }
     }
 }
@@ -99,6 +105,9 @@ impl<T: Scalar> Gains<T> {
         }
         if let Some(v) = &self.velocity_limit {
             v.validate(self.position.saturation)?;
+        }
+        if let Some(l) = &self.local {
+            l.validate(&self.position)?;
         }
         let p = &self.position;
         let a = &self.attitude;

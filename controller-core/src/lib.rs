@@ -12,7 +12,8 @@
 //! [`position_saturation`] (the shape of `σ_p`: the paper's componentwise one or a norm one, an
 //! extension: docs/position-saturation.md),
 //! [`desired_attitude`] (eq:DesiredRotationMatrix, Lemma 1), [`mrp`] (Section II),
-//! [`path_lifting`] (Appendix), [`attitude_control`] (Section V), [`reference`](mod@reference)
+//! [`desired_frame_bounds`] (Lemma 1 per axis of the desired frame, an extension:
+//! docs/airmode.md), [`path_lifting`] (Appendix), [`attitude_control`] (Section V), [`reference`](mod@reference)
 //! (Assumption 1's trajectories), [`bounds`] (Assumption 1, Theorems 1–2, Lemma 1),
 //! [`integral`], [`disturbance_observer`], [`feedforward_scale`] and [`integral_stability`]
 //! (bounded integral action, an extension: docs/integral-action.md),
@@ -21,10 +22,12 @@
 //! estimates of the integral action), [`thrust`] (the paper's `T = m|u|` or the no-dive projection),
 //! [`tilt_priority`] (per-axis attitude feedback levels, an extension: docs/tilt-priority.md),
 //! [`lemma1_form`] (the paper's Lemma 1 or its tangential form, an extension:
-//! docs/tangential-lemma1.md), [`velocity_limit`] (a braking profile in the position feedback, an extension:
+//! docs/tangential-lemma1.md), [`local_regime`] (the envelope design's fast local position gains
+//! on an invariant set of the attitude energy, an extension: docs/envelope-design.md), [`velocity_limit`] (a braking profile in the position feedback, an extension:
 //! docs/velocity-limit.md), [`waypoint_path`] (a reference through a mission's stops with
 //! closed-form Assumption 1 constants, so a mission is certified before it is flown), and
-//! [`controller`] which composes them.
+//! [`rotor_envelope`] (the rotors' `(T, τ)` set, its shadow and airmode's thrust, an extension:
+//! docs/airmode.md), and [`controller`] which composes them.
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
 
@@ -34,18 +37,21 @@ pub mod clamped_estimate;
 pub mod condition;
 pub mod controller;
 pub mod desired_attitude;
+pub mod desired_frame_bounds;
 pub mod disturbance_observer;
 pub mod feedforward_scale;
 pub mod gains;
 pub mod integral;
 pub mod integral_stability;
 pub mod lemma1_form;
+pub mod local_regime;
 pub mod mrp;
 pub mod parameter_error;
 pub mod path_lifting;
 pub mod position;
 pub mod position_saturation;
 pub mod reference;
+pub mod rotor_envelope;
 pub mod saturation;
 pub mod scalar;
 pub mod thrust;
@@ -73,9 +79,11 @@ pub use feedforward_scale::{FeedforwardScaleGains, FeedforwardScaleState};
 pub use gains::Gains;
 pub use integral::{IntegralGains, IntegralState};
 pub use lemma1_form::Lemma1Form;
+pub use local_regime::{LocalGains, Regime};
 pub use parameter_error::ParameterError;
 pub use path_lifting::JumpCounters;
 pub use position_saturation::PositionSaturation;
+pub use rotor_envelope::RotorEnvelope;
 pub use reference::{
     HeadingProfile, ReferenceSample, ReferenceTrajectory, Trajectory, TrajectoryConstants,
 };

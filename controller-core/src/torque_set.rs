@@ -33,7 +33,7 @@
 //! Source: extension of Theorem 2 (docs/torque-set.md); each term's set is the one Theorem 2's
 //! proof bounds, without the final per-component step.
 
-use nalgebra::Vector3;
+use nalgebra::{Vector2, Vector3};
 
 use crate::scalar::{lit, Scalar};
 
@@ -57,6 +57,11 @@ pub struct TorqueSet<T: Scalar> {
     /// Radii `d_k` [N m] of the feedback's disks, disk `k` in the plane orthogonal to body axis
     /// `k`: zero for the paper's law, tilt priority's trace term `½(g_k − g_min)`.
     pub feedback_disks: Vector3<T>,
+    /// `(a, b)` [rad/s²] of the feedforward's inertial part with the body frame on the desired
+    /// frame (`R̃ = I`): the cylinder `{J v : |(v₁, v₂)| ≤ a, |v₃| ≤ b}`, which the desired
+    /// frame's per-axis bounds of `ω̇_d` give ([`crate::desired_frame_bounds`]); zero in the
+    /// certified set of Theorem 2, whose attitude error is any.
+    pub aligned_acceleration: Vector2<T>,
 }
 
 impl<T: Scalar> TorqueSet<T> {
@@ -71,6 +76,24 @@ impl<T: Scalar> TorqueSet<T> {
             feedback_radius: T::zero(),
             feedback_box: half_widths,
             feedback_disks: Vector3::zeros(),
+            aligned_acceleration: Vector2::zeros(),
+        }
+    }
+
+    /// The feedforward with the body frame on the desired frame (`R̃ = I`): the cylinder
+    /// `{J v : |(v₁, v₂)| ≤ tilt, |v₃| ≤ yaw}` (`tilt`, `yaw` [rad/s²]: bounds on the desired
+    /// frame's components of `ω̇_d`) plus the gyroscopic box `gyroscopic` [N m] (bounds on the
+    /// components of `(J ω_d) × ω_d`), with no feedback. No errors. Source: extension of Lemma 1
+    /// and Theorem 2 ([`crate::desired_frame_bounds`], docs/airmode.md).
+    pub fn aligned(inertia: Vector3<T>, tilt: T, yaw: T, gyroscopic: Vector3<T>) -> Self {
+        Self {
+            inertia,
+            angular_acceleration: T::zero(),
+            gyroscopic,
+            feedback_radius: T::zero(),
+            feedback_box: Vector3::zeros(),
+            feedback_disks: Vector3::zeros(),
+            aligned_acceleration: Vector2::new(tilt, yaw),
         }
     }
 
@@ -133,15 +156,29 @@ impl<T: Scalar> TorqueSet<T> {
                 }
             }),
             feedback_disks: Vector3::zeros(),
+            aligned_acceleration: Vector2::zeros(),
         }
     }
 
     /// The support function `h(c) = sup_{τ ∈ S} cᵀτ` for a direction `c` (any length; units of
     /// `c` times N m): `U_ω̇d |J c| + Σ_i |c_i| (gyroscopic_i + feedback_box_i) + r |c|
-    /// + Σ_k d_k |c − c_k e_k|`. `S` is symmetric, so `inf_{τ ∈ S} cᵀτ = −h(c)`. Exact for the
+    /// + Σ_k d_k |c − c_k e_k|` (plus `a |(J₁₁c₁, J₂₂c₂)| + b J₃₃|c₃|` for the aligned cylinder).
+    /// `S` is symmetric, so `inf_{τ ∈ S} cᵀτ = −h(c)`. Exact for the
     /// Minkowski sum (the support function of a sum is the sum of the summands' support
     /// functions; a disk's is its radius times the length of `c` projected on its plane).
     pub fn support(&self, c: &Vector3<T>) -> T {
+        let base = self.support_of_theorem2_parts(c);
+        let [a, b] = [self.aligned_acceleration.x, self.aligned_acceleration.y];
+        if a > T::zero() || b > T::zero() {
+            let jc = self.inertia.component_mul(c);
+            base + a * jc.xy().norm() + b * jc.z.abs()
+        } else {
+            // Not `+ 0`: the sets of Theorem 2 keep their support function bit for bit.
+            base
+        }
+    }
+
+    fn support_of_theorem2_parts(&self, c: &Vector3<T>) -> T {
         let abs = c.abs();
         let n2 = c.norm_squared();
         let disks = (0..3).fold(T::zero(), |acc, k| {
@@ -162,11 +199,13 @@ impl<T: Scalar> TorqueSet<T> {
     /// `J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd² + ι_i`.
     pub fn axis_extents(&self) -> Vector3<T> {
         let d = &self.feedback_disks;
+        let a = &self.aligned_acceleration;
         self.inertia * self.angular_acceleration
             + self.gyroscopic
             + self.feedback_box
             + Vector3::repeat(self.feedback_radius)
             + Vector3::new(d.y + d.z, d.z + d.x, d.x + d.y)
+            + self.inertia.component_mul(&Vector3::new(a.x, a.x, a.y))
     }
 }
 

@@ -578,8 +578,9 @@ fn vertical_priority_design_certifies_its_floor() {
     let s = Scenario::parse(&text, "scenario.toml").unwrap();
     assert_eq!(s.controller.thrust, ThrustKind::VerticalPriority);
     assert_eq!(s.controller.thrust_floor_N, t.floor_N);
-    let b = certified_read_back(&s).bounds;
-    assert_eq!(s.thrust_interval(&b).unwrap(), [t.floor_N, b.thrust_max]);
+    let c = certified_read_back(&s);
+    let b = c.bounds;
+    assert_eq!(s.thrust_interval(&c).unwrap(), [t.floor_N, b.thrust_max]);
     let mixer = Mixer::new(&rotors_of(&s)).unwrap();
     let set = f32_set(&b.torque_set);
     let margin = |floor: f64| mixer.set_margin(floor as f32, b.thrust_max as f32, &set);

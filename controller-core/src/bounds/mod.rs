@@ -11,6 +11,7 @@ use nalgebra::Vector3;
 
 use crate::condition::strictly_less;
 pub use crate::condition::{Condition, Violation};
+use crate::desired_frame_bounds::{ChainBounds, DesiredFrameBounds};
 use crate::gains::Gains;
 use crate::integral_stability::{local_stability_conditions, STABILITY_CONDITION_COUNT};
 use crate::parameter_error::ParameterError;
@@ -19,6 +20,9 @@ use crate::reference::TrajectoryConstants;
 use crate::scalar::{lit, to_f64, Scalar};
 use crate::torque_set::TorqueSet;
 use crate::vehicle::{Limits, Vehicle};
+
+mod local;
+pub use local::{local_torque_set, LocalCertificate};
 
 /// Where the filter states start; Lemma 1's `U_l` depends on it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -111,6 +115,13 @@ pub struct Bounds<T: Scalar> {
     pub torque_set: TorqueSet<T>,
     /// The `U*` bounds of Assumption 1.
     pub assumption: AssumptionBounds<T>,
+    /// Lemma 1 per axis of the desired frame: bounds on the tilt and yaw components of `ω_d`,
+    /// `ω̇_d` and of the gyroscopic term (extension, [`crate::desired_frame_bounds`]).
+    pub desired_frame: DesiredFrameBounds<T>,
+    /// The feedforward's set with the body frame on the desired frame (`R̃ = I`, no
+    /// feedback; [`DesiredFrameBounds::aligned_feedforward`]): what airmode's convergence
+    /// argument needs to fit the thrust interval (docs/airmode.md).
+    pub aligned_feedforward: TorqueSet<T>,
 }
 
 /// Number of conditions checked.
@@ -144,6 +155,8 @@ pub struct Certificate<T: Scalar> {
     /// Tilt priority's hysteresis-band condition ([`crate::TiltPriorityGains::hysteresis_band`]);
     /// `None` when it is off.
     pub tilt_priority: Option<[Condition<T>; 1]>,
+    /// The envelope design's local regime ([`LocalCertificate`]); `None` when it is off.
+    pub local: Option<LocalCertificate<T>>,
 }
 
 impl<T: Scalar> Certificate<T> {
@@ -175,10 +188,24 @@ impl<T: Scalar> Certificate<T> {
             Some(c) => c,
             None => &[],
         };
+        let local: &[Condition<T>] = match &self.local {
+            Some(l) => &l.conditions,
+            None => &[],
+        };
         self.conditions
             .iter()
             .chain(extra.iter())
             .chain(tilt.iter())
+            .chain(local.iter())
+    }
+
+    /// Per-axis bound [N m] of every torque the law applies: Theorem 2's, or with the envelope
+    /// design the larger of it and the local regime's extent (body axes).
+    pub fn torque_max_all(&self) -> Vector3<T> {
+        match &self.local {
+            None => self.bounds.torque_max,
+            Some(l) => self.bounds.torque_max.sup(&l.torque_set.axis_extents()),
+        }
     }
 }
 
@@ -227,11 +254,15 @@ pub fn certify<T: Scalar>(
     limits.validate()?;
     gains.validate()?;
     constants.validate()?;
+    let requested = constants;
     // The reference as the law applies it (the feedforward scale widens its constants).
     let constants = &gains.law_constants(constants);
     let (m, g, inertia) = (vehicle.mass, vehicle.gravity, vehicle.inertia);
     let p = &gains.position;
     let (mp, kf, ks) = (p.saturation, p.kf, p.ks);
+    // The integral action's local stability is the regime's that persists: the local one with
+    // the envelope design (docs/envelope-design.md).
+    let settled = gains.local.map_or(*p, |l| l.position(p));
     let k = constants;
     let (ka12, ka3) = (k.horizontal_acceleration, k.vertical_acceleration);
     if !strictly_less(mp, g - ka3) {
@@ -362,6 +393,18 @@ pub fn certify<T: Scalar>(
     };
     let torque_max = feedforward_torque_bound(&inertia, angular_acceleration, angular_velocity)
         + feedback_torque_axes;
+    let desired_frame = DesiredFrameBounds::new(
+        &ChainBounds {
+            thrust_direction_rate: rho_d,
+            thrust_direction_acceleration_across: rho_dd_projected,
+            heading_projection_min,
+            heading_rate: k.heading_rate,
+            heading_acceleration: k.heading_acceleration,
+            angular_velocity,
+            angular_acceleration,
+        },
+        &inertia,
+    );
 
     // Assumption 1 (the U* quantities).
     let margin = g - ka3;
@@ -487,6 +530,8 @@ pub fn certify<T: Scalar>(
             torque_max,
             torque_set,
             assumption,
+            desired_frame,
+            aligned_feedforward: desired_frame.aligned_feedforward(&inertia),
         },
         conditions,
         integral: match (gains.integral, level_sum, integral_terms) {
@@ -494,10 +539,16 @@ pub fn certify<T: Scalar>(
                 level_sum: l,
                 u_rate_term: rate_term,
                 u_acceleration_term: acceleration_term,
-                polynomial: crate::integral_stability::characteristic_polynomial(p, &i),
-                conditions: local_stability_conditions(p, &i),
+                polynomial: crate::integral_stability::characteristic_polynomial(&settled, &i),
+                conditions: local_stability_conditions(&settled, &i),
             }),
             _ => None,
+        },
+        local: match &gains.local {
+            Some(l) => Some(local::local_certificate(
+                vehicle, limits, gains, l, requested,
+            )?),
+            None => None,
         },
         tilt_priority: gains.tilt_priority.map(|t| {
             let (lhs, rhs) = t.hysteresis_band(a_gains, gains.hysteresis);

@@ -19,11 +19,13 @@ use crate::desired_attitude::desired_attitude;
 use crate::feedforward_scale::FeedforwardScaleState;
 use crate::gains::Gains;
 use crate::integral::{modelled_compensation, IntegralGains, IntegralState};
+use crate::local_regime::{attitude_energy, retime, Regime};
 use crate::mrp::rotation_from_quaternion;
 use crate::parameter_error::ParameterError;
 use crate::path_lifting::{JumpCounters, PathLifting};
 use crate::position::{FilterPropagator, FilterState};
 use crate::reference::{ReferenceSample, TrajectoryConstants};
+use crate::rotor_envelope::RotorEnvelope;
 use crate::scalar::{finite_probe, to_f64, Scalar};
 use crate::thrust::ThrustMode;
 use crate::vehicle::Vehicle;
@@ -38,9 +40,13 @@ pub struct Controller<T: Scalar> {
     gains: Gains<T>,
     filter: FilterState<T>,
     lifting: PathLifting<T>,
-    /// The filter propagation of the last `dt`, reused while the rate does not change.
-    propagator: Option<FilterPropagator<T>>,
+    /// The filter propagation of the last `dt` and regime, reused while neither changes.
+    propagator: Option<(Regime, FilterPropagator<T>)>,
+    /// The envelope design's regime (always `Global` without [`Gains::local`]).
+    regime: Regime,
     thrust_mode: ThrustMode<T>,
+    /// Airmode's rotor envelope (`None`: the thrust mode's thrust is applied as computed).
+    airmode: Option<RotorEnvelope<T>>,
     /// `(η, η_f)` of the integral action; stays zero when it is off.
     integral: IntegralState<T>,
     /// `(μ, μ_f)` of the feedforward scale; stays zero when it is off.
@@ -81,7 +87,9 @@ impl<T: Scalar> Controller<T> {
             filter: FilterState::zero(),
             lifting: PathLifting::new(gains.hysteresis, gains.reset_threshold),
             propagator: None,
+            regime: Regime::Global,
             thrust_mode: ThrustMode::Norm,
+            airmode: None,
             integral: IntegralState::zero(),
             feedforward_scale: FeedforwardScaleState::zero(),
             integral_frozen: false,
@@ -210,6 +218,27 @@ impl<T: Scalar> Controller<T> {
         Ok(())
     }
 
+    /// Airmode's rotor envelope, if airmode is on.
+    pub fn airmode(&self) -> Option<&RotorEnvelope<T>> {
+        self.airmode.as_ref()
+    }
+
+    /// Turns airmode on with the rotors' envelope `envelope` (its range shrunk by the margin the
+    /// flight keeps free), or off with `None`, from the next step on: the thrust mode's thrust
+    /// is then moved, by as little as possible, to where the rotors realise the law's torque
+    /// ([`RotorEnvelope::airmode_thrust`]). The torque, the desired attitude and the filters do
+    /// not depend on it. No errors: the envelope was checked when it was built.
+    /// Extension, docs/airmode.md.
+    pub fn set_airmode(&mut self, envelope: Option<RotorEnvelope<T>>) {
+        self.airmode = envelope;
+    }
+
+    /// The envelope design's regime the next step flies (`Global` without [`Gains::local`];
+    /// extension, [`crate::local_regime`]).
+    pub fn regime(&self) -> Regime {
+        self.regime
+    }
+
     /// Path-lifting jumps since construction.
     pub fn jump_counters(&self) -> JumpCounters {
         self.lifting.counters()
@@ -249,7 +278,13 @@ impl<T: Scalar> Controller<T> {
         }
 
         let g = &self.gains;
-        let mut position = g.position.evaluate(
+        // The envelope design's local gains while its regime is on (extension,
+        // crate::local_regime); the paper's gains otherwise.
+        let position_gains = match (&g.local, self.regime) {
+            (Some(l), Regime::Local) => l.position(&g.position),
+            _ => g.position,
+        };
+        let mut position = position_gains.evaluate(
             g.velocity_limit.as_ref(),
             &(state.position - reference.position),
             &(state.velocity - reference.velocity),
@@ -317,14 +352,42 @@ impl<T: Scalar> Controller<T> {
             &self.vehicle.inertia,
         );
         let body_z = rotation.column(2).into_owned();
-        let thrust = self
+        let mode_thrust = self
             .thrust_mode
             .thrust(self.vehicle.mass, &position.u, &body_z);
-        let propagator = match self.propagator {
-            Some(p) if p.dt == dt => p,
-            _ => g.position.propagator(dt),
+        let thrust = match &self.airmode {
+            Some(e) => e.airmode_thrust(mode_thrust, &torque.torque),
+            None => mode_thrust,
         };
-        let next_filter = propagator.apply(&self.filter, &position.ubar_p);
+        let propagator = match self.propagator {
+            Some((r, p)) if p.dt == dt && r == self.regime => p,
+            _ => position_gains.propagator(dt),
+        };
+        let mut next_filter = propagator.apply(&self.filter, &position.ubar_p);
+        // The envelope design's switch on the attitude energy, with the inner filter re-timed so
+        // that u̇ (hence ω_d) does not jump into the local regime.
+        let energy = g.local.as_ref().map(|_| {
+            attitude_energy(
+                g,
+                &self.vehicle.inertia,
+                &lifted.mrp,
+                &torque.omega_error,
+                &error_rotation,
+            )
+        });
+        let next_regime = match (&g.local, energy) {
+            (Some(l), Some(e)) => l.next_regime(self.regime, e),
+            _ => self.regime,
+        };
+        if next_regime != self.regime {
+            let local_kf = g.local.map_or(g.position.kf, |l| l.kf);
+            let (from, to) = match next_regime {
+                Regime::Local => (g.position.kf, local_kf),
+                Regime::Global => (local_kf, g.position.kf),
+            };
+            let set = (g.position.saturation_shape, g.position.saturation);
+            next_filter = retime(&next_filter, from, to, set);
+        }
         let next_integral = match integral {
             Some((ig, rate, _)) => ig.advance(&self.integral, &rate, dt),
             None => self.integral,
@@ -401,6 +464,9 @@ impl<T: Scalar> Controller<T> {
             s_mrp: torque.s_mrp,
             s_omega: torque.s_omega,
             feedforward: torque.feedforward,
+            airmode_shift: thrust - mode_thrust,
+            regime: self.regime,
+            attitude_energy: energy.unwrap_or_else(T::zero),
             jumps: lifted.jumps,
             jumps_total: lifting.counters(),
         };
@@ -411,7 +477,8 @@ impl<T: Scalar> Controller<T> {
         if next_observed_velocity.is_some() {
             self.observed_velocity = next_observed_velocity;
         }
-        self.propagator = Some(propagator);
+        self.propagator = Some((self.regime, propagator));
+        self.regime = next_regime;
         Ok(ControlOutput {
             thrust,
             torque: torque.torque,

@@ -59,6 +59,16 @@ pub struct Diagnostics<T: Scalar> {
     pub s_omega: Vector3<T>,
     /// Feedforward `τ_c` [N m], body.
     pub feedforward: Vector3<T>,
+    /// Airmode's move of the collective thrust \[N\]: the thrust applied minus the thrust mode's
+    /// (zero without airmode, and wherever the law's `(T, τ)` already fits the rotors;
+    /// [`crate::RotorEnvelope::airmode_thrust`]).
+    pub airmode_shift: T,
+    /// The envelope design's regime this sample flew ([`crate::local_regime`]; `Global`
+    /// without it).
+    pub regime: crate::local_regime::Regime,
+    /// The attitude energy `½ω̃ᵀJω̃ + Ψ(ϑ̃)` [J] of this sample (with tilt priority plus its trace
+    /// potential; [`crate::local_regime::attitude_energy`]), zero without the envelope design.
+    pub attitude_energy: T,
     /// Path-lifting jumps applied at this sample.
     pub jumps: JumpCounters,
     /// Path-lifting jumps since construction.
@@ -69,7 +79,8 @@ pub struct Diagnostics<T: Scalar> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ControlOutput<T: Scalar> {
     /// Collective thrust \[N\] along the body z axis: `T = m|u|`, or as set by
-    /// [`crate::Controller::set_thrust_mode`].
+    /// [`crate::Controller::set_thrust_mode`], moved by airmode when it is on
+    /// ([`crate::Controller::set_airmode`]).
     pub thrust: T,
     /// Torque `τ` [N m], body frame.
     pub torque: Vector3<T>,

@@ -73,6 +73,31 @@ pub struct GainsTable {
     /// paper's `−σ_p(k_p z₁ + k_v z₂)`; extension, docs/velocity-limit.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub velocity_limit: Option<VelocityLimitTable>,
+    /// `[gains.local]`: the envelope design's local regime (absent = off, one set of position
+    /// gains; extension, docs/envelope-design.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub local: Option<LocalTable>,
+}
+
+/// `[gains.local]`: the envelope design's local position gains, flown while the attitude energy
+/// is inside `energy_out_J` once it has fallen to `energy_in_J` (extension,
+/// docs/envelope-design.md, controller-core's `local_regime`).
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct LocalTable {
+    /// `k_p` [1/s²] of the local regime.
+    pub kp: f64,
+    /// `k_v` [1/s] of the local regime.
+    pub kv: f64,
+    /// `k_f` [1/s] of the local regime, at least `[gains] kf`.
+    pub kf: f64,
+    /// `k_s` [1/s] of the local regime.
+    pub ks: f64,
+    /// `E_in` [J]: the local gains take over once the attitude energy is at most this.
+    pub energy_in_J: f64,
+    /// `E_out` [J], above `E_in`: the global gains take back over above this.
+    pub energy_out_J: f64,
 }
 
 /// `[gains] position_saturation`: the shape of the position feedback's saturation `σ_p`

@@ -19,7 +19,7 @@
 //! Nothing is clipped silently: what was given up is returned in [`MixOutput`].
 
 use controller_core::scalar::{fmax, fmin};
-use controller_core::TorqueSet;
+use controller_core::{RotorEnvelope, TorqueSet};
 use nalgebra::{Matrix4, Vector3, Vector4};
 
 use crate::config::RotorConfig;
@@ -265,18 +265,20 @@ impl Mixer {
     /// takes `Σ_i |c_ki| τ_i ≥ h(c_k)` (that is this function on the box, [`TorqueSet::boxed`]). Negative when the set does not fit; `−∞` when a rotor's
     /// thrust column entry is not positive. Source: extension of Theorem 2 (docs/torque-set.md).
     pub fn set_margin(&self, t_lo: f32, t_hi: f32, set: &TorqueSet<f32>) -> f32 {
-        let (lo, hi) = (self.f_min, self.f_max);
-        let m = &self.mix;
-        let mut margin = f32::INFINITY;
-        for k in 0..4 {
-            let w = m[(k, 0)];
-            if w <= 0.0 {
-                return f32::NEG_INFINITY;
-            }
-            let h = set.support(&Vector3::new(m[(k, 1)], m[(k, 2)], m[(k, 3)]));
-            margin = margin.min(hi - (w * t_hi + h)).min(w * t_lo - h - lo);
+        match self.envelope() {
+            Some(e) => e.set_margin(t_lo, t_hi, set),
+            None => f32::NEG_INFINITY,
         }
-        margin / (hi - lo)
+    }
+
+    /// The rotors' `(T, τ)` set as the law sees it: the rows of `M` and the rotor range
+    /// ([`RotorEnvelope`], the one implementation of the fits the gate checks and of airmode's
+    /// thrust). `None` when a rotor's thrust column entry is not positive (it cannot carry
+    /// collective; no set fits then).
+    pub fn envelope(&self) -> Option<RotorEnvelope<f32>> {
+        let m = &self.mix;
+        let rows = [0, 1, 2, 3].map(|k| [m[(k, 0)], m[(k, 1)], m[(k, 2)], m[(k, 3)]]);
+        RotorEnvelope::new(rows, self.f_min, self.f_max).ok()
     }
 
     /// Whether the box `T ∈ [t_lo, t_hi]`, `|τ_i| ≤ tau_i` maps inside the rotor range, and by

@@ -20,8 +20,8 @@
 
 use super::integral::IntegralSpec;
 use controller_core::{
-    certify, Bounds, FilterStart, Gains, Lemma1Form, Limits, PositionSaturation, TorqueSet,
-    TrajectoryConstants, Vehicle,
+    certify, Bounds, FilterStart, Gains, Lemma1Form, Limits, PositionSaturation, RotorEnvelope,
+    TorqueSet, TrajectoryConstants, Vehicle,
 };
 use firmware::config::RotorConfig;
 use firmware::mixer::Mixer;
@@ -70,6 +70,32 @@ impl RotorSet {
     pub fn thrust_total_max(&self) -> f64 {
         4.0 * self.range.1
     }
+
+    /// The core's envelope of these rotors with the range shrunk by `margin` (fraction of the
+    /// range at both ends): the set airmode keeps the law's `(T, τ)` in.
+    /// Panics only if the mixer's thrust column has a non-positive entry, which
+    /// [`RotorSet::new`]'s mixer never builds for four rotors that carry collective.
+    pub fn envelope(&self, margin: f64) -> RotorEnvelope<f64> {
+        let m = &self.mix;
+        let rows = [0, 1, 2, 3].map(|k| [m[(k, 0)], m[(k, 1)], m[(k, 2)], m[(k, 3)]]);
+        let (lo, hi) = self.shrunk(margin);
+        RotorEnvelope::new(rows, lo, hi).expect("a quad's mixer rows carry collective")
+    }
+}
+
+/// How a certified set must sit in the rotors' set.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RotorFit {
+    /// The whole certified thrust interval times the torque set (every torque at both thrust
+    /// ends; the mixer's set fit, docs/torque-set.md).
+    #[default]
+    Set,
+    /// Airmode (docs/airmode.md): every torque of the set at *some* thrust (the shadow fit); the
+    /// thrust moves where a torque needs it. Whether the feedforward at zero attitude error also
+    /// fits the whole thrust interval (the aligned fit, with which airmode's convergence argument
+    /// is proven) is reported, not required.
+    Airmode,
 }
 
 /// The thrust interval and the feedforward part of Theorem 2's torque bound for one
@@ -222,13 +248,14 @@ pub fn iota_max_along(
 pub fn iota_max_by(
     rotors: &RotorSet,
     env: &Envelope,
-    margin: f64,
+    (margin, fit): (f64, RotorFit),
     lower: f64,
     feedback: impl Fn(f64) -> TorqueSet<f64>,
 ) -> f64 {
     let Some(ff) = env.feedforward_set else {
         return lower;
     };
+    let shrunk = rotors.envelope(margin);
     let fits = |iota: f64| {
         let fb = feedback(iota);
         let set = TorqueSet {
@@ -237,7 +264,10 @@ pub fn iota_max_by(
             feedback_disks: fb.feedback_disks,
             ..ff
         };
-        set_margin(rotors, env.thrust, &set) >= margin
+        match fit {
+            RotorFit::Set => set_margin(rotors, env.thrust, &set) >= margin,
+            RotorFit::Airmode => shrunk.shadow_margin(&set) >= 0.0,
+        }
     };
     if !(lower > 0.0 && fits(lower)) {
         return lower;
@@ -285,6 +315,52 @@ fn iota_max_shaped(
     best
 }
 
+/// Airmode's `ι_max` [N m] for the paper's feedback (a ball of radius `ι`): the largest `ι` for
+/// which every torque of the feedforward's set plus the ball is realised at some thrust on the
+/// range shrunk by `margin` (the shadow fit, [`RotorEnvelope::shadow_margin`]): per ordered pair
+/// of rotors `(k, l)` with `d = w_k c_l − w_l c_k`, `h_ff(d) + ι |d| ≤ w_k hi' − w_l lo'`, linear
+/// in `ι`. Negative when even `ι = 0` does not fit; `-∞` with the tight bounds' box (no set).
+pub fn shadow_iota_max(rotors: &RotorSet, env: &Envelope, margin: f64) -> f64 {
+    let Some(ff) = env.feedforward_set else {
+        return f64::NEG_INFINITY;
+    };
+    let e = rotors.envelope(margin);
+    let (lo, hi) = e.range;
+    let mut best = f64::INFINITY;
+    for k in 0..4 {
+        for l in 0..4 {
+            if k != l {
+                let (wk, wl) = (e.collective[k], e.collective[l]);
+                let d = e.torque[l] * wk - e.torque[k] * wl;
+                best = best.min((wk * hi - wl * lo - ff.support(&d)) / d.norm());
+            }
+        }
+    }
+    best
+}
+
+/// Whether Theorem 1's thrust interval of `env` alone (no torque) fits the rotors' range shrunk
+/// by `margin`: with airmode the torque set need only fit at some thrust, but the law's own
+/// thrust must stay realisable (Theorem 1's condition on the actuator's `T_max`, with the margin).
+pub fn thrust_fits(rotors: &RotorSet, env: &Envelope, margin: f64) -> bool {
+    rotors.envelope(margin).set_margin(
+        env.thrust.0,
+        env.thrust.1,
+        &TorqueSet::boxed(Vector3::zeros()),
+    ) >= 0.0
+}
+
+/// Whether the feedforward at zero attitude error (`Bounds::aligned_feedforward`) fits the
+/// certified thrust interval of `env` strictly inside the range shrunk by `margin`: with it,
+/// airmode leaves the law's thrust unchanged near convergence (docs/airmode.md).
+pub fn aligned_fits(rotors: &RotorSet, env: &Envelope, margin: f64) -> bool {
+    rotors.envelope(margin).set_margin(
+        env.thrust.0,
+        env.thrust.1,
+        &env.bounds.aligned_feedforward,
+    ) > 0.0
+}
+
 /// `ι_max` for `(M_p, k_f, k_s)`; `-∞` when the bounds are undefined.
 pub fn iota_max_at(
     vehicle: &Vehicle<f64>,
@@ -313,7 +389,7 @@ pub fn saturation_max(
         super::tight::BoundsKind::Paper,
         vehicle,
         constants,
-        (rotors, margin),
+        (rotors, margin, RotorFit::Set),
         (kf, ks),
         PositionLaw::paper(),
     )
@@ -327,7 +403,7 @@ pub fn saturation_max_with(
     bounds: super::tight::BoundsKind,
     vehicle: &Vehicle<f64>,
     constants: &TrajectoryConstants<f64>,
-    (rotors, margin): (&RotorSet, f64),
+    (rotors, margin, fit): (&RotorSet, f64, RotorFit),
     (kf, ks): (f64, f64),
     law: PositionLaw<'_>,
 ) -> Option<f64> {
@@ -339,8 +415,12 @@ pub fn saturation_max_with(
         return None;
     }
     let positive = |mp: f64| {
-        envelope_with(bounds, vehicle, constants, (mp, kf, ks), law)
-            .is_some_and(|env| iota_max(rotors, &env, margin) > 0.0)
+        envelope_with(bounds, vehicle, constants, (mp, kf, ks), law).is_some_and(|env| match fit {
+            RotorFit::Set => iota_max(rotors, &env, margin) > 0.0,
+            RotorFit::Airmode => {
+                thrust_fits(rotors, &env, margin) && shadow_iota_max(rotors, &env, margin) > 0.0
+            }
+        })
     };
     let steps = match bounds {
         super::tight::BoundsKind::Paper => 60,
@@ -511,7 +591,7 @@ mod tests {
         // The levels above are the box's direction: extents (ι, ι, 0.2 ι).
         let extents = feedback(1.0).axis_extents();
         assert!((extents - d).norm() < 1e-12, "{extents:?}");
-        let shaped = iota_max_by(&set, &env, 0.05, boxed, feedback);
+        let shaped = iota_max_by(&set, &env, (0.05, RotorFit::Set), boxed, feedback);
         assert!(shaped > boxed, "{shaped} vs {boxed}");
         let fb = feedback(shaped);
         let whole = TorqueSet {

@@ -19,7 +19,7 @@ use firmware::config::RotorConfig;
 use firmware::mixer::{BoxFit, Mixer};
 use nalgebra::Vector3;
 
-use super::authority::{box_margin, set_margin, RotorSet};
+use super::authority::{box_margin, set_margin, RotorFit, RotorSet};
 use crate::bounds::certificate::TightCondition;
 
 /// A set-up checked by `certify` and `set_margin`.
@@ -47,6 +47,13 @@ pub struct Certified {
     /// shrunk by the margin: what the firmware's gate measures (the same as
     /// [`Certified::fits_with_margin`] when certified with the paper's bounds).
     pub paper_fits_with_margin: bool,
+    /// How the set was fitted: the whole thrust interval at every torque, or airmode's shadow
+    /// and aligned fits (docs/airmode.md).
+    pub fit: RotorFit,
+    /// With airmode: the smallest headroom of the feedforward at zero attitude error
+    /// (`Bounds::aligned_feedforward`) over Theorem 1's interval, as a fraction of the rotor
+    /// range (it must exceed the margin); `None` otherwise.
+    pub aligned_margin: Option<f64>,
 }
 
 impl Certified {
@@ -100,7 +107,7 @@ pub fn certify_design(
     constants: &TrajectoryConstants<f64>,
     margin: f64,
 ) -> Result<Certified> {
-    certify_design_with(vehicle, rotors, gains, constants, margin, None)
+    certify_design_with(vehicle, rotors, gains, constants, margin, None, RotorFit::Set)
 }
 
 /// The f32 copy of a torque set (what the firmware computes from the flight file).
@@ -112,6 +119,7 @@ pub fn set_f32(s: &TorqueSet<f64>) -> TorqueSet<f32> {
         feedback_radius: s.feedback_radius as f32,
         feedback_box: s.feedback_box.map(|x| x as f32),
         feedback_disks: s.feedback_disks.map(|x| x as f32),
+        aligned_acceleration: s.aligned_acceleration.map(|x| x as f32),
     }
 }
 
@@ -129,6 +137,7 @@ pub fn certify_design_with(
     constants: &TrajectoryConstants<f64>,
     margin: f64,
     tight_box: Option<Vector3<f64>>,
+    fit: RotorFit,
 ) -> Result<Certified> {
     let mixer = Mixer::new(rotors).map_err(|e| anyhow!("rotor set refused by the mixer: {e:?}"))?;
     let set = RotorSet::new(rotors).map_err(|e| anyhow!("rotor set: {e}"))?;
@@ -143,15 +152,20 @@ pub fn certify_design_with(
     let (t_lo, t_hi) = (b.thrust_min as f32, b.thrust_max as f32);
     let torque_box = tight_box.map_or(b.torque_max, |t| t.inf(&b.torque_max));
     let tau32 = torque_box.map(|x| x as f32);
-    let fit = mixer.box_fit(t_lo, t_hi, &tau32);
+    let box_fit = mixer.box_fit(t_lo, t_hi, &tau32);
     let paper_set = set_f32(&b.torque_set);
     // The capacity the per-axis conditions are judged against: axis alone for the set, with
     // the other axes at their bounds for the tight box.
     let capacity_fit = match tight_box {
         None => mixer.box_fit(t_lo, t_hi, &Vector3::zeros()),
-        Some(_) => fit,
+        Some(_) => box_fit,
     };
-    let capacity = Vector3::from(capacity_fit.torque_capacity.map(f64::from));
+    let capacity = match fit {
+        RotorFit::Set => Vector3::from(capacity_fit.torque_capacity.map(f64::from)),
+        // Airmode realises a torque at the best thrust for it: the capacity on axis i alone is
+        // the largest t with the segment ±t e_i in the rotors' shadow.
+        RotorFit::Airmode => Vector3::from_fn(|i, _| set.envelope(0.0).shadow_axis(i)),
+    };
     // A zero capacity is a limit `certify` refuses; keep it positive and let the condition fail.
     let limits = Limits {
         thrust_max: set.thrust_total_max(),
@@ -161,13 +175,35 @@ pub fn certify_design_with(
         .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))?;
     let shrunk = Mixer::new(&shrunk_rotors(rotors, margin))
         .map_err(|e| anyhow!("rotor range shrunk by the margin {margin}: {e:?}"))?;
-    let paper_fits_with_margin = shrunk.set_margin(t_lo, t_hi, &paper_set) >= 0.0;
-    let (fits, fits_with_margin) = match tight_box {
-        None => (
+    let aligned_margin = (fit == RotorFit::Airmode).then(|| {
+        let b = &certificate.bounds;
+        set.envelope(0.0)
+            .set_margin(b.thrust_min, b.thrust_max, &b.aligned_feedforward)
+    });
+    let paper_fits_with_margin = match fit {
+        RotorFit::Set => shrunk.set_margin(t_lo, t_hi, &paper_set) >= 0.0,
+        // What the gate measures in f32: the shadow on the shrunk range, and the thrust interval
+        // alone inside it.
+        RotorFit::Airmode => shrunk.envelope().is_some_and(|e| {
+            e.shadow_margin(&paper_set) >= 0.0
+                && e.set_margin(t_lo, t_hi, &TorqueSet::boxed(Vector3::zeros())) >= 0.0
+        }),
+    };
+    let (fits, fits_with_margin) = match (tight_box, fit) {
+        (None, RotorFit::Set) => (
             mixer.set_margin(t_lo, t_hi, &paper_set) >= 0.0,
             paper_fits_with_margin,
         ),
-        Some(_) => (fit.fits, shrunk.box_fit(t_lo, t_hi, &tau32).fits),
+        (None, RotorFit::Airmode) => (
+            set.envelope(0.0).shadow_margin(&b.torque_set) >= 0.0
+                && set.envelope(0.0).set_margin(
+                    b.thrust_min,
+                    b.thrust_max,
+                    &TorqueSet::boxed(Vector3::zeros()),
+                ) >= 0.0,
+            paper_fits_with_margin,
+        ),
+        (Some(_), _) => (box_fit.fits, shrunk.box_fit(t_lo, t_hi, &tau32).fits),
     };
     let tight = tight_box.map(|_| {
         certificate
@@ -189,15 +225,18 @@ pub fn certify_design_with(
     Ok(Certified {
         limits,
         certificate,
-        box_fit: fit,
+        box_fit,
         fits,
         fits_with_margin,
-        margin: match tight_box {
-            None => set_margin(&set, thrust, &b.torque_set),
-            Some(_) => box_margin(&set, thrust, &torque_box),
+        margin: match (tight_box, fit) {
+            (None, RotorFit::Set) => set_margin(&set, thrust, &b.torque_set),
+            (None, RotorFit::Airmode) => set.envelope(0.0).shadow_margin(&b.torque_set),
+            (Some(_), _) => box_margin(&set, thrust, &torque_box),
         },
         torque_box,
         tight,
         paper_fits_with_margin,
+        fit,
+        aligned_margin,
     })
 }

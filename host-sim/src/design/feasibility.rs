@@ -2,7 +2,7 @@
 //! its numbers: a rotor set that cannot hover or give the needed authority, an integral action
 //! that cannot be covered, and the binding condition of a certificate that fails.
 
-use super::authority::{PositionLaw, RotorSet};
+use super::authority::{PositionLaw, RotorFit, RotorSet};
 use super::certificate::{certify_design_with, Certified};
 use super::integral::IntegralSpec;
 use super::reference::Reference;
@@ -15,7 +15,7 @@ use anyhow::{bail, Result};
 pub(crate) fn binding_condition(
     vehicle: &DesignVehicle,
     set: &RotorSet,
-    (margin, law, bounds): (f64, AttitudeLaw, BoundsKind),
+    (margin, law, bounds, fit): (f64, AttitudeLaw, BoundsKind, RotorFit),
     position: PositionLaw<'_>,
     r: &Reference,
 ) -> Option<String> {
@@ -23,10 +23,10 @@ pub(crate) fn binding_condition(
     let hover = iota_floor(
         vehicle,
         set,
-        (margin, bounds, position),
+        (margin, bounds, position, fit),
         &controller_core::TrajectoryConstants::zero(),
     );
-    let floor = iota_floor(vehicle, set, (margin, bounds, position), &constants);
+    let floor = iota_floor(vehicle, set, (margin, bounds, position, fit), &constants);
     if floor < AUTHORITY_SHARE * hover {
         let env = super::authority::envelope_with(
             bounds,
@@ -66,6 +66,7 @@ pub(crate) fn binding_condition(
         constants: &constants,
         rotors: set,
         margin,
+        fit,
         bounds,
         position,
         speed_limit: None,
@@ -75,7 +76,7 @@ pub(crate) fn binding_condition(
             "theorem2 + rotor fit: no M_p > 0 leaves a positive feedback torque level".to_owned(),
         );
     };
-    match certify_mapped(vehicle, &constants, &m, (margin, bounds, SEARCH_BOXES)) {
+    match certify_mapped(vehicle, &constants, &m, (margin, bounds, SEARCH_BOXES, fit)) {
         Err(e) => Some(format!("{e:#}")),
         Ok(c) if c.ok() => None,
         Ok(c) => {
@@ -136,7 +137,7 @@ pub(crate) fn refuse_impossible(vehicle: &DesignVehicle) -> Result<RotorSet> {
     let hover = iota_floor(
         vehicle,
         &set,
-        (0.0, BoundsKind::Paper, PositionLaw::paper()),
+        (0.0, BoundsKind::Paper, PositionLaw::paper(), RotorFit::Set),
         &controller_core::TrajectoryConstants::zero(),
     );
     if hover <= 0.0 {
@@ -190,7 +191,7 @@ pub(crate) fn probe_choices(law: AttitudeLaw) -> Choices {
         ks: 0.45,
         saturation_fraction: 0.5,
         iota_fraction: 0.5,
-        ..Choices::initial_guess(law)
+        ..Choices::initial_guess(super::variables::Layout { law, local: false })
     }
 }
 
@@ -204,7 +205,7 @@ pub const AUTHORITY_SHARE: f64 = 0.75;
 pub(crate) fn iota_floor(
     vehicle: &DesignVehicle,
     set: &RotorSet,
-    (margin, bounds, position): (f64, BoundsKind, PositionLaw<'_>),
+    (margin, bounds, position, fit): (f64, BoundsKind, PositionLaw<'_>, RotorFit),
     constants: &controller_core::TrajectoryConstants<f64>,
 ) -> f64 {
     super::authority::envelope_with(
@@ -214,8 +215,9 @@ pub(crate) fn iota_floor(
         (1e-6, 0.3, 0.45),
         position,
     )
-    .map_or(f64::NEG_INFINITY, |env| {
-        super::authority::iota_max(set, &env, margin)
+    .map_or(f64::NEG_INFINITY, |env| match fit {
+        RotorFit::Set => super::authority::iota_max(set, &env, margin),
+        RotorFit::Airmode => super::authority::shadow_iota_max(set, &env, margin),
     })
 }
 
@@ -224,7 +226,7 @@ pub(crate) fn certify_mapped(
     vehicle: &DesignVehicle,
     constants: &controller_core::TrajectoryConstants<f64>,
     mapped: &Mapped,
-    (margin, kind, boxes): (f64, BoundsKind, usize),
+    (margin, kind, boxes, fit): (f64, BoundsKind, usize, RotorFit),
 ) -> Result<Certified> {
     let tight = match kind {
         BoundsKind::Paper => None,
@@ -242,5 +244,6 @@ pub(crate) fn certify_mapped(
         constants,
         margin,
         tight,
+        fit,
     )
 }

@@ -74,6 +74,14 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
                 speed_m_s: v.speed,
                 braking_m_s2: v.braking,
             }),
+        local: g.local.map(|l| firmware::flight_tables::LocalTable {
+            kp: l.kp,
+            kv: l.kv,
+            kf: l.kf,
+            ks: l.ks,
+            energy_in_J: l.energy_in,
+            energy_out_J: l.energy_out,
+        }),
     }
 }
 

@@ -112,6 +112,18 @@ impl IntegralSpec {
     /// bound terms, the observer at `ω_p = √k_p`, and `k_i` halved from `ω_p³/5` until the
     /// Liénard–Chipart conditions hold. `None` if they do not hold within 40 halvings.
     pub fn gains(&self, position: &PositionGains<f64>) -> Option<IntegralGains<f64>> {
+        self.gains_with_filters(position, (position.kf, position.ks))
+    }
+
+    /// [`Self::gains`] with the bound terms of the filter gains `(k_f, k_s)` [1/s] instead of
+    /// `position`'s: with the envelope design the integral action is sized by the global
+    /// filters (so the global certificate is the one designed) and made stable with the local
+    /// regime's position gains, the ones it settles with (docs/envelope-design.md).
+    pub fn gains_with_filters(
+        &self,
+        position: &PositionGains<f64>,
+        (kf, ks): (f64, f64),
+    ) -> Option<IntegralGains<f64>> {
         let wp = position.kp.sqrt();
         let mut g = IntegralGains {
             gain: wp.powi(3) / 5.0,
@@ -120,7 +132,7 @@ impl IntegralSpec {
                 disturbance_gain: wp * wp,
                 error_limit: ERROR_LIMIT_M,
             }),
-            ..self.probe(position.kf, position.ks)
+            ..self.probe(kf, ks)
         };
         for _ in 0..HALVINGS {
             if local_stability_conditions(position, &g)

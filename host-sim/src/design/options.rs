@@ -60,6 +60,9 @@ pub struct DesignOptions {
     pub seed: u64,
     /// Box-fit margin, fraction of each rotor's range at both ends.
     pub margin: f64,
+    /// How the certified set must sit in the rotors' set: the whole thrust interval at every
+    /// torque, or airmode's shadow and aligned fits (`--airmode`, docs/airmode.md).
+    pub fit: super::authority::RotorFit,
     /// Evaluation budget of the optimiser.
     pub evaluations: usize,
     /// Length of the scoring runs and of the written scenario \[s\] (at least
@@ -68,6 +71,9 @@ pub struct DesignOptions {
     pub duration_s: f64,
     /// The attitude feedback searched: the paper's law or tilt priority (per-axis levels).
     pub law: AttitudeLaw,
+    /// Whether the envelope design's local regime is searched too (`--envelope`,
+    /// docs/envelope-design.md): faster position gains while the attitude energy is small.
+    pub envelope: bool,
     /// The bounds that certify Theorem 2's torque condition and the rotor fit.
     pub bounds: BoundsKind,
     /// `Some`: the design carries the bounded integral action sized to cover this disturbance,

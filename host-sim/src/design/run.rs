@@ -18,7 +18,7 @@ use super::reference::{largest_certifiable_scale, Reference};
 use super::report::Report;
 use super::thrust::ThrustDesign;
 use super::tight::SEARCH_BOXES;
-use super::variables::{map, Choices, Context};
+use super::variables::{map, Choices, Context, Layout};
 use super::vehicle::DesignVehicle;
 use crate::model::scenario::{ControllerConfig, Scenario, ThrustKind};
 use firmware::mixer::Mixer;
@@ -42,18 +42,18 @@ fn load_reference(path: Option<&PathBuf>) -> Result<(Reference, f64)> {
 /// them) take `boxes` per search. `Err` carries the cost of a refusal.
 fn score(
     vehicle: &DesignVehicle,
-    ctx: &Context<'_>,
+    (ctx, layout): (&Context<'_>, Layout),
     reference: &Reference,
     (settings, boxes): (FlightSettings, usize),
     x: &[f64],
     trace: bool,
 ) -> std::result::Result<Scored, f64> {
-    let mapped = map(ctx, &Choices::from_unit(x)).ok_or(10.0 * PENALTY)?;
+    let mapped = map(ctx, &Choices::from_unit(x, layout)).ok_or(10.0 * PENALTY)?;
     let certified = certify_mapped(
         vehicle,
         ctx.constants,
         &mapped,
-        (ctx.margin, ctx.bounds, boxes),
+        (ctx.margin, ctx.bounds, boxes, ctx.fit),
     )
     .map_err(|_| 10.0 * PENALTY)?;
     if !certified.ok() {
@@ -68,13 +68,22 @@ fn score(
     )
     .map_err(|_| 10.0 * PENALTY)?;
     let firmware = firmware_bounds(&scenario).map_err(|_| 10.0 * PENALTY)?;
-    let thrust = thrust_of(
-        vehicle,
-        &certified,
-        &firmware,
-        ctx.margin,
-        settings.controller.thrust,
-    )
+    let thrust = match ctx.fit {
+        super::authority::RotorFit::Set => thrust_of(
+            vehicle,
+            &certified,
+            &firmware,
+            ctx.margin,
+            settings.controller.thrust,
+        ),
+        super::authority::RotorFit::Airmode => ThrustDesign::airmode(
+            settings.controller.thrust,
+            &certified.certificate.bounds,
+            &ctx.rotors.envelope(ctx.margin),
+            ctx.margin,
+        )
+        .map_err(anyhow::Error::msg),
+    }
     .map_err(|_| 10.0 * PENALTY)?;
     // The floor is within T_min by construction, so the scenarios stay valid.
     scenario.controller = thrust.controller();
@@ -141,6 +150,7 @@ fn thrust_of(
             feedback_radius: d.feedback_radius.max(f.feedback_radius),
             feedback_box: d.feedback_box.sup(&f.feedback_box),
             feedback_disks: d.feedback_disks.sup(&f.feedback_disks),
+            aligned_acceleration: d.aligned_acceleration.sup(&f.aligned_acceleration),
         }
     } else {
         let boxed = certified.torque_box.map(|x| x as f32);
@@ -189,7 +199,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
     let binding = binding_condition(
         &vehicle,
         &set,
-        (o.margin, o.law, o.bounds),
+        (o.margin, o.law, o.bounds, o.fit),
         position,
         &requested,
     );
@@ -201,7 +211,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
                 vehicle.name
             );
             let s = largest_certifiable_scale(&requested, |r| {
-                binding_condition(&vehicle, &set, (o.margin, o.law, o.bounds), position, r)
+                binding_condition(&vehicle, &set, (o.margin, o.law, o.bounds, o.fit), position, r)
                     .is_none()
             })
             .with_context(|| {
@@ -221,6 +231,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         constants: &constants,
         rotors: &set,
         margin: o.margin,
+        fit: o.fit,
         bounds: o.bounds,
         position,
         speed_limit: o.speed_limit,
@@ -234,9 +245,13 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
             ..ControllerConfig::default()
         },
     };
+    let layout = Layout {
+        law: o.law,
+        local: o.envelope,
+    };
     let cost = |x: &[f64]| match score(
         &vehicle,
-        &ctx,
+        (&ctx, layout),
         &reference,
         (settings, SEARCH_BOXES),
         x,
@@ -245,13 +260,13 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         Ok(s) => s.evaluation.cost,
         Err(c) => c,
     };
-    let guess = Choices::initial_guess(o.law).to_unit();
+    let guess = Choices::initial_guess(layout).to_unit();
     let optimum = minimise(&cost, &guess, o.evaluations, o.seed)?;
     // The final design's tight bounds with the default budget: never looser than the search's.
     let final_boxes = crate::bounds::tight::TightOptions::default().max_boxes;
     let best = score(
         &vehicle,
-        &ctx,
+        (&ctx, layout),
         &reference,
         (settings, final_boxes),
         &optimum.x,
@@ -302,7 +317,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         &vehicle,
         o,
         (&requested, &reference, scale, binding.as_deref()),
-        Choices::from_unit(&optimum.x),
+        Choices::from_unit(&optimum.x, layout),
         &best,
         (lag_max, baselines),
         optimum.evaluations,

@@ -59,6 +59,10 @@ pub struct ThrustDesign {
     pub interval_N: [f64; 2],
     /// Vertical priority's ramp `b₀` (dimensionless; 0 for `norm`).
     pub ramp: f64,
+    /// `Some(margin)`: airmode, keeping `margin` (fraction) of each rotor's range free
+    /// (docs/airmode.md); the floor is then 0, since airmode raises the thrust wherever the torque
+    /// needs it, and the interval is airmode's.
+    pub airmode_margin: Option<f64>,
 }
 
 impl ThrustDesign {
@@ -81,6 +85,7 @@ impl ThrustDesign {
                 floor_N: 0.0,
                 interval_N: [t_min, t_max],
                 ramp: 0.0,
+                airmode_margin: None,
             }),
             ThrustKind::VerticalPriority => {
                 let floor = lowest_floor(
@@ -99,10 +104,42 @@ impl ThrustDesign {
                     floor_N: floor,
                     interval_N: [floor, t_max],
                     ramp: ControllerConfig::default().thrust_ramp,
+                    airmode_margin: None,
                 })
             }
             other => Err(not_flown(other)),
         }
+    }
+
+    /// The thrust of a design that flies airmode (docs/airmode.md) with `kind` on `envelope` (the
+    /// rotors with the range shrunk by `margin`): vertical priority with no floor (airmode raises
+    /// the thrust wherever the torque needs it), and the interval airmode keeps the thrust in for
+    /// the certificate's `bounds`. Errors: a thrust the firmware does not fly.
+    pub fn airmode(
+        kind: ThrustKind,
+        bounds: &Bounds<f64>,
+        envelope: &controller_core::RotorEnvelope<f64>,
+        margin: f64,
+    ) -> Result<Self, String> {
+        Self::check_flown(kind)?;
+        let floor = 0.0;
+        let low = if kind == ThrustKind::Norm {
+            bounds.thrust_min
+        } else {
+            floor
+        };
+        let (a, b) = envelope.airmode_interval(low, bounds.thrust_max, &bounds.torque_set);
+        Ok(Self {
+            mode: kind.name(),
+            floor_N: floor,
+            interval_N: [a, b],
+            ramp: if kind == ThrustKind::Norm {
+                0.0
+            } else {
+                ControllerConfig::default().thrust_ramp
+            },
+            airmode_margin: Some(margin),
+        })
     }
 
     /// `Ok` for the thrusts the firmware flies (`norm`, `vertical-priority`), so the ones a
@@ -116,15 +153,22 @@ impl ThrustDesign {
 
     /// The scenario's `[controller]` for this thrust.
     pub fn controller(&self) -> ControllerConfig {
+        let airmode = ControllerConfig {
+            airmode: self.airmode_margin.is_some(),
+            airmode_margin: self
+                .airmode_margin
+                .unwrap_or(ControllerConfig::default().airmode_margin),
+            ..ControllerConfig::default()
+        };
         if self.mode == ThrustKind::VerticalPriority.name() {
             ControllerConfig {
                 thrust: ThrustKind::VerticalPriority,
                 thrust_floor_N: self.floor_N,
                 thrust_ramp: self.ramp,
-                ..ControllerConfig::default()
+                ..airmode
             }
         } else {
-            ControllerConfig::default()
+            airmode
         }
     }
 }

@@ -78,12 +78,12 @@ pub fn bound_set(scenario: &Scenario) -> Result<BoundSet> {
 pub fn paper_bound_set(scenario: &Scenario) -> Result<BoundSet> {
     let cert = crate::fly::sim::certificate(scenario)?;
     let [thrust_low, thrust_high] = scenario
-        .thrust_interval(&cert.bounds)
+        .thrust_interval(&cert)
         .map_err(|e| anyhow::anyhow!("{e}"))?;
     Ok(BoundSet {
         thrust_min_N: thrust_low,
         thrust_max_N: thrust_high,
-        torque_max_Nm: cert.bounds.torque_max.into(),
+        torque_max_Nm: cert.torque_max_all().into(),
         limit_thrust_N: scenario.limits.thrust_max_N,
         limit_torque_Nm: scenario.limits.torque_max_Nm,
         tight: None,

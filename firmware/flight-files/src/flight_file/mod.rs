@@ -266,7 +266,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
          controller_core::Gains {{\n        \
          position: controller_core::position::PositionGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {}, saturation_shape: controller_core::PositionSaturation::{:?} }},\n        \
          attitude: controller_core::attitude_control::AttitudeGains {{ k_mrp: {}, k_omega: {}, mrp_saturation: {}, omega_saturation: {} }},\n        \
-         hysteresis: {},\n        reset_threshold: {},\n        integral: {},\n        tilt_priority: {},\n        velocity_limit: {},\n        lemma1: controller_core::Lemma1Form::{:?},\n    }}\n}}",
+         hysteresis: {},\n        reset_threshold: {},\n        integral: {},\n        tilt_priority: {},\n        velocity_limit: {},\n        lemma1: controller_core::Lemma1Form::{:?},\n        local: {},\n    }}\n}}",
         lit(g.kp),
         lit(g.kv),
         lit(g.kf),
@@ -318,7 +318,17 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
             lit(v.braking_m_s2)
         )),
         // `[gains] lemma1` (absent = the paper's chain); the variant names match.
-        g.lemma1
+        g.lemma1,
+        // `[gains.local]` (absent = None, one set of position gains).
+        g.local.map_or("None".to_string(), |l| format!(
+            "Some(controller_core::LocalGains {{ kp: {}, kv: {}, kf: {}, ks: {}, energy_in: {}, energy_out: {} }})",
+            lit(l.kp),
+            lit(l.kv),
+            lit(l.kf),
+            lit(l.ks),
+            lit(l.energy_in_J),
+            lit(l.energy_out_J)
+        ))
     ));
     put(format!(
         "/// `[trajectory]`: the demo mission.\n\

@@ -40,19 +40,23 @@
 //! `ζ_p = 1`).
 
 use controller_core::{
-    Gains, TiltPriorityGains, TorqueSet, TrajectoryConstants, Vehicle, VelocityLimit,
+    certify, FilterStart, Gains, Limits, LocalGains, TiltPriorityGains, TorqueSet,
+    TrajectoryConstants, Vehicle, VelocityLimit,
 };
 use nalgebra::Vector3;
 
 use super::authority::{
     envelope_with, iota_max, iota_max_along, iota_max_by, mrp_factor, probe_gains,
-    saturation_max_with, PositionLaw, RotorSet, ALPHA, DELTA,
+    saturation_max_with, shadow_iota_max, PositionLaw, RotorFit, RotorSet, ALPHA, DELTA,
 };
 
 /// Number of decision variables of the paper's attitude law.
 pub const DIMENSION: usize = 9;
 /// Number of decision variables with tilt priority (three more).
 pub const TILT_DIMENSION: usize = DIMENSION + 3;
+/// Number of decision variables the envelope design's local regime adds, after the attitude
+/// law's ([`LocalChoices`]).
+pub const LOCAL_DIMENSION: usize = 5;
 
 /// The attitude feedback a design searches.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
@@ -73,6 +77,107 @@ impl AttitudeLaw {
             Self::Paper => DIMENSION,
             Self::TiltPriority => TILT_DIMENSION,
         }
+    }
+}
+
+/// Which variables a point of the unit box holds: the attitude law's, and the local regime's
+/// after them when the design has the envelope (docs/envelope-design.md).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Layout {
+    /// The attitude feedback searched.
+    pub law: AttitudeLaw,
+    /// Whether the envelope design's local regime is searched too.
+    pub local: bool,
+}
+
+impl Layout {
+    /// Number of decision variables.
+    pub fn dimension(self) -> usize {
+        self.law.dimension() + if self.local { LOCAL_DIMENSION } else { 0 }
+    }
+}
+
+/// The local regime's variables: `(low, high, logarithmic)`.
+///
+/// | # | variable | range |
+/// |---|----------|-------|
+/// | 0 | `k_f,L / k_f` | 1 to 30 (log) |
+/// | 1 | `k_s,L / k_f,L` | 1.5 to 12 (log) |
+/// | 2 | local position natural frequency `ω_p,L` | 0.5 to 8 rad/s (log) |
+/// | 3 | local position damping `ζ_p,L` | 0.6 to 1.5 |
+/// | 4 | the tilt error `θ_out` whose MRP potential is `E_out` | 2 to 60 degrees (log) |
+const LOCAL_RANGES: [(f64, f64, bool); LOCAL_DIMENSION] = [
+    (1.0, 30.0, true),
+    (1.5, 12.0, true),
+    (0.5, 8.0, true),
+    (0.6, 1.5, false),
+    (2.0, 60.0, true),
+];
+
+/// The envelope design's local regime, before it becomes gains (docs/envelope-design.md).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct LocalChoices {
+    /// `k_f,L / k_f`.
+    pub kf_ratio: f64,
+    /// `k_s,L / k_f,L`.
+    pub ks_ratio: f64,
+    /// Local position natural frequency [rad/s].
+    pub position_frequency_rad_s: f64,
+    /// Local position damping ratio.
+    pub position_damping: f64,
+    /// The tilt error [deg] at rest whose MRP potential is `E_out` (`E_in = E_out / 2`).
+    pub tilt_out_deg: f64,
+}
+
+impl LocalChoices {
+    /// The initial guess: filters four times the global ones, a 3 rad/s local loop, `E_out` at
+    /// 10 degrees.
+    pub fn initial_guess() -> Self {
+        Self {
+            kf_ratio: 4.0,
+            ks_ratio: 2.5,
+            position_frequency_rad_s: 3.0,
+            position_damping: 1.0,
+            tilt_out_deg: 10.0,
+        }
+    }
+
+    fn from_unit(x: &[f64]) -> Self {
+        let v = |i: usize| {
+            let (lo, hi, log) = LOCAL_RANGES[i];
+            let x = x.get(i).copied().unwrap_or(0.5).clamp(0.0, 1.0);
+            if log {
+                (lo.ln() + x * (hi.ln() - lo.ln())).exp()
+            } else {
+                lo + x * (hi - lo)
+            }
+        };
+        Self {
+            kf_ratio: v(0),
+            ks_ratio: v(1),
+            position_frequency_rad_s: v(2),
+            position_damping: v(3),
+            tilt_out_deg: v(4),
+        }
+    }
+
+    fn to_unit(self) -> [f64; LOCAL_DIMENSION] {
+        let values = [
+            self.kf_ratio,
+            self.ks_ratio,
+            self.position_frequency_rad_s,
+            self.position_damping,
+            self.tilt_out_deg,
+        ];
+        core::array::from_fn(|i| {
+            let (lo, hi, log) = LOCAL_RANGES[i];
+            let x = if log {
+                (values[i].ln() - lo.ln()) / (hi.ln() - lo.ln())
+            } else {
+                (values[i] - lo) / (hi - lo)
+            };
+            x.clamp(0.0, 1.0)
+        })
     }
 }
 
@@ -135,6 +240,8 @@ pub struct Choices {
     pub position_damping: f64,
     /// How tilt priority spends the per-axis levels; `None`: the paper's law.
     pub tilt: Option<TiltChoices>,
+    /// The envelope design's local regime; `None`: one set of position gains.
+    pub local: Option<LocalChoices>,
 }
 
 /// The three choices of tilt priority (variables 9-11 of the module table).
@@ -160,16 +267,20 @@ impl TiltChoices {
 }
 
 impl Choices {
-    /// From a point of the unit box (clamped into it): 9 coordinates for the paper's law, 12
-    /// for tilt priority.
-    pub fn from_unit(x: &[f64]) -> Self {
+    /// From a point of the unit box (clamped into it) laid out as `layout`: 9 coordinates for
+    /// the paper's law, 12 for tilt priority, then 5 for the local regime.
+    pub fn from_unit(x: &[f64], layout: Layout) -> Self {
         let v = |i: usize| to_value(i, x.get(i).copied().unwrap_or(0.5));
         let kf = v(0);
-        let tilt = (x.len() >= TILT_DIMENSION).then(|| TiltChoices {
+        let tilt = (layout.law == AttitudeLaw::TiltPriority).then(|| TiltChoices {
             yaw_share: v(9),
             yaw_radial_share: v(10),
             roll_trace_share: v(11),
         });
+        let base = layout.law.dimension();
+        let local = layout
+            .local
+            .then(|| LocalChoices::from_unit(x.get(base..).unwrap_or(&[])));
         Self {
             kf,
             ks: kf * v(1),
@@ -181,6 +292,7 @@ impl Choices {
             position_frequency_rad_s: v(7),
             position_damping: v(8),
             tilt,
+            local,
         }
     }
 
@@ -204,13 +316,16 @@ impl Choices {
         .chain(tilt.iter().flatten())
         .enumerate()
         .map(|(i, &v)| to_unit(i, v))
+        .chain(self.local.iter().flat_map(|l| l.to_unit()))
         .collect()
     }
 
     /// The initial guess: the most certified torque authority (`ι` at 90 % of `ι_max`) with a
     /// moderate position saturation, slow filters and moderate, well-damped loops; for tilt
-    /// priority, [`TiltChoices::initial_guess`].
-    pub fn initial_guess(law: AttitudeLaw) -> Self {
+    /// priority, [`TiltChoices::initial_guess`]; with the local regime,
+    /// [`LocalChoices::initial_guess`].
+    pub fn initial_guess(layout: Layout) -> Self {
+        let law = layout.law;
         Self {
             kf: 0.6,
             ks: 1.5,
@@ -222,6 +337,7 @@ impl Choices {
             position_frequency_rad_s: 1.0,
             position_damping: 1.0,
             tilt: (law == AttitudeLaw::TiltPriority).then(TiltChoices::initial_guess),
+            local: layout.local.then(LocalChoices::initial_guess),
         }
     }
 }
@@ -237,6 +353,9 @@ pub struct Context<'a> {
     pub rotors: &'a RotorSet,
     /// Box-fit margin (fraction of the rotor range).
     pub margin: f64,
+    /// How the certified set must sit in the rotors' set: the whole thrust interval at every
+    /// torque, or airmode's shadow and aligned fits (docs/airmode.md).
+    pub fit: RotorFit,
     /// The bounds that certify the torque condition and the rotor fit.
     pub bounds: super::tight::BoundsKind,
     /// The position law's options that enter the bounds: the bounded integral action (`Some`:
@@ -313,7 +432,7 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
         ctx.bounds,
         ctx.vehicle,
         ctx.constants,
-        (ctx.rotors, ctx.margin),
+        (ctx.rotors, ctx.margin, ctx.fit),
         (c.kf, c.ks),
         law,
     )?;
@@ -330,16 +449,18 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     let k_mrp = 16.0 * j * w * w;
     // The paper's feedback is a ball of radius ι (closed form); tilt priority's the set of its
     // gains for ι (ball, disks and box), found from the box's level by bisection.
-    let i_max = match c.tilt {
-        None => iota_max(ctx.rotors, &env, ctx.margin),
-        Some(t) => {
-            let boxed = iota_max_along(
-                ctx.rotors,
-                &env,
-                ctx.margin,
-                &Vector3::new(1.0, 1.0, t.yaw_share),
-            );
-            iota_max_by(ctx.rotors, &env, ctx.margin, boxed, |iota| {
+    let i_max = match (c.tilt, ctx.fit) {
+        (None, RotorFit::Set) => iota_max(ctx.rotors, &env, ctx.margin),
+        (None, RotorFit::Airmode) => shadow_iota_max(ctx.rotors, &env, ctx.margin),
+        (Some(t), fit) => {
+            let d = Vector3::new(1.0, 1.0, t.yaw_share);
+            // A level known to fit: the box's on the thrust interval, or with airmode the
+            // ball's through the shadow, shrunk so that the ball holds the box `ι d`.
+            let lower = match fit {
+                RotorFit::Set => iota_max_along(ctx.rotors, &env, ctx.margin, &d),
+                RotorFit::Airmode => shadow_iota_max(ctx.rotors, &env, ctx.margin) / d.norm(),
+            };
+            iota_max_by(ctx.rotors, &env, (ctx.margin, fit), lower, |iota| {
                 let (tilt, mrp_saturation) =
                     tilt_gains(&t, iota, k_mrp, &ctx.vehicle.inertia, c.attitude_damping);
                 TorqueSet::tilt_priority(
@@ -361,9 +482,6 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     let mut g = probe_gains(mp, c.kf, c.ks, law);
     g.position.kp = wp * wp;
     g.position.kv = 2.0 * c.position_damping * wp;
-    if let Some(spec) = law.integral {
-        g.integral = Some(spec.gains(&g.position)?);
-    }
     g.attitude.k_mrp = k_mrp;
     g.attitude.k_omega = 2.0 * c.attitude_damping * w * j;
     g.attitude.mrp_saturation = c.mrp_share * iota / mrp_factor();
@@ -388,11 +506,82 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     });
     g.hysteresis = DELTA;
     g.reset_threshold = ALPHA;
+    // The envelope design's local regime, with the probe's integral terms (sized by the global
+    // filters, as the final ones).
+    g.local = c.local.and_then(|l| local_gains(ctx, &g, &l));
+    if let Some(spec) = law.integral {
+        // Stable with the position gains the loop settles with: the local ones when there are.
+        let settled = g.local.map_or(g.position, |l| l.position(&g.position));
+        g.integral = Some(spec.gains_with_filters(&settled, (c.kf, c.ks))?);
+    }
     Some(Mapped {
         gains: g,
         saturation_max: mp_max,
         iota_max: i_max,
     })
+}
+
+/// `E_out` [J] of `l`: the MRP potential `Ψ(ϑ) = (M_ϑ/k_ϑ)(√(M_ϑ² + k_ϑ²ϑ²) − M_ϑ)` of a rotation
+/// by `θ_out` at rest (`ϑ = tan(θ_out/4)`).
+pub fn energy_out(g: &Gains<f64>, l: &LocalChoices) -> f64 {
+    let (m, k) = (g.attitude.mrp_saturation, g.attitude.k_mrp);
+    let mrp = (l.tilt_out_deg.to_radians() / 4.0).tan();
+    (m / k) * ((m * m + k * k * mrp * mrp).sqrt() - m)
+}
+
+/// Whether the local regime `local` added to `g` leaves its torque set inside the rotors as the
+/// design's fit asks (the shadow with airmode, the certified thrust interval otherwise, both with
+/// the margin). `false` when `certify` refuses it.
+fn local_fits(ctx: &Context<'_>, g: &Gains<f64>, local: LocalGains<f64>) -> bool {
+    let gains = Gains {
+        local: Some(local),
+        ..*g
+    };
+    let limits = Limits {
+        thrust_max: 1.0,
+        torque_max: Vector3::repeat(1.0),
+    };
+    let Ok(c) = certify(ctx.vehicle, &limits, &gains, ctx.constants, FilterStart::Zero) else {
+        return false;
+    };
+    let Some(l) = c.local else {
+        return false;
+    };
+    let b = &c.bounds;
+    match ctx.fit {
+        RotorFit::Airmode => ctx.rotors.envelope(ctx.margin).shadow_margin(&l.torque_set) >= 0.0,
+        RotorFit::Set => {
+            super::authority::set_margin(ctx.rotors, (b.thrust_min, b.thrust_max), &l.torque_set)
+                >= ctx.margin
+        }
+    }
+}
+
+/// The local regime of `l` for the global gains `g`: its filters as chosen when its torque set
+/// fits ([`local_fits`]), else slowed (bisection on `k_f,L / k_f` towards 1, 40 steps, keeping
+/// `k_s,L / k_f,L`); `None` when even `k_f,L = k_f` does not fit.
+fn local_gains(ctx: &Context<'_>, g: &Gains<f64>, l: &LocalChoices) -> Option<LocalGains<f64>> {
+    let e_out = energy_out(g, l);
+    let wp = l.position_frequency_rad_s;
+    let build = |ratio: f64| {
+        let kf = g.position.kf * ratio;
+        LocalGains {
+            kp: wp * wp,
+            kv: 2.0 * l.position_damping * wp,
+            kf,
+            ks: kf * l.ks_ratio,
+            energy_in: 0.5 * e_out,
+            energy_out: e_out,
+        }
+    };
+    let fits = |ratio: f64| local_fits(ctx, g, build(ratio));
+    if fits(l.kf_ratio) {
+        return Some(build(l.kf_ratio));
+    }
+    if !fits(1.0) {
+        return None;
+    }
+    Some(build(super::bisect::bisect(1.0, l.kf_ratio, 40, fits)))
 }
 
 #[cfg(test)]

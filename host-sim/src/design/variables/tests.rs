@@ -3,16 +3,23 @@ use controller_core::PositionSaturation;
 
 #[test]
 fn unit_box_round_trips() {
-    let c = Choices::initial_guess(AttitudeLaw::TiltPriority);
-    let back = Choices::from_unit(&c.to_unit());
+    let layout = Layout {
+        law: AttitudeLaw::TiltPriority,
+        local: true,
+    };
+    let c = Choices::initial_guess(layout);
+    let back = Choices::from_unit(&c.to_unit(), layout);
     for (a, b) in c.to_unit().iter().zip(back.to_unit()) {
         assert!((a - b).abs() < 1e-12);
     }
     assert!((back.ks - c.ks).abs() < 1e-9 && (back.kf - c.kf).abs() < 1e-9);
-    assert_eq!(c.to_unit().len(), TILT_DIMENSION);
-    let paper = Choices::initial_guess(AttitudeLaw::Paper);
+    assert_eq!(c.to_unit().len(), TILT_DIMENSION + LOCAL_DIMENSION);
+    assert!(back.local.is_some());
+    let paper_layout = Layout::default();
+    let paper = Choices::initial_guess(paper_layout);
     assert_eq!(paper.to_unit().len(), DIMENSION);
-    assert!(Choices::from_unit(&paper.to_unit()).tilt.is_none());
+    let back = Choices::from_unit(&paper.to_unit(), paper_layout);
+    assert!(back.tilt.is_none() && back.local.is_none());
 }
 
 /// A uniform point of the unit box of `law`.
@@ -42,22 +49,26 @@ fn crazyflie_on_the_paper_helix() -> (
 }
 
 /// Certified by construction: points all over the unit box map to gains that pass
-/// `certify` and `box_fit` with the margin.
+/// `certify` and the rotor fit with the margin, for both fits (the set over the thrust
+/// interval, and airmode's shadow: every torque realised at some thrust).
 #[test]
 fn every_point_of_the_box_is_certified() {
-    use crate::design::certificate::certify_design;
+    use crate::design::authority::RotorFit;
+    use crate::design::certificate::certify_design_with;
     let (v, set, constants) = crazyflie_on_the_paper_helix();
     let mut rng = crate::runs::sampler::seeded_rng(11);
     let shapes = [PositionSaturation::Componentwise, PositionSaturation::Norm];
-    for (law, shape) in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority]
+    for ((law, shape), fit) in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority]
         .into_iter()
         .flat_map(|l| shapes.map(|s| (l, s)))
+        .flat_map(|ls| [RotorFit::Set, RotorFit::Airmode].map(|f| (ls, f)))
     {
         let ctx = Context {
             vehicle: &v.body,
             constants: &constants,
             rotors: &set,
             margin: 0.05,
+            fit,
             bounds: Default::default(),
             position: PositionLaw {
                 integral: None,
@@ -66,19 +77,26 @@ fn every_point_of_the_box_is_certified() {
             },
             speed_limit: None,
         };
-        for _ in 0..100 {
+        for _ in 0..50 {
             let x = random_point(&mut rng, law);
-            let choices = Choices::from_unit(&x);
+            let choices = Choices::from_unit(
+                &x,
+                Layout {
+                    law,
+                    local: false,
+                },
+            );
             let m = map(&ctx, &choices).expect("the paper helix is usable on the Crazyflie");
             assert_eq!(
                 m.gains.tilt_priority.is_some(),
                 law == AttitudeLaw::TiltPriority
             );
             assert_eq!(m.gains.position.saturation_shape, shape);
-            let c = certify_design(&v.body, &v.rotors, &m.gains, &constants, 0.05).unwrap();
+            let c = certify_design_with(&v.body, &v.rotors, &m.gains, &constants, 0.05, None, fit)
+                .unwrap();
             assert!(
-                c.ok(),
-                "{law:?} {x:?}: {:?} margin {}",
+                c.ok() && c.paper_certified(),
+                "{law:?} {fit:?} {x:?}: {:?} margin {}",
                 c.certificate.require_feasible(),
                 c.margin
             );
@@ -116,6 +134,7 @@ fn every_point_is_certified_with_the_tight_bounds() {
         constants: &constants,
         rotors: &set,
         margin: 0.05,
+        fit: Default::default(),
         bounds: BoundsKind::Tight,
         position: PositionLaw::paper(),
         speed_limit: None,
@@ -124,11 +143,20 @@ fn every_point_is_certified_with_the_tight_bounds() {
     for law in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority] {
         for _ in 0..6 {
             let x = random_point(&mut rng, law);
-            let m = map(&ctx, &Choices::from_unit(&x)).expect("usable on the Crazyflie");
+            let m = map(&ctx, &Choices::from_unit(&x, Layout { law, local: false }))
+                .expect("usable on the Crazyflie");
             let tight = tight_torque_box(&v.body, &m.gains, &constants, SEARCH_BOXES).unwrap();
             let c =
-                certify_design_with(&v.body, &v.rotors, &m.gains, &constants, 0.05, Some(tight))
-                    .unwrap();
+                certify_design_with(
+                    &v.body,
+                    &v.rotors,
+                    &m.gains,
+                    &constants,
+                    0.05,
+                    Some(tight),
+                    Default::default(),
+                )
+                .unwrap();
             assert!(c.ok(), "{law:?} {x:?}: {:?} margin {}", c.tight, c.margin);
             assert!(c.margin >= 0.05 - 1e-6, "{}", c.margin);
         }

@@ -29,6 +29,31 @@ pub struct ControllerConfig {
     /// Ramp width `b₀ ∈ (0, 1]` of `"vertical-priority"` in `e₃ᵀRe₃`; default 0.2.
     #[serde(default = "default_ramp", skip_serializing_if = "is_default_ramp")]
     pub thrust_ramp: f64,
+    /// Airmode (docs/airmode.md): the thrust moved, by as little as possible, to where the
+    /// rotors realise the law's torque, keeping `airmode_margin` of each rotor's range free
+    /// ([`controller_core::RotorEnvelope::airmode_thrust`]). Needs the `[rotors]` table; off by
+    /// default.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub airmode: bool,
+    /// The fraction of each rotor's thrust range airmode keeps free at both ends, in
+    /// `[0, 0.5)`; default 0.05 (`design`'s margin).
+    #[serde(
+        default = "default_airmode_margin",
+        skip_serializing_if = "is_default_airmode_margin"
+    )]
+    pub airmode_margin: f64,
+}
+
+fn is_false(x: &bool) -> bool {
+    !*x
+}
+
+fn default_airmode_margin() -> f64 {
+    0.05
+}
+
+fn is_default_airmode_margin(x: &f64) -> bool {
+    *x == default_airmode_margin()
 }
 
 fn default_ramp() -> f64 {
@@ -84,6 +109,8 @@ impl Default for ControllerConfig {
             thrust_floor_N: 0.0,
             thrust_exponent: 1.0,
             thrust_ramp: default_ramp(),
+            airmode: false,
+            airmode_margin: default_airmode_margin(),
         }
     }
 }
@@ -139,6 +166,17 @@ impl Scenario {
     /// reference and is [`Scenario::thrust_interval`]'s).
     pub(super) fn validate_controller(&self) -> std::result::Result<(), String> {
         let c = &self.controller;
+        if !(c.airmode_margin.is_finite() && (0.0..0.5).contains(&c.airmode_margin)) {
+            return Err(format!(
+                "controller.airmode_margin: must lie in [0, 0.5), got {}",
+                c.airmode_margin
+            ));
+        }
+        if c.airmode && self.rotors.is_none() {
+            return Err(
+                "controller.airmode: needs the [rotors] table (the rotors' (T, tau) set)".into(),
+            );
+        }
         if c.thrust == ThrustKind::Norm && c.thrust_floor_N != 0.0 {
             return Err(format!(
                 "controller.thrust_floor_N: only used with the no-dive thrusts, \
@@ -185,17 +223,56 @@ impl Scenario {
 
     /// The a-priori interval `[low, high]` \[N\] of the thrust the scenario's law applies,
     /// from its certificate's bounds: Theorem 1's `[T_min, T_max]` for `thrust = "norm"`,
-    /// `[thrust_floor_N, T_max]` for the no-dive thrust ([`ThrustMode::interval`]).
-    /// Errors: the floor exceeds `T_min` (named by key).
+    /// `[thrust_floor_N, T_max]` for the no-dive thrust ([`ThrustMode::interval`]), widened
+    /// with airmode to where the rotors realise the certified torques
+    /// ([`controller_core::RotorEnvelope::airmode_interval`]).
+    /// Errors: the floor exceeds `T_min` (named by key), or airmode's rotors are refused.
     pub fn thrust_interval(
         &self,
-        bounds: &controller_core::Bounds<f64>,
+        certificate: &controller_core::Certificate<f64>,
     ) -> std::result::Result<[f64; 2], String> {
-        self.controller
+        let bounds = &certificate.bounds;
+        let (low, high) = self
+            .controller
             .thrust_mode::<f64>(bounds.thrust_max)
             .interval(bounds)
-            .map(|(low, high)| [low, high])
-            .map_err(|e| format!("{} (Theorem 1's interval)", describe(&e)))
+            .map_err(|e| format!("{} (Theorem 1's interval)", describe(&e)))?;
+        Ok(match self.airmode_envelope::<f64>()? {
+            Some(e) => {
+                // Every torque set the law's torque can be in: Theorem 2's, and the local
+                // regime's with the envelope design.
+                let (mut a, mut b) = e.airmode_interval(low, high, &bounds.torque_set);
+                if let Some(l) = &certificate.local {
+                    let (c, d) = e.airmode_interval(low, high, &l.torque_set);
+                    (a, b) = (a.min(c), b.max(d));
+                }
+                [a, b]
+            }
+            None => [low, high],
+        })
+    }
+
+    /// Airmode's rotor envelope in scalar `T` (the firmware mixer's rows, the range shrunk by
+    /// `airmode_margin`), or `None` when airmode is off.
+    /// Errors: no `[rotors]` table, or the mixer refuses the rotors (named by key).
+    pub fn airmode_envelope<T: Scalar>(
+        &self,
+    ) -> std::result::Result<Option<controller_core::RotorEnvelope<T>>, String> {
+        if !self.controller.airmode {
+            return Ok(None);
+        }
+        let rotors = self
+            .rotor_config()
+            .ok_or("controller.airmode: needs the [rotors] table")?
+            .rotors;
+        let mixer = firmware::mixer::Mixer::new(&rotors)
+            .map_err(|e| format!("[rotors]: the mixer refuses the rotors: {e:?}"))?;
+        let m = mixer.mixing();
+        let (lo, hi) = mixer.thrust_range();
+        let rows = [0, 1, 2, 3].map(|k| [0, 1, 2, 3].map(|j| lit::<T>(f64::from(m[(k, j)]))));
+        controller_core::RotorEnvelope::new(rows, lit(f64::from(lo)), lit(f64::from(hi)))
+            .map(|e| Some(e.shrunk(lit(self.controller.airmode_margin))))
+            .map_err(|e| format!("[rotors]: {}", describe(&e)))
     }
 }
 
@@ -254,7 +331,7 @@ mod tests {
         )
         .unwrap();
         let cert = crate::fly::sim::certificate(&s).unwrap();
-        let e = s.thrust_interval(&cert.bounds).unwrap_err();
+        let e = s.thrust_interval(&cert).unwrap_err();
         assert!(e.contains("controller.thrust_floor_N"), "{e}");
         // The paper's scenario written back has no [controller] table.
         let written = toml::to_string(&Scenario::paper()).unwrap();

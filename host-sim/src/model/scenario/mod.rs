@@ -305,6 +305,14 @@ impl Scenario {
             speed: lit(v.speed_m_s),
             braking: lit(v.braking_m_s2),
         });
+        out.local = g.local.map(|l| controller_core::LocalGains {
+            kp: lit(l.kp),
+            kv: lit(l.kv),
+            kf: lit(l.kf),
+            ks: lit(l.ks),
+            energy_in: lit(l.energy_in_J),
+            energy_out: lit(l.energy_out_J),
+        });
         out.integral = g.integral.as_ref().map(|i| IntegralGains {
             gain: lit(i.k_i),
             level: v3(&i.M_i_m_s2),

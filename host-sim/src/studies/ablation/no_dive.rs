@@ -264,7 +264,7 @@ pub fn run_no_dive(scenario: &Scenario, seed: u64, repeats: u64) -> Result<NoDiv
     let no_dive_scenario = with(scenario, no_dive);
     let cert = crate::fly::sim::certificate(&no_dive_scenario)?;
     let interval_no_dive = no_dive_scenario
-        .thrust_interval(&cert.bounds)
+        .thrust_interval(&cert)
         .map_err(|e| anyhow::anyhow!("{e}"))?;
     let floor = interval_no_dive[0];
 

@@ -6,6 +6,7 @@ use anyhow::Result;
 use clap::Args;
 use controller_core::{Lemma1Form, PositionSaturation};
 use host_sim::design::{
+    authority::RotorFit,
     integral::IntegralSpec,
     options::{Fallback, DEFAULT_DURATION_S, DEFAULT_EVALUATIONS},
     run_design,
@@ -60,6 +61,17 @@ pub enum DesignLemma1 {
     Paper,
     /// Only the parts of `ρ̈`, `ϋ` that `ω̇_d` reads (docs/tangential-lemma1.md).
     Tangential,
+}
+
+/// Whether the design flies airmode (the library's [`RotorFit`], named on the command line).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DesignAirmode {
+    /// Airmode: the thrust moves to where the rotors realise the torque; the torque set need only
+    /// fit the rotors at some thrust, the feedforward at zero attitude error over the whole
+    /// thrust interval (docs/airmode.md).
+    On,
+    /// The certified thrust interval times the torque set fits the rotors (docs/torque-set.md).
+    Off,
 }
 
 /// Options of `host-sim design`.
@@ -145,6 +157,19 @@ pub struct DesignArgs {
     /// paper's position feedback.
     #[arg(long, value_name = "M_S")]
     pub speed_limit: Option<f64>,
+    /// Airmode (docs/airmode.md): `on` moves the thrust, by as little as possible, to where the
+    /// rotors realise the law's torque, so the certified torque set need only fit the rotors at
+    /// some thrust (the shadow fit) and the feedforward at zero attitude error over the thrust
+    /// interval; the flight file carries it and the firmware's gate checks both fits. `off`: the
+    /// thrust interval times the torque set fits the rotors.
+    #[arg(long, value_enum, default_value_t = DesignAirmode::On)]
+    pub airmode: DesignAirmode,
+    /// The envelope design (docs/envelope-design.md): `on` searches, beside the global gains,
+    /// faster local position gains flown while the attitude energy is below a level the search
+    /// also picks (an invariant set of the law), certified for the torques they can ask there;
+    /// `off`: one set of position gains.
+    #[arg(long, value_enum, default_value_t = DesignAirmode::On)]
+    pub envelope: DesignAirmode,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/design")]
     pub out: PathBuf,
@@ -172,12 +197,17 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         reference: args.reference.clone(),
         seed: args.seed,
         margin: args.margin,
+        fit: match args.airmode {
+            DesignAirmode::On => RotorFit::Airmode,
+            DesignAirmode::Off => RotorFit::Set,
+        },
         evaluations: args.evaluations,
         duration_s: args.duration_s.unwrap_or(DEFAULT_DURATION_S),
         law: match args.law {
             DesignLaw::Paper => AttitudeLaw::Paper,
             DesignLaw::TiltPriority => AttitudeLaw::TiltPriority,
         },
+        envelope: args.envelope == DesignAirmode::On,
         bounds: match args.bounds {
             DesignBounds::Paper => BoundsKind::Paper,
             DesignBounds::Tight => BoundsKind::Tight,

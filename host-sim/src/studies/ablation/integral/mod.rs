@@ -260,7 +260,7 @@ pub fn extended_certificate(
 pub fn extended_bound_set(scenario: &Scenario, integral: &IntegralGains<f64>) -> Result<BoundSet> {
     let cert = extended_certificate(scenario, integral)?;
     let [low, high] = scenario
-        .thrust_interval(&cert.bounds)
+        .thrust_interval(&cert)
         .map_err(|e| anyhow!("{e}"))?;
     Ok(BoundSet {
         thrust_min_N: low,

@@ -1,0 +1,91 @@
+//! The local regime's torque set holds the law's torque: at random states inside the energy
+//! level (any MRP error, `ω̃` and rotation it allows) and random desired-frame `ω_d`, `ω̇_d`
+//! inside their bounds, the law's own torque never leaves the set in any direction.
+
+use nalgebra::{Matrix3, Vector3};
+use proptest::prelude::*;
+
+use super::local_torque_set;
+use crate::bounds::{certify, FilterStart};
+use crate::gains::Gains;
+use crate::local_regime::{attitude_energy, energy_limits};
+use crate::mrp::rotation_from_mrp;
+use crate::tilt_priority::TiltPriorityGains;
+use crate::{Limits, TrajectoryConstants, Vehicle};
+
+fn gains(tilt: bool) -> Gains<f64> {
+    let mut g = Gains::<f64>::paper();
+    g.attitude.k_mrp = 2.0;
+    g.attitude.k_omega = 0.05;
+    g.attitude.mrp_saturation = 0.3;
+    g.attitude.omega_saturation = 0.1;
+    g.position.kf = 4.0;
+    g.position.ks = 10.0;
+    g.position.saturation = 3.0;
+    if tilt {
+        g.tilt_priority = Some(TiltPriorityGains {
+            trace_weights: Vector3::new(0.02, 0.02, 0.3),
+            omega_gains: Vector3::new(0.05, 0.05, 0.02),
+            omega_levels: Vector3::new(0.1, 0.1, 0.01),
+        });
+    }
+    g
+}
+
+fn unit3() -> impl Strategy<Value = Vector3<f64>> {
+    (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64)
+        .prop_map(|(x, y, z)| Vector3::new(x, y, z))
+        .prop_filter("not zero", |v| v.norm() > 1e-3)
+        .prop_map(|v| v.normalize())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(4_000))]
+
+    /// Given an energy level `c`, a state inside it and desired-frame `(ω_d, ω̇_d)` inside the
+    /// Lemma 1 per-axis bounds, the law's torque (feedback and feedforward, computed by the law
+    /// itself) satisfies `dᵀτ ≤ h(d)` for random directions `d` of the local set.
+    #[test]
+    fn the_laws_torque_stays_in_the_local_set(
+        tilt in proptest::bool::ANY,
+        c in prop_oneof![1e-5..1e-3f64, 1e-3..0.2f64],
+        mrp_dir in unit3(), mrp_share in 0.0..1.0f64,
+        w_dir in unit3(), w_share in 0.0..1.0f64,
+        wd in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64),
+        wdd in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64),
+        d in unit3(),
+    ) {
+        let g = gains(tilt);
+        let v = Vehicle::<f64>::paper();
+        let j = v.inertia;
+        let b = certify(&v, &Limits::paper(), &g, &TrajectoryConstants::zero(), FilterStart::InSaturationBox)
+            .unwrap()
+            .bounds;
+        let l = energy_limits(&g, &j, c);
+        // A state with energy at most c: the MRP error and ω̃ scaled until it is.
+        let mut mrp = mrp_dir * (mrp_share * l.mrp.min(1.0));
+        let mut w = w_dir.component_mul(&l.omega_error) * w_share;
+        let energy = |m: &Vector3<f64>, w: &Vector3<f64>| {
+            attitude_energy(&g, &j, m, w, &rotation_from_mrp(m))
+        };
+        while energy(&mrp, &w) > c {
+            mrp *= 0.9;
+            w *= 0.9;
+        }
+        let re: Matrix3<f64> = rotation_from_mrp(&mrp);
+        let f = &b.desired_frame;
+        let (x, y, z) = wd;
+        let planar = Vector3::new(x, y, 0.0);
+        let planar = if planar.norm() > 1.0 { planar.normalize() } else { planar };
+        let omega_d = planar * f.tilt_rate + Vector3::z() * (z * f.yaw_rate);
+        let (x, y, z) = wdd;
+        let planar = Vector3::new(x, y, 0.0);
+        let planar = if planar.norm() > 1.0 { planar.normalize() } else { planar };
+        let omega_d_dot = planar * f.tilt_acceleration + Vector3::z() * (z * f.yaw_acceleration);
+        let omega = w + re.transpose() * omega_d;
+        let out = g.attitude_torque(&mrp, &omega, &re, &omega_d, &omega_d_dot, &j);
+        let set = local_torque_set(&g, &j, &b, &l);
+        let h = set.support(&d);
+        prop_assert!(d.dot(&out.torque) <= h * (1.0 + 1e-9) + 1e-12, "{} > {h}", d.dot(&out.torque));
+    }
+}
