@@ -77,7 +77,10 @@ impl<T: Scalar> DesiredFrameBounds<T> {
         let c = chain;
         let l = c.heading_projection_min;
         let h = (T::one() - l * l).max(T::zero()).sqrt();
-        let (r, q) = (c.thrust_direction_rate, c.thrust_direction_acceleration_across);
+        let (r, q) = (
+            c.thrust_direction_rate,
+            c.thrust_direction_acceleration_across,
+        );
         let (kd, kdd) = (c.heading_rate, c.heading_acceleration);
         let two = lit::<T>(2.0);
         let yaw_rate = ((h * r + kd) / l).min(c.angular_velocity);

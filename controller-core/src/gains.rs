@@ -55,6 +55,7 @@ impl<T: Scalar> Gains<T> {
                 ks: lit(20.0),
                 saturation: lit(2.0),
                 saturation_shape: crate::position_saturation::PositionSaturation::Componentwise,
+                vertical: None,
             },
             attitude: AttitudeGains {
                 k_mrp: lit(100.0),
@@ -105,6 +106,19 @@ impl<T: Scalar> Gains<T> {
         }
         if let Some(v) = &self.velocity_limit {
             v.validate(self.position.saturation)?;
+            if self.position.vertical.is_some() {
+                // The velocity limit's braking profile is per axis with `M_p`; the vertical
+                // channel apart has its own levels. Not combined.
+                return Err(ParameterError::OutOfRange {
+                    name: "speed_limit",
+                    value: crate::scalar::to_f64(v.speed),
+                    low: 0.0,
+                    high: 0.0,
+                });
+            }
+        }
+        if let Some(v) = &self.position.vertical {
+            v.validate()?;
         }
         if let Some(l) = &self.local {
             l.validate(&self.position)?;

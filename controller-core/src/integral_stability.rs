@@ -75,8 +75,41 @@ pub fn characteristic_polynomial<T: Scalar>(
 /// The Routh–Hurwitz conditions of [`characteristic_polynomial`], each with both sides; all
 /// holding is equivalent (for positive gains) to every root in the open left half-plane, i.e.
 /// local exponential stability of the equilibrium `z = 0`, `η_f = −d` (and `v̂ = v` with the
-/// observer).
+/// observer). With the vertical channel apart ([`PositionGains::vertical`]) each condition is
+/// checked on the horizontal and the vertical filters' linearisations, and the one that fails
+/// (else the tighter) is returned.
 pub fn local_stability_conditions<T: Scalar>(
+    position: &PositionGains<T>,
+    integral: &IntegralGains<T>,
+) -> [Condition<T>; STABILITY_CONDITION_COUNT] {
+    let Some(v) = &position.vertical else {
+        return conditions_of(position, integral);
+    };
+    // The vertical channel apart has its own filters (docs/vertical-channel.md): each condition
+    // must hold on both channels' linearisations; the one that fails, else the tighter, is kept.
+    let horizontal = conditions_of(position, integral);
+    let vertical = conditions_of(
+        &PositionGains {
+            kf: v.kf,
+            ks: v.ks,
+            vertical: None,
+            ..*position
+        },
+        integral,
+    );
+    core::array::from_fn(|i| {
+        let (h, z) = (horizontal[i], vertical[i]);
+        let slack = |c: &Condition<T>| (c.lhs - c.rhs) / (c.lhs.abs() + c.rhs.abs() + T::one());
+        match (h.holds, z.holds) {
+            (_, false) => z,
+            (false, true) => h,
+            (true, true) if slack(&z) < slack(&h) => z,
+            _ => h,
+        }
+    })
+}
+
+fn conditions_of<T: Scalar>(
     position: &PositionGains<T>,
     integral: &IntegralGains<T>,
 ) -> [Condition<T>; STABILITY_CONDITION_COUNT] {
@@ -161,6 +194,7 @@ mod tests {
                 ks,
                 saturation: 1.0,
                 saturation_shape: crate::position_saturation::PositionSaturation::Componentwise,
+                vertical: None,
             },
             IntegralGains {
                 feedforward_scale: None,

@@ -60,6 +60,7 @@ pub mod torque_set;
 pub mod trig;
 pub mod vehicle;
 pub mod velocity_limit;
+pub mod vertical_channel;
 pub mod waypoint_path;
 
 /// The parameter types under the path they had before the split into [`gains`], [`vehicle`] and
@@ -83,13 +84,14 @@ pub use local_regime::{LocalGains, Regime};
 pub use parameter_error::ParameterError;
 pub use path_lifting::JumpCounters;
 pub use position_saturation::PositionSaturation;
-pub use rotor_envelope::RotorEnvelope;
 pub use reference::{
     HeadingProfile, ReferenceSample, ReferenceTrajectory, Trajectory, TrajectoryConstants,
 };
+pub use rotor_envelope::RotorEnvelope;
 pub use scalar::Scalar;
 pub use thrust::ThrustMode;
 pub use tilt_priority::TiltPriorityGains;
 pub use torque_set::TorqueSet;
 pub use vehicle::{Limits, Vehicle};
 pub use velocity_limit::VelocityLimit;
+pub use vertical_channel::VerticalChannel;

@@ -31,7 +31,6 @@ use nalgebra::{Matrix3, Vector3};
 use crate::gains::Gains;
 use crate::parameter_error::{positive, ParameterError};
 use crate::position::{FilterState, PositionGains};
-use crate::position_saturation::PositionSaturation;
 use crate::scalar::{lit, to_f64, Scalar};
 
 /// The local regime's position gains and the energy levels of its switch.
@@ -45,7 +44,11 @@ pub struct LocalGains<T: Scalar> {
     pub kf: T,
     /// `k_s` [1/s] of the local regime.
     pub ks: T,
-    /// `E_in` [J]: the local gains take over once the attitude energy is at most this.
+    /// `M_p,L` [m/s²] of the local regime, in `(0, M_p]` (the global shape): a smaller tilt range,
+    /// so smaller thrust-direction rates and a smaller yaw share of them.
+    pub saturation: T,
+    /// `E_in` [J]: the local gains take over once the attitude energy is at most this (and the
+    /// filter states lie in the local saturation set).
     pub energy_in: T,
     /// `E_out` [J], `> E_in`: the global gains take back over above this.
     pub energy_out: T,
@@ -76,19 +79,29 @@ pub struct EnergyLimits<T: Scalar> {
 }
 
 impl<T: Scalar> LocalGains<T> {
-    /// Checks the gains `> 0`, `0 < E_in < E_out`, and `k_f` at least `global`'s.
+    /// Checks the gains `> 0`, `0 < E_in < E_out`, `k_f` at least `global`'s and
+    /// `0 < M_p,L ≤ M_p`.
     /// Errors: [`ParameterError::NotPositive`] naming the gain (`"local k_p"`, …, `"E_in"`),
-    /// [`ParameterError::OutOfRange`] naming `"E_out"` (not above `E_in`) or `"local k_f"`
-    /// (below the global `k_f`).
+    /// [`ParameterError::OutOfRange`] naming `"E_out"` (not above `E_in`), `"local k_f"`
+    /// (below the global `k_f`) or `"local M_p"` (above the global `M_p`).
     pub fn validate(&self, global: &PositionGains<T>) -> Result<(), ParameterError> {
         for (name, v) in [
             ("local k_p", self.kp),
             ("local k_v", self.kv),
             ("local k_f", self.kf),
             ("local k_s", self.ks),
+            ("local M_p", self.saturation),
             ("E_in", self.energy_in),
         ] {
             positive(name, v)?;
+        }
+        if self.saturation > global.saturation {
+            return Err(ParameterError::OutOfRange {
+                name: "local M_p",
+                value: to_f64(self.saturation),
+                low: 0.0,
+                high: to_f64(global.saturation),
+            });
         }
         if !(self.energy_out.is_finite() && self.energy_out > self.energy_in) {
             return Err(ParameterError::OutOfRange {
@@ -109,25 +122,46 @@ impl<T: Scalar> LocalGains<T> {
         Ok(())
     }
 
-    /// The local regime's position gains: these `k_p, k_v, k_f, k_s` with `global`'s saturation
-    /// level and shape.
+    /// The local regime's position gains: these `k_p, k_v, k_f, k_s, M_p,L` with `global`'s
+    /// saturation shape.
     pub fn position(&self, global: &PositionGains<T>) -> PositionGains<T> {
         PositionGains {
             kp: self.kp,
             kv: self.kv,
             kf: self.kf,
             ks: self.ks,
+            saturation: self.saturation,
             ..*global
         }
     }
 
-    /// The regime after a sample whose attitude energy is `energy` [J], from `current`: the
-    /// hysteresis `Global → Local` at `E ≤ E_in`, `Local → Global` at `E > E_out`.
-    pub fn next_regime(&self, current: Regime, energy: T) -> Regime {
+    /// The regime after a sample whose attitude energy is `energy` [J], from `current`, with the
+    /// filter states `filter` [m/s²] the next sample starts from under `global`'s gains: the
+    /// hysteresis `Global → Local` at `E ≤ E_in` once the filter states re-timed to the local
+    /// `k_f` lie in the local saturation set (so Lemma 1's premise holds for the local gains),
+    /// `Local → Global` at `E > E_out`. Returns the regime and the filter states it starts from
+    /// ([`retime`]d when the regime changes).
+    pub fn switch(
+        &self,
+        global: &PositionGains<T>,
+        current: Regime,
+        energy: T,
+        filter: &FilterState<T>,
+    ) -> (Regime, FilterState<T>) {
         match current {
-            Regime::Global if energy <= self.energy_in => Regime::Local,
-            Regime::Local if energy > self.energy_out => Regime::Global,
-            r => r,
+            Regime::Global if energy <= self.energy_in => {
+                let local = self.position(global);
+                let f = retime(filter, global.kf, self.kf, global);
+                if local.contains(&f.u_f) && local.contains(&f.u_s) {
+                    (Regime::Local, f)
+                } else {
+                    (Regime::Global, *filter)
+                }
+            }
+            Regime::Local if energy > self.energy_out => {
+                (Regime::Global, retime(filter, self.kf, global.kf, global))
+            }
+            r => (r, *filter),
         }
     }
 }
@@ -189,21 +223,25 @@ pub fn energy_limits<T: Scalar>(
 
 /// The inner filter state re-timed when `k_f` changes from `from_kf` to `to_kf` [1/s]:
 /// `u_s' = u_f − (from_kf/to_kf)(u_f − u_s)`, so that `u̇ = −k_f(u_f − u_s)` keeps its value
-/// (`ω_d` does not jump). With `to_kf ≥ from_kf` the new state lies between `u_f` and `u_s`; the
-/// other way it may leave the saturation set of `shape` and `level` [m/s²], and is then scaled
-/// back into it (a jump of `u̇`, only on the way back to the global gains, whose certificate
-/// covers any attitude). Source: extension (docs/envelope-design.md).
+/// (`ω_d` does not jump); with the vertical channel apart only its horizontal part, the vertical
+/// filters being the same in both regimes. With `to_kf ≥ from_kf` the new state lies between `u_f` and `u_s`; the
+/// other way it may leave the saturation set of `set` (the global gains'), and is then brought
+/// back into it ([`PositionGains::project`]: a jump of `u̇`, only on the way back to the global
+/// gains, whose certificate covers any attitude). Source: extension (docs/envelope-design.md).
 pub fn retime<T: Scalar>(
     filter: &FilterState<T>,
     from_kf: T,
     to_kf: T,
-    (shape, level): (PositionSaturation, T),
+    set: &PositionGains<T>,
 ) -> FilterState<T> {
-    let u_s = filter.u_f - (filter.u_f - filter.u_s) * (from_kf / to_kf);
-    let size = shape.size(&u_s);
+    let mut u_s = filter.u_f - (filter.u_f - filter.u_s) * (from_kf / to_kf);
+    if set.vertical.is_some() {
+        // The vertical channel keeps its own filters in both regimes: nothing to re-time.
+        u_s.z = filter.u_s.z;
+    }
     FilterState {
         u_f: filter.u_f,
-        u_s: if size > level { u_s * (level / size) } else { u_s },
+        u_s: set.project(&u_s),
     }
 }
 

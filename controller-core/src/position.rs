@@ -15,6 +15,7 @@ use nalgebra::Vector3;
 use crate::position_saturation::PositionSaturation;
 use crate::scalar::Scalar;
 use crate::velocity_limit::VelocityLimit;
+use crate::vertical_channel::{horizontal, VerticalChannel};
 
 /// Gains of the position loop (Table I names in brackets).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -33,6 +34,10 @@ pub struct PositionGains<T: Scalar> {
     /// Shape of `σ_p`: the paper's componentwise saturation (the default) or the norm
     /// saturation (extension, docs/position-saturation.md).
     pub saturation_shape: PositionSaturation,
+    /// The vertical channel apart (extension, docs/vertical-channel.md): `Some` saturates the
+    /// vertical component with its own upward and downward levels, and `saturation_shape` with
+    /// `M_p` then applies to the horizontal pair only; `None` is the paper's, bit for bit.
+    pub vertical: Option<VerticalChannel<T>>,
 }
 
 /// Filter states `x_f = (u_f, u_s)` [m/s²], inertial frame.
@@ -73,6 +78,62 @@ pub struct PositionOutput<T: Scalar> {
 }
 
 impl<T: Scalar> PositionGains<T> {
+    /// `ubar_p = −σ_p(y)` [m/s²] for the argument `y = k_p z₁ + k_v z₂` (inertial): the paper's
+    /// shape with `M_p`, or with the vertical channel apart the shape on `(x, y)` and the
+    /// vertical levels on `z` ([`VerticalChannel::feedback`]). Source: Section IV; extensions
+    /// docs/position-saturation.md, docs/vertical-channel.md.
+    #[inline]
+    pub fn feedback_of(&self, y: &Vector3<T>) -> Vector3<T> {
+        match &self.vertical {
+            None => -self.saturation_shape.apply(y, self.saturation),
+            Some(v) => {
+                let mut out = -self.saturation_shape.apply(&horizontal(y), self.saturation);
+                out.z = v.feedback(y.z);
+                out
+            }
+        }
+    }
+
+    /// Whether `v` [m/s²] lies in the set `ubar_p` takes its values in (and the filters keep
+    /// `u_f`, `u_s` in): the shape's `M_p` set, or with the vertical channel apart the horizontal
+    /// shape's and `[−M_down, M_up]`.
+    pub fn contains(&self, v: &Vector3<T>) -> bool {
+        match &self.vertical {
+            None => self.saturation_shape.size(v) <= self.saturation,
+            Some(l) => {
+                self.saturation_shape.size(&horizontal(v)) <= self.saturation && l.contains(v.z)
+            }
+        }
+    }
+
+    /// `v` [m/s²] brought into that set: scaled down in the shape's norm (its horizontal part
+    /// with the vertical channel apart, whose component is clamped). Unchanged when inside.
+    pub fn project(&self, v: &Vector3<T>) -> Vector3<T> {
+        let scale = |w: Vector3<T>| {
+            let size = self.saturation_shape.size(&w);
+            if size > self.saturation {
+                w * (self.saturation / size)
+            } else {
+                w
+            }
+        };
+        match &self.vertical {
+            None => scale(*v),
+            Some(l) => {
+                let mut out = scale(horizontal(v));
+                out.z = l.clamp(v.z);
+                out
+            }
+        }
+    }
+
+    /// The largest downward `|ubar_p,z|` [m/s²]: `M_p`, or `M_down` with the vertical channel
+    /// apart. Theorem 1's thrust floor is `m(g − K_a3 − this)`.
+    #[inline]
+    pub fn downward_level(&self) -> T {
+        self.vertical.map_or(self.saturation, |v| v.down)
+    }
+
     /// The z-coordinates `(z₁, z₂)` of eq:Zcoordinates from the position error `p̃` \[m\], the
     /// velocity error `ṽ` [m/s] and the filter states.
     pub fn z_coordinates(
@@ -83,9 +144,15 @@ impl<T: Scalar> PositionGains<T> {
     ) -> (Vector3<T>, Vector3<T>) {
         let inv_kf = T::one() / self.kf;
         let inv_ks = T::one() / self.ks;
-        let z1 =
+        let mut z1 =
             position_error + velocity_error * (inv_kf + inv_ks) + filter.u_f * (inv_kf * inv_ks);
-        let z2 = velocity_error + filter.u_f * inv_kf + filter.u_s * inv_ks;
+        let mut z2 = velocity_error + filter.u_f * inv_kf + filter.u_s * inv_ks;
+        if let Some(v) = &self.vertical {
+            // The vertical axis's own filters (eq:Zcoordinates on that axis alone).
+            let (a, b) = (T::one() / v.kf, T::one() / v.ks);
+            z1.z = position_error.z + velocity_error.z * (a + b) + filter.u_f.z * (a * b);
+            z2.z = velocity_error.z + filter.u_f.z * a + filter.u_s.z * b;
+        }
         (z1, z2)
     }
 
@@ -111,9 +178,7 @@ impl<T: Scalar> PositionGains<T> {
     ) -> PositionOutput<T> {
         let (z1, z2) = self.z_coordinates(position_error, velocity_error, filter);
         let ubar_p = match limit {
-            None => -self
-                .saturation_shape
-                .apply(&(z1 * self.kp + z2 * self.kv), self.saturation),
+            None => self.feedback_of(&(z1 * self.kp + z2 * self.kv)),
             Some(l) => l.feedback(
                 (self.kp, self.kv),
                 (self.saturation_shape, self.saturation),
@@ -122,11 +187,18 @@ impl<T: Scalar> PositionGains<T> {
             ),
         };
         let filter_gap = filter.u_f - filter.u_s;
-        let u_f_dot = -filter_gap * self.kf;
-        let u_s_dot = (filter.u_s - ubar_p) * (-self.ks);
+        let mut u_f_dot = -filter_gap * self.kf;
+        let mut u_s_dot = (filter.u_s - ubar_p) * (-self.ks);
         let u = filter.u_f + Vector3::z() * gravity + acceleration;
+        if let Some(v) = &self.vertical {
+            u_f_dot.z = -filter_gap.z * v.kf;
+            u_s_dot.z = (filter.u_s.z - ubar_p.z) * (-v.ks);
+        }
         let u_dot = u_f_dot + jerk;
-        let u_ddot = (u_f_dot - u_s_dot) * (-self.kf) + snap;
+        let mut u_ddot = (u_f_dot - u_s_dot) * (-self.kf) + snap;
+        if let Some(v) = &self.vertical {
+            u_ddot.z = (u_f_dot.z - u_s_dot.z) * (-v.kf) + snap.z;
+        }
         PositionOutput {
             z1,
             z2,
@@ -148,21 +220,28 @@ impl<T: Scalar> PositionGains<T> {
     /// [`FilterPropagator`]); they depend only on the gains and `dt`, so a fixed-rate caller
     /// computes them once.
     pub fn propagator(&self, dt: T) -> FilterPropagator<T> {
-        let decay_f = (-self.kf * dt).exp();
-        let decay_s = (-self.ks * dt).exp();
-        let x = (self.kf - self.ks) * dt;
-        let phi1 = if x.abs() < T::default_epsilon().sqrt() {
-            T::one() + x * nalgebra::convert::<f64, T>(0.5)
-        } else {
-            x.exp_m1() / x
-        };
+        let [decay_f, decay_s, coupling] = propagation(self.kf, self.ks, dt);
         FilterPropagator {
             dt,
             decay_f,
             decay_s,
-            coupling: self.kf * dt * decay_f * phi1,
+            coupling,
+            vertical: self.vertical.map(|v| propagation(v.kf, v.ks, dt)),
         }
     }
+}
+
+/// `[e^{−k_f dt}, e^{−k_s dt}, k_f dt e^{−k_f dt} φ₁((k_f − k_s) dt)]` ([`FilterPropagator`]).
+fn propagation<T: Scalar>(kf: T, ks: T, dt: T) -> [T; 3] {
+    let decay_f = (-kf * dt).exp();
+    let decay_s = (-ks * dt).exp();
+    let x = (kf - ks) * dt;
+    let phi1 = if x.abs() < T::default_epsilon().sqrt() {
+        T::one() + x * nalgebra::convert::<f64, T>(0.5)
+    } else {
+        x.exp_m1() / x
+    };
+    [decay_f, decay_s, kf * dt * decay_f * phi1]
 }
 
 /// The exact solution of eq:FilterDynamics over one sample of length `dt` with `ubar_p` held.
@@ -181,6 +260,9 @@ pub struct FilterPropagator<T: Scalar> {
     decay_s: T,
     /// `k_f dt e^{−k_f dt} φ₁((k_f − k_s) dt)`.
     coupling: T,
+    /// The vertical axis's own three coefficients with the vertical channel apart
+    /// (docs/vertical-channel.md).
+    vertical: Option<[T; 3]>,
 }
 
 impl<T: Scalar> FilterPropagator<T> {
@@ -188,10 +270,15 @@ impl<T: Scalar> FilterPropagator<T> {
     pub fn apply(&self, filter: &FilterState<T>, ubar_p: &Vector3<T>) -> FilterState<T> {
         let e_s = filter.u_s - ubar_p;
         let e_f = filter.u_f - ubar_p;
-        FilterState {
+        let mut next = FilterState {
             u_f: ubar_p + e_f * self.decay_f + e_s * self.coupling,
             u_s: ubar_p + e_s * self.decay_s,
+        };
+        if let Some([decay_f, decay_s, coupling]) = self.vertical {
+            next.u_f.z = ubar_p.z + e_f.z * decay_f + e_s.z * coupling;
+            next.u_s.z = ubar_p.z + e_s.z * decay_s;
         }
+        next
     }
 }
 
@@ -210,6 +297,7 @@ mod tests {
             ks: 20.0,
             saturation: 2.0,
             saturation_shape: PositionSaturation::Componentwise,
+            vertical: None,
         }
     }
 

@@ -23,6 +23,7 @@ use crate::vehicle::{Limits, Vehicle};
 
 mod local;
 pub use local::{local_torque_set, LocalCertificate};
+mod vertical;
 
 /// Where the filter states start; Lemma 1's `U_l` depends on it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -209,6 +210,22 @@ impl<T: Scalar> Certificate<T> {
     }
 }
 
+/// Lemma 1's `U_l` for the filter bandwidths `k_f`, `k_s` [1/s] and where the filters start:
+/// `(k_f/k_s)^{k_f/(k_s−k_f)}` (`e⁻¹` if `k_f = k_s`) from rest, 1 from anywhere in the set.
+fn overshoot<T: Scalar>(kf: T, ks: T, start: FilterStart) -> T {
+    match start {
+        FilterStart::InSaturationBox => T::one(),
+        FilterStart::Zero => {
+            let r = kf / ks;
+            if (T::one() - r).abs() < lit(1e-9) {
+                T::one() / T::one().exp()
+            } else {
+                (r * r.ln() / (T::one() - r)).exp()
+            }
+        }
+    }
+}
+
 /// Per-axis `J_ii A + ½|J_jj − J_kk| B²`: the torque needed to follow `ω_d` with `|ω̇_d| ≤ A`,
 /// `|ω_d| ≤ B` (the `τ_c` part of Theorem 2 and eq:TorqueMaxCondition).
 fn feedforward_torque_bound<T: Scalar>(inertia: &Vector3<T>, accel: T, rate: T) -> Vector3<T> {
@@ -265,13 +282,19 @@ pub fn certify<T: Scalar>(
     let settled = gains.local.map_or(*p, |l| l.position(p));
     let k = constants;
     let (ka12, ka3) = (k.horizontal_acceleration, k.vertical_acceleration);
-    if !strictly_less(mp, g - ka3) {
+    // The downward level: `M_p`, or `M_down` with the vertical channel apart.
+    let down = p.downward_level();
+    if !strictly_less(down, g - ka3) {
         return Err(ParameterError::SaturationTooLarge {
-            saturation: to_f64(mp),
+            saturation: to_f64(down),
             limit: to_f64(g - ka3),
         });
     }
-    let level_sum = gains.integral.map(|i| i.level.add_scalar(mp));
+    let level_sum = gains.integral.map(|i| {
+        let mut l = i.level.add_scalar(mp);
+        l.z = i.level.z + down;
+        l
+    });
     if let Some(l) = &level_sum {
         if !strictly_less(l.z, g - ka3) {
             return Err(integral_margin_error(l.z, g - ka3));
@@ -307,17 +330,7 @@ pub fn certify<T: Scalar>(
     };
 
     // Lemma 1.
-    let filter_overshoot = match filter_start {
-        FilterStart::InSaturationBox => T::one(),
-        FilterStart::Zero => {
-            let r = kf / ks;
-            if (T::one() - r).abs() < lit(1e-9) {
-                T::one() / T::one().exp()
-            } else {
-                (r * r.ln() / (T::one() - r)).exp()
-            }
-        }
-    };
+    let filter_overshoot = overshoot(kf, ks, filter_start);
     let mut u_rate = two * reach * kf * filter_overshoot * mp + k.jerk;
     let mut u_acceleration = two * reach * kf * mp * (kf * filter_overshoot + ks) + k.snap;
     // |η̇_f| and |η̈_f| over the states reachable from arming (crate::integral's reachable-set
@@ -352,6 +365,21 @@ pub fn certify<T: Scalar>(
         Some(lxy) => lxy * lxy + ka12 * ka12 + two * lxy * ka12,
     };
     let heading_projection_min = a / (a * a + lateral).sqrt();
+    // With the vertical channel apart, the horizontal and vertical parts of `u` are bounded apart
+    // and a vertical change of `u` turns `ρ` only through the tilt (docs/vertical-channel.md):
+    // that chain replaces the one above, which stays bit for bit without the vertical channel.
+    let chain = p.vertical.map(|v| {
+        let overshoots = (filter_overshoot, overshoot(v.kf, v.ks, filter_start));
+        vertical::vertical_chain((m, g), p, &v, k, gains.integral.as_ref(), overshoots)
+    });
+    let thrust_min = chain.map_or(thrust_min, |c| c.thrust_min);
+    let thrust_max = chain.map_or(thrust_max, |c| c.thrust_max);
+    let u_rate = chain.map_or(u_rate, |c| c.u_rate);
+    let u_acceleration = chain.map_or(u_acceleration, |c| c.u_acceleration);
+    let rho_d = chain.map_or(rho_d, |c| c.rho_d);
+    let rho_dd = chain.map_or(rho_dd, |c| c.rho_dd);
+    let rho_dd_projected = chain.map_or(rho_dd_projected, |c| c.rho_dd_projected);
+    let heading_projection_min = chain.map_or(heading_projection_min, |c| c.heading_projection_min);
     let ups_d = (rho_d + k.heading_rate) / heading_projection_min;
     // `ω̇_d` reads `ϋ` only across `υ`, where the radial part of `ρ̈` drops out of `ϖ̈`
     // (crate::lemma1_form), so the paper's form takes the projected bound too: it is `U_ρ̈`.
@@ -465,14 +493,20 @@ pub fn certify<T: Scalar>(
             tau[2],
             assumption_torque[2],
         ),
-        match &level_sum {
-            None => strict(
+        match (&level_sum, &p.vertical) {
+            (None, None) => strict(
                 "theorem1.saturation_margin",
                 "g - K_a3 > M_p (Section IV, so that T_min > 0)",
                 margin,
                 mp,
             ),
-            Some(l) => strict(
+            (None, Some(_)) => strict(
+                "theorem1.saturation_margin",
+                "g - K_a3 > M_down (vertical channel apart, docs/vertical-channel.md)",
+                margin,
+                down,
+            ),
+            (Some(l), _) => strict(
                 "theorem1.saturation_margin",
                 "g - K_a3 > M_p + M_i,z (extended Theorem 1, docs/integral-action.md)",
                 margin,
@@ -482,6 +516,7 @@ pub fn certify<T: Scalar>(
         Condition {
             name: "theorem1.thrust_bound_within_actuator",
             statement: match (&level_sum, norm_shape) {
+                _ if p.vertical.is_some() => "T_max (actuator) >= m sqrt((H + |M_i,xy| + K_a12)^2 + (g + K_a3 + M_i,z + M_up)^2), H the horizontal reach of ubar_p (vertical channel apart, docs/vertical-channel.md)",
                 (None, false) => "T_max (actuator) >= m (sqrt(3) M_p + sqrt(K_a12^2 + (K_a3 + g)^2)) (eq:UpperBoundT)",
                 (None, true) => "T_max (actuator) >= m (M_p + sqrt(K_a12^2 + (K_a3 + g)^2)) (eq:UpperBoundT, norm-saturated ubar_p: docs/position-saturation.md)",
                 (Some(_), false) => "T_max (actuator) >= m sqrt((|L_xy| + K_a12)^2 + (g + K_a3 + L_z)^2), L = M_p + M_i (extended Theorem 1, docs/integral-action.md)",

@@ -19,7 +19,7 @@ use crate::desired_attitude::desired_attitude;
 use crate::feedforward_scale::FeedforwardScaleState;
 use crate::gains::Gains;
 use crate::integral::{modelled_compensation, IntegralGains, IntegralState};
-use crate::local_regime::{attitude_energy, retime, Regime};
+use crate::local_regime::{attitude_energy, Regime};
 use crate::mrp::rotation_from_quaternion;
 use crate::parameter_error::ParameterError;
 use crate::path_lifting::{JumpCounters, PathLifting};
@@ -117,14 +117,15 @@ impl<T: Scalar> Controller<T> {
         // The vertical feedforward as applied: scaled by up to 1 + μ̄ with the feedforward scale.
         let ka3 = self.gains.law_constants(constants).vertical_acceleration;
         let limit = self.vehicle.gravity - ka3;
-        if !crate::condition::strictly_less(self.gains.position.saturation, limit) {
+        let down = self.gains.position.downward_level();
+        if !crate::condition::strictly_less(down, limit) {
             return Err(ParameterError::SaturationTooLarge {
-                saturation: to_f64(self.gains.position.saturation),
+                saturation: to_f64(down),
                 limit: to_f64(limit),
             });
         }
         if let Some(i) = &self.gains.integral {
-            let total = self.gains.position.saturation + i.level.z;
+            let total = down + i.level.z;
             if !crate::condition::strictly_less(total, limit) {
                 return Err(crate::bounds::integral_margin_error(total, limit));
             }
@@ -152,10 +153,15 @@ impl<T: Scalar> Controller<T> {
     /// Errors: [`ParameterError::OutOfRange`] naming `"x_f"` with the largest component (the
     /// larger norm, with the norm shape).
     pub fn set_filter_state(&mut self, filter: FilterState<T>) -> Result<(), ParameterError> {
-        let m = self.gains.position.saturation;
-        let shape = self.gains.position.saturation_shape;
+        let p = &self.gains.position;
+        let (m, shape) = (p.saturation, p.saturation_shape);
         let largest = shape.size(&filter.u_f).max(shape.size(&filter.u_s));
-        if !(largest.is_finite() && largest <= m) {
+        let finite = filter
+            .u_f
+            .iter()
+            .chain(filter.u_s.iter())
+            .all(|x| x.is_finite());
+        if !(finite && p.contains(&filter.u_f) && p.contains(&filter.u_s)) {
             return Err(ParameterError::OutOfRange {
                 name: "x_f",
                 value: to_f64(largest),
@@ -210,8 +216,8 @@ impl<T: Scalar> Controller<T> {
     /// is on: the vertical part of `u` can drop by that much); the mode is unchanged then.
     pub fn set_thrust_mode(&mut self, mode: ThrustMode<T>) -> Result<(), ParameterError> {
         let drop = match &self.gains.integral {
-            None => self.gains.position.saturation,
-            Some(i) => self.gains.position.saturation + i.level.z,
+            None => self.gains.position.downward_level(),
+            Some(i) => self.gains.position.downward_level() + i.level.z,
         };
         mode.validate(&self.vehicle, drop)?;
         self.thrust_mode = mode;
@@ -376,18 +382,13 @@ impl<T: Scalar> Controller<T> {
             )
         });
         let next_regime = match (&g.local, energy) {
-            (Some(l), Some(e)) => l.next_regime(self.regime, e),
+            (Some(l), Some(e)) => {
+                let (regime, filter) = l.switch(&g.position, self.regime, e, &next_filter);
+                next_filter = filter;
+                regime
+            }
             _ => self.regime,
         };
-        if next_regime != self.regime {
-            let local_kf = g.local.map_or(g.position.kf, |l| l.kf);
-            let (from, to) = match next_regime {
-                Regime::Local => (g.position.kf, local_kf),
-                Regime::Global => (local_kf, g.position.kf),
-            };
-            let set = (g.position.saturation_shape, g.position.saturation);
-            next_filter = retime(&next_filter, from, to, set);
-        }
         let next_integral = match integral {
             Some((ig, rate, _)) => ig.advance(&self.integral, &rate, dt),
             None => self.integral,

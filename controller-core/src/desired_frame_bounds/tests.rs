@@ -24,7 +24,11 @@ fn signals() -> impl Strategy<Value = (Vector3<f64>, Vector3<f64>, Vector3<f64>,
         prop_oneof![Just(0.0), 0.01..1.0f64, 1.0..30.0f64],
         vec3(),
         prop_oneof![Just(0.0), 0.01..1.0f64, 1.0..300.0f64],
-        (-3.2..3.2f64, prop_oneof![Just(0.0), -3.0..3.0f64], -5.0..5.0f64),
+        (
+            -3.2..3.2f64,
+            prop_oneof![Just(0.0), -3.0..3.0f64],
+            -5.0..5.0f64,
+        ),
     )
         .prop_map(|(u, uz, ud, sd, udd, sdd, (psi, psid, psidd))| {
             let u = Vector3::new(6.0 * u.x, 6.0 * u.y, uz + u.z.abs());
@@ -114,7 +118,13 @@ fn at_hover_the_yaw_components_are_the_tilt_coupling() {
     gains.position.ks = 10.0;
     gains.lemma1 = Lemma1Form::Tangential;
     let hover = TrajectoryConstants::<f64>::zero();
-    let c = certify(&vehicle, &Limits::paper(), &gains, &hover, FilterStart::Zero)
+    let c = certify(
+        &vehicle,
+        &Limits::paper(),
+        &gains,
+        &hover,
+        FilterStart::Zero,
+    )
     .unwrap();
     let (b, f) = (&c.bounds, &c.bounds.desired_frame);
     assert!(f.tilt_rate <= b.angular_velocity && f.yaw_rate <= b.angular_velocity);

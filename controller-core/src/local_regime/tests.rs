@@ -136,23 +136,32 @@ proptest! {
     /// `k_f` it is scaled into the set when it would leave it.
     #[test]
     fn retiming_keeps_the_filter_rate(uf in vec3(2.0), us in vec3(2.0), slow in 0.2..3.0f64, ratio in 1.0..10.0f64) {
-        let shape = PositionSaturation::Norm;
+        let set = PositionGains {
+            kp: 1.0,
+            kv: 1.0,
+            kf: slow,
+            ks: 2.0 * slow,
+            saturation: 2.0,
+            saturation_shape: PositionSaturation::Norm,
+            vertical: None,
+        };
         prop_assume!(uf.norm() <= 2.0 && us.norm() <= 2.0);
         let fast = slow * ratio;
         let f = FilterState { u_f: uf, u_s: us };
-        let up = retime(&f, slow, fast, (shape, 2.0));
+        let up = retime(&f, slow, fast, &set);
         let before = (uf - us) * slow;
         let after = (up.u_f - up.u_s) * fast;
         prop_assert!((before - after).norm() <= 1e-12 * (1.0 + before.norm()));
         prop_assert!(up.u_s.norm() <= 2.0 + 1e-12 && up.u_f == uf);
-        let down = retime(&f, fast, slow, (shape, 2.0));
+        let down = retime(&f, fast, slow, &set);
         prop_assert!(down.u_s.norm() <= 2.0 + 1e-12);
     }
 }
 
-/// The switch: into the local gains at `E ≤ E_in`, back only above `E_out`; the local gains
-/// keep the global saturation; a local `k_f` below the global one or `E_out ≤ E_in` is refused
-/// by name.
+/// The switch: into the local gains at `E ≤ E_in` once the re-timed filter states lie in the
+/// local saturation set, back only above `E_out`; the local gains keep the global shape; a local
+/// `k_f` below the global one, a local `M_p` above the global one or `E_out ≤ E_in` is refused by
+/// name.
 #[test]
 fn the_switch_has_its_hysteresis() {
     let global = PositionGains {
@@ -162,24 +171,54 @@ fn the_switch_has_its_hysteresis() {
         ks: 1.0,
         saturation: 2.5,
         saturation_shape: PositionSaturation::Norm,
+        vertical: None,
     };
     let l = LocalGains {
         kp: 9.0,
         kv: 6.0,
         kf: 4.0,
         ks: 10.0,
+        saturation: 1.5,
         energy_in: 0.01,
         energy_out: 0.02,
     };
     assert!(l.validate(&global).is_ok());
-    assert_eq!(l.next_regime(Regime::Global, 0.011), Regime::Global);
-    assert_eq!(l.next_regime(Regime::Global, 0.01), Regime::Local);
-    assert_eq!(l.next_regime(Regime::Local, 0.019), Regime::Local);
-    assert_eq!(l.next_regime(Regime::Local, 0.021), Regime::Global);
+    let rest = FilterState::zero();
+    let regime = |r: Regime, e: f64, f: &FilterState<f64>| l.switch(&global, r, e, f).0;
+    assert_eq!(regime(Regime::Global, 0.011, &rest), Regime::Global);
+    assert_eq!(regime(Regime::Global, 0.01, &rest), Regime::Local);
+    assert_eq!(regime(Regime::Local, 0.019, &rest), Regime::Local);
+    assert_eq!(regime(Regime::Local, 0.021, &rest), Regime::Global);
+    // Filter states outside the local set (|u_f| = 2 > 1.5) keep the global gains.
+    let wide = FilterState {
+        u_f: Vector3::new(2.0, 0.0, 0.0),
+        u_s: Vector3::new(2.0, 0.0, 0.0),
+    };
+    assert_eq!(regime(Regime::Global, 0.001, &wide), Regime::Global);
+    // Entering, u̇ = −k_f(u_f − u_s) keeps its value.
+    let moving = FilterState {
+        u_f: Vector3::new(1.0, 0.0, 0.0),
+        u_s: Vector3::new(0.2, 0.0, 0.0),
+    };
+    let (r, f) = l.switch(&global, Regime::Global, 0.001, &moving);
+    assert_eq!(r, Regime::Local);
+    let (before, after) = ((moving.u_f - moving.u_s) * 0.5, (f.u_f - f.u_s) * 4.0);
+    assert!((before - after).norm() < 1e-12);
     let p = l.position(&global);
-    assert_eq!((p.kf, p.saturation, p.saturation_shape), (4.0, 2.5, PositionSaturation::Norm));
+    assert_eq!(
+        (p.kf, p.saturation, p.saturation_shape),
+        (4.0, 1.5, PositionSaturation::Norm)
+    );
+    let wide_local = LocalGains {
+        saturation: 3.0,
+        ..l
+    };
+    assert!(format!("{}", wide_local.validate(&global).unwrap_err()).contains("local M_p"));
     let slow = LocalGains { kf: 0.4, ..l };
     assert!(format!("{}", slow.validate(&global).unwrap_err()).contains("local k_f"));
-    let inverted = LocalGains { energy_out: 0.01, ..l };
+    let inverted = LocalGains {
+        energy_out: 0.01,
+        ..l
+    };
     assert!(format!("{}", inverted.validate(&global).unwrap_err()).contains("E_out"));
 }

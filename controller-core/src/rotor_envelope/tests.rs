@@ -53,8 +53,10 @@ fn point(t: &TorqueSet<f64>, p: [Vector3<f64>; 5]) -> Vector3<f64> {
         v * t.feedback_disks[k]
     };
     t.inertia.component_mul(&p[0]) * t.angular_acceleration
-        + t.gyroscopic.component_mul(&p[1].map(|x| x.clamp(-1.0, 1.0)))
-        + t.feedback_box.component_mul(&p[2].map(|x| x.clamp(-1.0, 1.0)))
+        + t.gyroscopic
+            .component_mul(&p[1].map(|x| x.clamp(-1.0, 1.0)))
+        + t.feedback_box
+            .component_mul(&p[2].map(|x| x.clamp(-1.0, 1.0)))
         + p[3] * t.feedback_radius
         + disk(2, p[4])
 }
@@ -169,7 +171,10 @@ fn intervals_and_margins_by_hand() {
     assert!((lo - 4.0).abs() < 1e-12 && (hi - 24.0).abs() < 1e-12);
     // τ_x = 0.2 N m: the left pair carries 0.5 N more, the right 0.5 N less, per rotor.
     let (lo, hi) = e.thrust_interval(&Vector3::new(0.2, 0.0, 0.0));
-    assert!((lo - 6.0).abs() < 1e-12 && (hi - 22.0).abs() < 1e-12, "[{lo}, {hi}]");
+    assert!(
+        (lo - 6.0).abs() < 1e-12 && (hi - 22.0).abs() < 1e-12,
+        "[{lo}, {hi}]"
+    );
     let f = rotors(&e, lo, &Vector3::new(0.2, 0.0, 0.0));
     assert!((b * f - Vector4::new(lo, 0.2, 0.0, 0.0)).norm() < 1e-12);
     let half = Vector3::new(0.1, 0.05, 0.01);

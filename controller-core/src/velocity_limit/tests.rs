@@ -13,6 +13,7 @@ fn gains() -> PositionGains<f64> {
         ks: 0.4,
         saturation: 1.0,
         saturation_shape: crate::position_saturation::PositionSaturation::Componentwise,
+        vertical: None,
     }
 }
 

@@ -73,10 +73,30 @@ pub struct GainsTable {
     /// paper's `−σ_p(k_p z₁ + k_v z₂)`; extension, docs/velocity-limit.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub velocity_limit: Option<VelocityLimitTable>,
+    /// `[gains.vertical]`: the vertical channel's own saturation levels (absent = off, `M_p` on
+    /// every axis; extension, docs/vertical-channel.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vertical: Option<VerticalTable>,
     /// `[gains.local]`: the envelope design's local regime (absent = off, one set of position
     /// gains; extension, docs/envelope-design.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub local: Option<LocalTable>,
+}
+
+/// `[gains.vertical]`: the vertical channel of the position feedback apart from the horizontal
+/// one (extension, docs/vertical-channel.md, controller-core's `vertical_channel`).
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct VerticalTable {
+    /// `M_up` [m/s²]: the largest upward `ubar_p,z` (braking a fall).
+    pub up_m_s2: f64,
+    /// `M_down` [m/s²]: the largest downward `ubar_p,z` (Theorem 1's thrust floor takes only this).
+    pub down_m_s2: f64,
+    /// `k_f,z` [1/s]: the vertical output filter's bandwidth.
+    pub kf: f64,
+    /// `k_s,z` [1/s]: the vertical inner filter's bandwidth.
+    pub ks: f64,
 }
 
 /// `[gains.local]`: the envelope design's local position gains, flown while the attitude energy
@@ -94,6 +114,8 @@ pub struct LocalTable {
     pub kf: f64,
     /// `k_s` [1/s] of the local regime.
     pub ks: f64,
+    /// `M_p,L` [m/s²]: the local regime's saturation level, at most `[gains] M_p`.
+    pub M_p_m_s2: f64,
     /// `E_in` [J]: the local gains take over once the attitude energy is at most this.
     pub energy_in_J: f64,
     /// `E_out` [J], above `E_in`: the global gains take back over above this.

@@ -13,7 +13,7 @@ use anyhow::{anyhow, Result};
 use controller_core::{certify, Certificate, FilterStart, Trajectory};
 use serde::Serialize;
 
-use crate::bounds::tight::{tight_bounds, TightBounds, TightOptions};
+use crate::bounds::tight::{tight_bounds, TightBounds, TightLower, TightOptions};
 use crate::model::scenario::Scenario;
 use nalgebra::Vector3;
 
@@ -111,8 +111,43 @@ pub fn scenario_tight_bounds_with(
 ) -> Result<TightBounds> {
     let (vehicle, gains) = (scenario.vehicle(), scenario.gains());
     let constants = scenario.trajectory::<f64>().constants();
+    if gains.position.vertical.is_some() || gains.local.is_some() {
+        return certified_stand_in(scenario);
+    }
     tight_bounds(&vehicle, &gains, &constants, FilterStart::Zero, options)
         .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))
+}
+
+/// The certificate's own bounds in the tight bounds' place, for the set-ups the branch and bound
+/// does not model (the vertical channel apart, docs/vertical-channel.md, and the envelope
+/// design's local regime, docs/envelope-design.md): its confining set is the paper's symmetric
+/// one with one set of position gains. Sound (they are the certified bounds, each the larger of
+/// the global and the local regime's), only not tighter; `boxes` is 0, which says no search ran.
+/// Errors: the certificate cannot be computed.
+fn certified_stand_in(scenario: &Scenario) -> Result<TightBounds> {
+    let c = scenario_certificate(scenario)?;
+    let b = &c.bounds;
+    let (mut w, mut a) = (b.angular_velocity, b.angular_acceleration);
+    if let Some(l) = &c.local {
+        w = w.max(l.bounds.angular_velocity);
+        a = a.max(l.bounds.angular_acceleration);
+    }
+    let torque: [f64; 3] = c.torque_max_all().into();
+    Ok(TightBounds {
+        angular_velocity: w,
+        angular_acceleration: a,
+        horizontal_acceleration: a,
+        yaw_acceleration: a,
+        torque_max: torque,
+        lower: TightLower {
+            angular_velocity: 0.0,
+            angular_acceleration: 0.0,
+            horizontal_acceleration: 0.0,
+            yaw_acceleration: 0.0,
+            torque_max: [0.0; 3],
+        },
+        boxes: 0,
+    })
 }
 
 /// What a run's samples are checked against.

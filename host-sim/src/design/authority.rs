@@ -127,6 +127,10 @@ pub struct PositionLaw<'a> {
     /// The chain `certify` bounds `|ω̇_d|` with: the paper's Lemma 1 or its tangential form
     /// (docs/tangential-lemma1.md); not a position law, but it enters the same bounds.
     pub lemma1: Lemma1Form,
+    /// `Some((up, down, kf, ks))`: the vertical channel apart (docs/vertical-channel.md), its
+    /// levels `M_up = up M_p` and `M_down = down M_p` and its filters `k_f,z = kf k_f`,
+    /// `k_s,z = ks k_f,z` (ratios, dimensionless).
+    pub vertical: Option<(f64, f64, f64, f64)>,
 }
 
 impl PositionLaw<'_> {
@@ -151,6 +155,14 @@ pub fn probe_gains(mp: f64, kf: f64, ks: f64, law: PositionLaw<'_>) -> Gains<f64
     g.hysteresis = DELTA;
     g.reset_threshold = ALPHA;
     g.integral = law.integral.map(|i| i.probe(kf, ks));
+    g.position.vertical =
+        law.vertical
+            .map(|(up, down, kf_z, ks_z)| controller_core::VerticalChannel {
+                up: up * mp,
+                down: down * mp,
+                kf: kf_z * kf,
+                ks: ks_z * kf_z * kf,
+            });
     g
 }
 
@@ -354,11 +366,10 @@ pub fn thrust_fits(rotors: &RotorSet, env: &Envelope, margin: f64) -> bool {
 /// certified thrust interval of `env` strictly inside the range shrunk by `margin`: with it,
 /// airmode leaves the law's thrust unchanged near convergence (docs/airmode.md).
 pub fn aligned_fits(rotors: &RotorSet, env: &Envelope, margin: f64) -> bool {
-    rotors.envelope(margin).set_margin(
-        env.thrust.0,
-        env.thrust.1,
-        &env.bounds.aligned_feedforward,
-    ) > 0.0
+    rotors
+        .envelope(margin)
+        .set_margin(env.thrust.0, env.thrust.1, &env.bounds.aligned_feedforward)
+        > 0.0
 }
 
 /// `ι_max` for `(M_p, k_f, k_s)`; `-∞` when the bounds are undefined.
@@ -407,10 +418,12 @@ pub fn saturation_max_with(
     (kf, ks): (f64, f64),
     law: PositionLaw<'_>,
 ) -> Option<f64> {
-    // With the integral action the extended `T_min = m(g − K_a3 − M_p − M_i,z) > 0` caps `M_p`.
-    let top = vehicle.gravity
+    // With the integral action the extended `T_min = m(g − K_a3 − M_p − M_i,z) > 0` caps `M_p`;
+    // with the vertical channel apart it caps `M_down = down M_p` instead.
+    let top = (vehicle.gravity
         - constants.vertical_acceleration
-        - law.integral.map_or(0.0, |i| i.level_m_s2[2]);
+        - law.integral.map_or(0.0, |i| i.level_m_s2[2]))
+        / law.vertical.map_or(1.0, |(_, down, _, _)| down);
     if top <= 0.0 {
         return None;
     }

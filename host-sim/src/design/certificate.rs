@@ -107,7 +107,15 @@ pub fn certify_design(
     constants: &TrajectoryConstants<f64>,
     margin: f64,
 ) -> Result<Certified> {
-    certify_design_with(vehicle, rotors, gains, constants, margin, None, RotorFit::Set)
+    certify_design_with(
+        vehicle,
+        rotors,
+        gains,
+        constants,
+        margin,
+        None,
+        RotorFit::Set,
+    )
 }
 
 /// The f32 copy of a torque set (what the firmware computes from the flight file).

@@ -46,6 +46,9 @@ pub const DOUBLED_LAG_WEIGHT: f64 = 0.5;
 pub const NOMINAL_TASK_WEIGHT: f64 = 2.0;
 /// What an unsettled nominal task counts in the objective \[s\]: twice its 10 s run.
 pub const UNSETTLED_TASK_S: f64 = 20.0;
+/// Objective weight of the altitude the covered disturbance takes from rest [s/m]: a pilot's
+/// "how far does it sag when I add a payload" (the settling time alone does not see a deep sag).
+pub const DISTURBANCE_LOSS_WEIGHT_S_PER_M: f64 = 10.0;
 /// Cost floor of a design that fails a convergence constraint.
 pub const PENALTY: f64 = 1000.0;
 
@@ -257,7 +260,8 @@ pub fn nominal_tasks(scenario: &Scenario) -> Result<SanityRow> {
 
 /// Scores a design: `worst settling [s] + 0.5 × worst settling with the motor time constant
 /// doubled [s] + 1 s/m × altitude lost [m] + 2 × (1 m step's + 30° roll's settling [s])`
-/// (`+` the disturbed hover's settling time \[s\] with `integral`) when every run
+/// (`+` the disturbed hover's settling time \[s\] and 10 s/m × its altitude lost, with
+/// `integral`) when every run
 /// converges, else `PENALTY + 100 × (runs not converged) + 10 ln(1 + altitude lost [m]) +
 /// Σ ln(1 + final position error [m])` over the nominal 180° starts (and the disturbed hover).
 /// `scenario` and `hover` fly the vehicle's motor time constant `tau_m` \[s\].
@@ -313,10 +317,10 @@ pub fn evaluate(
                 .fold(0.0f64, f64::max);
             w + DOUBLED_LAG_WEIGHT * doubled_worst
                 + ALTITUDE_WEIGHT_S_PER_M * upside.altitude_loss_m
-                + disturbed
-                    .as_ref()
-                    .and_then(|t| t.settling_time_s)
-                    .unwrap_or(0.0)
+                + disturbed.as_ref().map_or(0.0, |t| {
+                    t.settling_time_s.unwrap_or(0.0)
+                        + DISTURBANCE_LOSS_WEIGHT_S_PER_M * t.altitude_loss_m
+                })
                 + nominal_task_cost(&tasks)
         }
         // Graded, so the optimiser can climb towards feasibility: fewer failures first, then

@@ -191,7 +191,10 @@ pub(crate) fn probe_choices(law: AttitudeLaw) -> Choices {
         ks: 0.45,
         saturation_fraction: 0.5,
         iota_fraction: 0.5,
-        ..Choices::initial_guess(super::variables::Layout { law, local: false })
+        ..Choices::initial_guess(super::variables::Layout {
+            law,
+            ..Default::default()
+        })
     }
 }
 

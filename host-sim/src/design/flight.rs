@@ -74,11 +74,21 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
                 speed_m_s: v.speed,
                 braking_m_s2: v.braking,
             }),
+        vertical: g
+            .position
+            .vertical
+            .map(|v| firmware::flight_tables::VerticalTable {
+                up_m_s2: v.up,
+                down_m_s2: v.down,
+                kf: v.kf,
+                ks: v.ks,
+            }),
         local: g.local.map(|l| firmware::flight_tables::LocalTable {
             kp: l.kp,
             kv: l.kv,
             kf: l.kf,
             ks: l.ks,
+            M_p_m_s2: l.saturation,
             energy_in_J: l.energy_in,
             energy_out_J: l.energy_out,
         }),

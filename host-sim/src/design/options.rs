@@ -74,6 +74,9 @@ pub struct DesignOptions {
     /// Whether the envelope design's local regime is searched too (`--envelope`,
     /// docs/envelope-design.md): faster position gains while the attitude energy is small.
     pub envelope: bool,
+    /// Whether the vertical channel's own levels are searched too (`--vertical`,
+    /// docs/vertical-channel.md): a braking level upwards apart from the downward one.
+    pub vertical: bool,
     /// The bounds that certify Theorem 2's torque condition and the rotor fit.
     pub bounds: BoundsKind,
     /// `Some`: the design carries the bounded integral action sized to cover this disturbance,

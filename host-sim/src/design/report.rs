@@ -4,8 +4,8 @@
 use serde::Serialize;
 
 use super::evaluate::{
-    Trial, ALTITUDE_WEIGHT_S_PER_M, DOUBLED_LAG_WEIGHT, NOMINAL_TASK_WEIGHT, TAIL_ATTITUDE_DEG,
-    TAIL_S, UNSETTLED_TASK_S,
+    Trial, ALTITUDE_WEIGHT_S_PER_M, DISTURBANCE_LOSS_WEIGHT_S_PER_M, DOUBLED_LAG_WEIGHT,
+    NOMINAL_TASK_WEIGHT, TAIL_ATTITUDE_DEG, TAIL_S, UNSETTLED_TASK_S,
 };
 use super::flight::{gains_config, limits_config};
 use super::options::{DesignOptions, Scored};
@@ -319,7 +319,8 @@ impl Report {
                      altitude lost recovering from upside down at hover [m] + {NOMINAL_TASK_WEIGHT} x the \
                      settling times [s] of the 1 m step and of the 30 degree roll from hover (10 s runs; \
                      {UNSETTLED_TASK_S} s when unsettled) (+ the disturbed hover's \
-                     settling time [s] with the integral action), on the scenario's plant \
+                     settling time [s] + {DISTURBANCE_LOSS_WEIGHT_S_PER_M} s/m x its altitude lost [m] \
+                     with the integral action), on the scenario's plant \
                      with the vehicle's motor time constant and the controller's sample-and-hold; \
                      settled: |p - p_d| < 5 cm and attitude error < 2 deg until the end; constraint: \
                      every run (also with the motor time constant doubled) settles by the end - {TAIL_S} s \

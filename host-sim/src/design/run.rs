@@ -195,6 +195,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         integral,
         shape: o.position_saturation,
         lemma1: o.lemma1,
+        vertical: None,
     };
     let binding = binding_condition(
         &vehicle,
@@ -211,8 +212,14 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
                 vehicle.name
             );
             let s = largest_certifiable_scale(&requested, |r| {
-                binding_condition(&vehicle, &set, (o.margin, o.law, o.bounds, o.fit), position, r)
-                    .is_none()
+                binding_condition(
+                    &vehicle,
+                    &set,
+                    (o.margin, o.law, o.bounds, o.fit),
+                    position,
+                    r,
+                )
+                .is_none()
             })
             .with_context(|| {
                 format!(
@@ -248,6 +255,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
     let layout = Layout {
         law: o.law,
         local: o.envelope,
+        vertical: o.vertical,
     };
     let cost = |x: &[f64]| match score(
         &vehicle,

@@ -264,7 +264,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
     put(format!(
         "/// `[gains]` (Table I names).\npub(crate) fn gains() -> controller_core::Gains<f32> {{\n    \
          controller_core::Gains {{\n        \
-         position: controller_core::position::PositionGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {}, saturation_shape: controller_core::PositionSaturation::{:?} }},\n        \
+         position: controller_core::position::PositionGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {}, saturation_shape: controller_core::PositionSaturation::{:?}, vertical: {} }},\n        \
          attitude: controller_core::attitude_control::AttitudeGains {{ k_mrp: {}, k_omega: {}, mrp_saturation: {}, omega_saturation: {} }},\n        \
          hysteresis: {},\n        reset_threshold: {},\n        integral: {},\n        tilt_priority: {},\n        velocity_limit: {},\n        lemma1: controller_core::Lemma1Form::{:?},\n        local: {},\n    }}\n}}",
         lit(g.kp),
@@ -273,6 +273,14 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         lit(g.ks),
         lit(g.M_p),
         g.position_saturation,
+        // `[gains.vertical]` (absent = None, the paper's one level on every axis).
+        g.vertical.map_or("None".to_string(), |v| format!(
+            "Some(controller_core::VerticalChannel {{ up: {}, down: {}, kf: {}, ks: {} }})",
+            lit(v.up_m_s2),
+            lit(v.down_m_s2),
+            lit(v.kf),
+            lit(v.ks)
+        )),
         lit(g.k_theta),
         lit(g.k_omega),
         lit(g.M_theta),
@@ -321,11 +329,12 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         g.lemma1,
         // `[gains.local]` (absent = None, one set of position gains).
         g.local.map_or("None".to_string(), |l| format!(
-            "Some(controller_core::LocalGains {{ kp: {}, kv: {}, kf: {}, ks: {}, energy_in: {}, energy_out: {} }})",
+            "Some(controller_core::LocalGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {}, energy_in: {}, energy_out: {} }})",
             lit(l.kp),
             lit(l.kv),
             lit(l.kf),
             lit(l.ks),
+            lit(l.M_p_m_s2),
             lit(l.energy_in_J),
             lit(l.energy_out_J)
         ))

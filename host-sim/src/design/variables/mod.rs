@@ -54,9 +54,12 @@ use super::authority::{
 pub const DIMENSION: usize = 9;
 /// Number of decision variables with tilt priority (three more).
 pub const TILT_DIMENSION: usize = DIMENSION + 3;
-/// Number of decision variables the envelope design's local regime adds, after the attitude
-/// law's ([`LocalChoices`]).
-pub const LOCAL_DIMENSION: usize = 5;
+/// Number of decision variables the envelope design's local regime adds, after the vertical
+/// channel's ([`LocalChoices`]).
+pub const LOCAL_DIMENSION: usize = 6;
+/// Number of decision variables the vertical channel apart adds, after the attitude law's
+/// ([`VerticalChoices`]).
+pub const VERTICAL_DIMENSION: usize = 4;
 
 /// The attitude feedback a design searches.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
@@ -80,20 +83,83 @@ impl AttitudeLaw {
     }
 }
 
-/// Which variables a point of the unit box holds: the attitude law's, and the local regime's
-/// after them when the design has the envelope (docs/envelope-design.md).
+/// Which variables a point of the unit box holds: the attitude law's, then the vertical
+/// channel's (docs/vertical-channel.md), then the local regime's (docs/envelope-design.md), each
+/// when the design searches it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Layout {
     /// The attitude feedback searched.
     pub law: AttitudeLaw,
     /// Whether the envelope design's local regime is searched too.
     pub local: bool,
+    /// Whether the vertical channel's own levels are searched too.
+    pub vertical: bool,
 }
 
 impl Layout {
     /// Number of decision variables.
     pub fn dimension(self) -> usize {
-        self.law.dimension() + if self.local { LOCAL_DIMENSION } else { 0 }
+        self.law.dimension()
+            + if self.vertical { VERTICAL_DIMENSION } else { 0 }
+            + if self.local { LOCAL_DIMENSION } else { 0 }
+    }
+}
+
+/// The vertical channel's levels as ratios to the horizontal `M_p` (docs/vertical-channel.md).
+///
+/// | # | variable | range |
+/// |---|----------|-------|
+/// | 0 | `M_up / M_p` | 1 to 8 (log) |
+/// | 1 | `M_down / M_p` | 0.1 to 1 (log) |
+/// | 2 | `k_f,z / k_f` | 0.5 to 10 (log) |
+/// | 3 | `k_s,z / k_f,z` | 1.5 to 12 (log) |
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct VerticalChoices {
+    /// `M_up / M_p`.
+    pub up_ratio: f64,
+    /// `M_down / M_p`.
+    pub down_ratio: f64,
+    /// `k_f,z / k_f`.
+    pub kf_ratio: f64,
+    /// `k_s,z / k_f,z`.
+    pub ks_ratio: f64,
+}
+
+const VERTICAL_RANGES: [(f64, f64); VERTICAL_DIMENSION] =
+    [(1.0, 8.0), (0.1, 1.0), (0.5, 10.0), (1.5, 12.0)];
+
+impl VerticalChoices {
+    /// The initial guess: brake at three times the horizontal level, descend at half of it,
+    /// vertical filters twice as fast as the horizontal ones.
+    pub fn initial_guess() -> Self {
+        Self {
+            up_ratio: 3.0,
+            down_ratio: 0.5,
+            kf_ratio: 2.0,
+            ks_ratio: 3.0,
+        }
+    }
+
+    fn from_unit(x: &[f64]) -> Self {
+        let v = |i: usize| {
+            let (lo, hi) = VERTICAL_RANGES[i];
+            let x = x.get(i).copied().unwrap_or(0.5).clamp(0.0, 1.0);
+            (lo.ln() + x * (hi.ln() - lo.ln())).exp()
+        };
+        Self {
+            up_ratio: v(0),
+            down_ratio: v(1),
+            kf_ratio: v(2),
+            ks_ratio: v(3),
+        }
+    }
+
+    fn to_unit(self) -> [f64; VERTICAL_DIMENSION] {
+        let values = [self.up_ratio, self.down_ratio, self.kf_ratio, self.ks_ratio];
+        core::array::from_fn(|i| {
+            let (lo, hi) = VERTICAL_RANGES[i];
+            ((values[i].ln() - lo.ln()) / (hi.ln() - lo.ln())).clamp(0.0, 1.0)
+        })
     }
 }
 
@@ -106,12 +172,14 @@ impl Layout {
 /// | 2 | local position natural frequency `ω_p,L` | 0.5 to 8 rad/s (log) |
 /// | 3 | local position damping `ζ_p,L` | 0.6 to 1.5 |
 /// | 4 | the tilt error `θ_out` whose MRP potential is `E_out` | 2 to 60 degrees (log) |
+/// | 5 | `M_p,L / M_p` | 0.2 to 1 |
 const LOCAL_RANGES: [(f64, f64, bool); LOCAL_DIMENSION] = [
     (1.0, 30.0, true),
     (1.5, 12.0, true),
     (0.5, 8.0, true),
     (0.6, 1.5, false),
     (2.0, 60.0, true),
+    (0.2, 1.0, false),
 ];
 
 /// The envelope design's local regime, before it becomes gains (docs/envelope-design.md).
@@ -127,18 +195,21 @@ pub struct LocalChoices {
     pub position_damping: f64,
     /// The tilt error [deg] at rest whose MRP potential is `E_out` (`E_in = E_out / 2`).
     pub tilt_out_deg: f64,
+    /// `M_p,L / M_p`: the local regime's share of the saturation level.
+    pub saturation_fraction: f64,
 }
 
 impl LocalChoices {
-    /// The initial guess: filters four times the global ones, a 3 rad/s local loop, `E_out` at
-    /// 10 degrees.
+    /// The initial guess: filters twice the global ones (the fit then slows them as needed), a
+    /// stiff 5 rad/s local loop, `E_out` at 30 degrees.
     pub fn initial_guess() -> Self {
         Self {
-            kf_ratio: 4.0,
-            ks_ratio: 2.5,
-            position_frequency_rad_s: 3.0,
+            kf_ratio: 2.0,
+            ks_ratio: 3.0,
+            position_frequency_rad_s: 5.0,
             position_damping: 1.0,
-            tilt_out_deg: 10.0,
+            tilt_out_deg: 30.0,
+            saturation_fraction: 0.7,
         }
     }
 
@@ -158,6 +229,7 @@ impl LocalChoices {
             position_frequency_rad_s: v(2),
             position_damping: v(3),
             tilt_out_deg: v(4),
+            saturation_fraction: v(5),
         }
     }
 
@@ -168,6 +240,7 @@ impl LocalChoices {
             self.position_frequency_rad_s,
             self.position_damping,
             self.tilt_out_deg,
+            self.saturation_fraction,
         ];
         core::array::from_fn(|i| {
             let (lo, hi, log) = LOCAL_RANGES[i];
@@ -240,6 +313,8 @@ pub struct Choices {
     pub position_damping: f64,
     /// How tilt priority spends the per-axis levels; `None`: the paper's law.
     pub tilt: Option<TiltChoices>,
+    /// The vertical channel's levels; `None`: `M_p` on every axis.
+    pub vertical: Option<VerticalChoices>,
     /// The envelope design's local regime; `None`: one set of position gains.
     pub local: Option<LocalChoices>,
 }
@@ -278,6 +353,15 @@ impl Choices {
             roll_trace_share: v(11),
         });
         let base = layout.law.dimension();
+        let vertical = layout
+            .vertical
+            .then(|| VerticalChoices::from_unit(x.get(base..).unwrap_or(&[])));
+        let base = base
+            + if layout.vertical {
+                VERTICAL_DIMENSION
+            } else {
+                0
+            };
         let local = layout
             .local
             .then(|| LocalChoices::from_unit(x.get(base..).unwrap_or(&[])));
@@ -292,6 +376,7 @@ impl Choices {
             position_frequency_rad_s: v(7),
             position_damping: v(8),
             tilt,
+            vertical,
             local,
         }
     }
@@ -316,6 +401,7 @@ impl Choices {
         .chain(tilt.iter().flatten())
         .enumerate()
         .map(|(i, &v)| to_unit(i, v))
+        .chain(self.vertical.iter().flat_map(|v| v.to_unit()))
         .chain(self.local.iter().flat_map(|l| l.to_unit()))
         .collect()
     }
@@ -337,6 +423,7 @@ impl Choices {
             position_frequency_rad_s: 1.0,
             position_damping: 1.0,
             tilt: (law == AttitudeLaw::TiltPriority).then(TiltChoices::initial_guess),
+            vertical: layout.vertical.then(VerticalChoices::initial_guess),
             local: layout.local.then(LocalChoices::initial_guess),
         }
     }
@@ -427,7 +514,12 @@ fn tilt_gains(
 /// is not certifiable on this vehicle), or when with the integral action no `k_i` makes the
 /// linearised loop stable ([`super::integral::IntegralSpec::gains`]).
 pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
-    let law = ctx.position;
+    let law = PositionLaw {
+        vertical: c
+            .vertical
+            .map(|v| (v.up_ratio, v.down_ratio, v.kf_ratio, v.ks_ratio)),
+        ..ctx.position
+    };
     let mp_max = saturation_max_with(
         ctx.bounds,
         ctx.vehicle,
@@ -541,7 +633,13 @@ fn local_fits(ctx: &Context<'_>, g: &Gains<f64>, local: LocalGains<f64>) -> bool
         thrust_max: 1.0,
         torque_max: Vector3::repeat(1.0),
     };
-    let Ok(c) = certify(ctx.vehicle, &limits, &gains, ctx.constants, FilterStart::Zero) else {
+    let Ok(c) = certify(
+        ctx.vehicle,
+        &limits,
+        &gains,
+        ctx.constants,
+        FilterStart::Zero,
+    ) else {
         return false;
     };
     let Some(l) = c.local else {
@@ -570,6 +668,7 @@ fn local_gains(ctx: &Context<'_>, g: &Gains<f64>, l: &LocalChoices) -> Option<Lo
             kv: 2.0 * l.position_damping * wp,
             kf,
             ks: kf * l.ks_ratio,
+            saturation: l.saturation_fraction * g.position.saturation,
             energy_in: 0.5 * e_out,
             energy_out: e_out,
         }

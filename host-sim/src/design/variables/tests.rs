@@ -6,6 +6,7 @@ fn unit_box_round_trips() {
     let layout = Layout {
         law: AttitudeLaw::TiltPriority,
         local: true,
+        vertical: true,
     };
     let c = Choices::initial_guess(layout);
     let back = Choices::from_unit(&c.to_unit(), layout);
@@ -13,13 +14,16 @@ fn unit_box_round_trips() {
         assert!((a - b).abs() < 1e-12);
     }
     assert!((back.ks - c.ks).abs() < 1e-9 && (back.kf - c.kf).abs() < 1e-9);
-    assert_eq!(c.to_unit().len(), TILT_DIMENSION + LOCAL_DIMENSION);
-    assert!(back.local.is_some());
+    assert_eq!(
+        c.to_unit().len(),
+        TILT_DIMENSION + VERTICAL_DIMENSION + LOCAL_DIMENSION
+    );
+    assert!(back.local.is_some() && back.vertical.is_some());
     let paper_layout = Layout::default();
     let paper = Choices::initial_guess(paper_layout);
     assert_eq!(paper.to_unit().len(), DIMENSION);
     let back = Choices::from_unit(&paper.to_unit(), paper_layout);
-    assert!(back.tilt.is_none() && back.local.is_none());
+    assert!(back.tilt.is_none() && back.local.is_none() && back.vertical.is_none());
 }
 
 /// A uniform point of the unit box of `law`.
@@ -74,6 +78,7 @@ fn every_point_of_the_box_is_certified() {
                 integral: None,
                 shape,
                 lemma1: controller_core::Lemma1Form::Tangential,
+                vertical: None,
             },
             speed_limit: None,
         };
@@ -83,7 +88,7 @@ fn every_point_of_the_box_is_certified() {
                 &x,
                 Layout {
                     law,
-                    local: false,
+                    ..Layout::default()
                 },
             );
             let m = map(&ctx, &choices).expect("the paper helix is usable on the Crazyflie");
@@ -143,20 +148,28 @@ fn every_point_is_certified_with_the_tight_bounds() {
     for law in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority] {
         for _ in 0..6 {
             let x = random_point(&mut rng, law);
-            let m = map(&ctx, &Choices::from_unit(&x, Layout { law, local: false }))
-                .expect("usable on the Crazyflie");
+            let m = map(
+                &ctx,
+                &Choices::from_unit(
+                    &x,
+                    Layout {
+                        law,
+                        ..Layout::default()
+                    },
+                ),
+            )
+            .expect("usable on the Crazyflie");
             let tight = tight_torque_box(&v.body, &m.gains, &constants, SEARCH_BOXES).unwrap();
-            let c =
-                certify_design_with(
-                    &v.body,
-                    &v.rotors,
-                    &m.gains,
-                    &constants,
-                    0.05,
-                    Some(tight),
-                    Default::default(),
-                )
-                .unwrap();
+            let c = certify_design_with(
+                &v.body,
+                &v.rotors,
+                &m.gains,
+                &constants,
+                0.05,
+                Some(tight),
+                Default::default(),
+            )
+            .unwrap();
             assert!(c.ok(), "{law:?} {x:?}: {:?} margin {}", c.tight, c.margin);
             assert!(c.margin >= 0.05 - 1e-6, "{}", c.margin);
         }

@@ -44,7 +44,11 @@ impl<T: Scalar> PaperLaw<T> {
         controller
             .set_thrust_mode(mode)
             .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))?;
-        controller.set_airmode(scenario.airmode_envelope::<T>().map_err(|e| anyhow!("{e}"))?);
+        controller.set_airmode(
+            scenario
+                .airmode_envelope::<T>()
+                .map_err(|e| anyhow!("{e}"))?,
+        );
         Ok(Self {
             controller,
             trajectory,

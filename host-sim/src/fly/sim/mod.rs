@@ -261,9 +261,7 @@ fn run_generic<T: Scalar>(
 ) -> Result<Summary> {
     let (cert, tight) = (&setup.certificate, &setup.tight);
     let tight_limits = tight_limits(tight);
-    let [thrust_low, thrust_high] = scenario
-        .thrust_interval(cert)
-        .map_err(|e| anyhow!("{e}"))?;
+    let [thrust_low, thrust_high] = scenario.thrust_interval(cert).map_err(|e| anyhow!("{e}"))?;
     // Rounding slack for the bound checks: f32 carries ~1e-7 relative error.
     let slack = 1e-5;
     // Theorem 2's per-axis bounds, or with the envelope design each the larger of them and the

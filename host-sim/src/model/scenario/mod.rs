@@ -286,6 +286,12 @@ impl Scenario {
             PositionSaturationConfig::Componentwise => PositionSaturation::Componentwise,
             PositionSaturationConfig::Norm => PositionSaturation::Norm,
         };
+        out.position.vertical = g.vertical.map(|v| controller_core::VerticalChannel {
+            up: lit(v.up_m_s2),
+            down: lit(v.down_m_s2),
+            kf: lit(v.kf),
+            ks: lit(v.ks),
+        });
         out.lemma1 = match g.lemma1 {
             Lemma1Config::Paper => Lemma1Form::Paper,
             Lemma1Config::Tangential => Lemma1Form::Tangential,
@@ -310,6 +316,7 @@ impl Scenario {
             kv: lit(l.kv),
             kf: lit(l.kf),
             ks: lit(l.ks),
+            saturation: lit(l.M_p_m_s2),
             energy_in: lit(l.energy_in_J),
             energy_out: lit(l.energy_out_J),
         });

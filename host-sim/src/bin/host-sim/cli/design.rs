@@ -170,6 +170,11 @@ pub struct DesignArgs {
     /// `off`: one set of position gains.
     #[arg(long, value_enum, default_value_t = DesignAirmode::On)]
     pub envelope: DesignAirmode,
+    /// The vertical channel apart (docs/vertical-channel.md): `on` searches the vertical
+    /// feedback's own upward (braking) and downward levels beside the horizontal `M_p`; `off`:
+    /// `M_p` on every axis.
+    #[arg(long, value_enum, default_value_t = DesignAirmode::On)]
+    pub vertical: DesignAirmode,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/design")]
     pub out: PathBuf,
@@ -208,6 +213,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
             DesignLaw::TiltPriority => AttitudeLaw::TiltPriority,
         },
         envelope: args.envelope == DesignAirmode::On,
+        vertical: args.vertical == DesignAirmode::On,
         bounds: match args.bounds {
             DesignBounds::Paper => BoundsKind::Paper,
             DesignBounds::Tight => BoundsKind::Tight,

@@ -437,6 +437,7 @@ impl AdmissibleState {
         // the norm shape's ball, and only its value enters the law (docs/position-saturation.md).
         let p = &PositionGains {
             saturation_shape: PositionSaturation::Componentwise,
+            vertical: None,
             ..setup.gains.position
         };
         let filter = self.filter_state(setup);
