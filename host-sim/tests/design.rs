@@ -30,6 +30,8 @@ fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOptions 
         reference: None,
         seed: 3,
         margin: 0.05,
+        fit: Default::default(),
+        envelope: false,
         evaluations,
         duration_s: host_sim::design::options::DEFAULT_DURATION_S,
         law: Default::default(),
