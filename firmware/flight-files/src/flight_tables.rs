@@ -94,9 +94,9 @@ pub struct LocalTable {
     pub kf: f64,
     /// `k_s` [1/s] of the local regime.
     pub ks: f64,
-    /// `E_in` [J]: the local gains take over once the attitude energy is at most this.
+    /// `E_in` \[J\]: the local gains take over once the attitude energy is at most this.
     pub energy_in_J: f64,
-    /// `E_out` [J], above `E_in`: the global gains take back over above this.
+    /// `E_out` \[J\], above `E_in`: the global gains take back over above this.
     pub energy_out_J: f64,
 }
 
