@@ -6,8 +6,8 @@
 //! flattened here into a name, an `f32` and a unit.
 
 use controller_core::{
-    certify, Certificate, Condition, Controller, FilterStart, Gains, Limits, ParameterError,
-    ReferenceTrajectory, Trajectory, TrajectoryConstants, Vehicle,
+    certify, Certificate, Condition, Controller, FilterStart, Gains, Limits, LocalGains,
+    ParameterError, ReferenceTrajectory, Trajectory, TrajectoryConstants, Vehicle, VerticalChannel,
 };
 
 /// The parameters the firmware flies with.
@@ -90,6 +90,32 @@ pub fn gains_values(g: &Gains<f32>) -> [Value; 11] {
     ]
 }
 
+/// The vertical channel apart (extension, docs/vertical-channel.md): its upward (braking) and
+/// downward levels and its filter bandwidths.
+pub fn vertical_values(v: &VerticalChannel<f32>) -> [Value; 4] {
+    [
+        value("M_up", v.up, "m/s^2"),
+        value("M_down", v.down, "m/s^2"),
+        value("k_f_z", v.kf, "1/s"),
+        value("k_s_z", v.ks, "1/s"),
+    ]
+}
+
+/// The envelope design's local regime (extension, docs/envelope-design.md): its position gains
+/// and the attitude energy levels of its switch (`E_in`: the local gains take over at or below
+/// it; `E_out`: the global gains take back over above it).
+pub fn local_values(l: &LocalGains<f32>) -> [Value; 7] {
+    [
+        value("k_p_local", l.kp, "1/s^2"),
+        value("k_v_local", l.kv, "1/s"),
+        value("k_f_local", l.kf, "1/s"),
+        value("k_s_local", l.ks, "1/s"),
+        value("M_p_local", l.saturation, "m/s^2"),
+        value("E_in", l.energy_in, "J"),
+        value("E_out", l.energy_out, "J"),
+    ]
+}
+
 /// The Assumption 1 constants of the reference.
 pub fn constants_values(k: &TrajectoryConstants<f32>) -> [Value; 6] {
     [
@@ -163,6 +189,19 @@ pub fn fit_verdict(margin: f32, required: f32) -> &'static str {
         "set fits WITHOUT the required margin"
     } else {
         "set does NOT fit"
+    }
+}
+
+/// The banner's verdict on airmode's convergence from the aligned fit's `margin` (the
+/// feedforward at zero attitude error over Theorem 1's interval,
+/// [`crate::pipeline::gate::aligned_margin`]) and the `required` one: proven when it fits with
+/// the margin (docs/airmode.md), else shown by simulation only; NaN is not a proof.
+pub fn convergence_verdict(margin: f32, required: f32) -> &'static str {
+    if margin >= required {
+        "convergence proven (the aligned feedforward fits Theorem 1's interval)"
+    } else {
+        "convergence shown by simulation only (the aligned feedforward does not fit Theorem 1's \
+         interval with the margin)"
     }
 }
 
@@ -331,6 +370,42 @@ mod tests {
         all.sort_unstable();
         all.dedup();
         assert_eq!(all.len(), n);
+    }
+
+    /// The local regime's banner values are its gains and energy levels, with units, and their
+    /// names differ from Table I's; airmode's convergence verdict needs the aligned fit to leave
+    /// the required margin.
+    #[test]
+    fn local_regime_and_airmode_banner_values() {
+        let l = LocalGains {
+            kp: 25.0,
+            kv: 10.0,
+            kf: 3.0,
+            ks: 9.0,
+            saturation: 2.0,
+            energy_in: 1.0e-4,
+            energy_out: 2.0e-4,
+        };
+        let v = local_values(&l);
+        let named: Vec<_> = v.iter().map(|v| (v.name, v.value, v.unit)).collect();
+        assert_eq!(
+            named,
+            [
+                ("k_p_local", 25.0, "1/s^2"),
+                ("k_v_local", 10.0, "1/s"),
+                ("k_f_local", 3.0, "1/s"),
+                ("k_s_local", 9.0, "1/s"),
+                ("M_p_local", 2.0, "m/s^2"),
+                ("E_in", 1.0e-4, "J"),
+                ("E_out", 2.0e-4, "J")
+            ]
+        );
+        let table_i = gains_values(&Gains::paper());
+        assert!(v.iter().all(|v| table_i.iter().all(|g| g.name != v.name)));
+        assert!(convergence_verdict(0.06, 0.05).starts_with("convergence proven"));
+        for below in [0.04, -0.1, f32::NAN] {
+            assert!(convergence_verdict(below, 0.05).contains("simulation only"));
+        }
     }
 
     /// A refused set-up yields refusals, not a panic, from both the certificate and the controller.

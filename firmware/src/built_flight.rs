@@ -9,7 +9,7 @@ use crate::link::LinkTrust;
 use crate::motor_order::MotorOrder;
 
 /// The generated items: `FILE`, `airframe()`, `limits()`, `gains()`, `mission()`, `MARGIN`,
-/// `SMOOTHING_RATE`, `CONTROL_RATE`, `DESIGN`.
+/// `SMOOTHING_RATE`, `CONTROL_RATE`, `THRUST`, `AIRMODE`, `DESIGN`.
 // Literals written from a file, not by hand: a value that happens to be π is the file's.
 #[allow(clippy::approx_constant, clippy::excessive_precision)]
 mod generated {
@@ -100,7 +100,8 @@ pub const UNCERTIFIED_BUILD: bool = cfg!(feature = "uncertified-paper");
 
 impl FlightConfig {
     /// The build's flight file: its vehicle and rotors, `[limits]`, `[gains]`, the demo mission
-    /// (`[trajectory]`), the box-fit margin, the setpoint filter's bandwidth
+    /// (`[trajectory]`), the rotor-fit margin, the thrust and airmode (`[controller]`), the
+    /// setpoint filter's bandwidth
     /// (`[design] smoothing_rate_per_s`, 0.5/s if absent), the control law's rate
     /// (`[design] control_rate_hz` or the build's `FIRMWARE_CONTROL_RATE_HZ`, 100 Hz if
     /// neither), the `[design]` fields and the MAVLink signing set-up ([`SIGNING_KEY`],
@@ -125,6 +126,7 @@ impl FlightConfig {
             limits: generated::limits(),
             gains: generated::gains(),
             thrust: generated::THRUST,
+            airmode: generated::AIRMODE,
             control_rate: generated::CONTROL_RATE,
             reference: ReferenceConfig {
                 smoothing_rate: generated::SMOOTHING_RATE,

@@ -113,7 +113,9 @@ pub struct TelemetryConfig {
 
 /// How the collective thrust is computed from the control vector `u` (the flight file's
 /// `[controller]` table; docs/no-dive-thrust.md). Whatever the choice, the gate certifies the
-/// box `[low, high] × Π[−τ_i, τ_i]` with the choice's thrust interval ([`ThrustChoice::interval`]).
+/// certified torque set over the choice's thrust interval `[low, high]`
+/// ([`ThrustChoice::interval`]; with airmode, that interval at zero torque and the set's shadow,
+/// [`crate::pipeline::gate_check`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ThrustChoice {
     /// `T = m|u|`: the paper's law (Theorem 1's `[T_min, T_max]`). The default.
@@ -185,9 +187,10 @@ pub struct FlightConfig {
     /// The demo mission flown on `MAV_CMD_MISSION_START` (the flight file's `[trajectory]`;
     /// the paper's helix for [`FlightConfig::paper`]). It is part of what is certified at boot.
     pub mission: ReferenceTrajectory<f32>,
-    /// Smallest headroom the certified `(T, τ)` box must leave inside every rotor's thrust
+    /// Smallest headroom the certified `(T, τ)` set must leave inside every rotor's thrust
     /// range, as a fraction of that range \[dimensionless\] (the flight file's
-    /// `[design] margin`; see [`crate::mixer::Mixer::box_margin`]).
+    /// `[design] margin`; see [`crate::mixer::Mixer::set_margin`]); with
+    /// [`FlightConfig::airmode`] also the headroom airmode keeps free.
     pub box_margin: f32,
     /// Whether a set-up whose certificate fails or whose box does not fit may still arm (with a
     /// loud warning event). Only the `uncertified-paper` build of the paper's set-up sets it:
@@ -202,6 +205,14 @@ pub struct FlightConfig {
     /// How the thrust is computed from `u` (the flight file's `[controller]`; `Norm` for
     /// [`FlightConfig::paper`]).
     pub thrust: ThrustChoice,
+    /// Airmode (the flight file's `[controller] airmode`; off for [`FlightConfig::paper`];
+    /// extension, docs/airmode.md): the thrust mode's thrust is moved, by as little as
+    /// possible, to where the rotors realise the law's torque with
+    /// [`FlightConfig::box_margin`] of each rotor's range kept free
+    /// ([`controller_core::RotorEnvelope::airmode_thrust`]). The gate then asks the rotors to
+    /// realise every certified torque at *some* thrust (the shadow fit) instead of at every
+    /// thrust of the interval ([`crate::pipeline::gate_check`]).
+    pub airmode: bool,
     /// Rotor geometry and model.
     pub rotors: RotorConfig,
     /// Safety timings.
@@ -286,6 +297,7 @@ impl FlightConfig {
             box_margin: 0.05,
             allow_uncertified: false,
             thrust: ThrustChoice::Norm,
+            airmode: false,
             vehicle: airframe.vehicle,
             limits: Limits::paper(),
             gains: Gains::paper(),

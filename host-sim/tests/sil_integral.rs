@@ -49,6 +49,12 @@ fn the_default_flight_carries_designs_integral_action() {
         ks: p.ks.into(),
         saturation: p.saturation.into(),
         saturation_shape: p.saturation_shape,
+        vertical: p.vertical.map(|v| controller_core::VerticalChannel {
+            up: v.up.into(),
+            down: v.down.into(),
+            kf: v.kf.into(),
+            ks: v.ks.into(),
+        }),
     };
     let spec = IntegralSpec::covering(f64::from(c.vehicle.gravity), MASS_ERROR, FORCE_FRACTION)
         .expect("a valid coverage");

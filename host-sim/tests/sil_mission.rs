@@ -136,7 +136,7 @@ fn too_fast_path_refused_by_theorem2_then_flown_slowed_inside_its_bounds() {
             k,
             FilterStart::InSaturationBox,
         )
-        .is_ok_and(|c| gate_check(&c, &cfg.thrust, pipeline.mixer(), cfg.box_margin).is_ok())
+        .is_ok_and(|c| gate_check(&c, &cfg, pipeline.mixer()).is_ok())
     };
     let k = plan(
         &items,

@@ -116,9 +116,9 @@ pub struct LocalTable {
     pub ks: f64,
     /// `M_p,L` [m/s²]: the local regime's saturation level, at most `[gains] M_p`.
     pub M_p_m_s2: f64,
-    /// `E_in` [J]: the local gains take over once the attitude energy is at most this.
+    /// `E_in` \[J\]: the local gains take over once the attitude energy is at most this.
     pub energy_in_J: f64,
-    /// `E_out` [J], above `E_in`: the global gains take back over above this.
+    /// `E_out` \[J\], above `E_in`: the global gains take back over above this.
     pub energy_out_J: f64,
 }
 

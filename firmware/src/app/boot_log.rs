@@ -1,8 +1,10 @@
 //! The boot banner as defmt lines: the flight file the firmware was built with (vehicle name and
-//! source, the `[design]` fields), the MAVLink link's trust and signing set-up, the set-up, its
-//! a-priori bound certificate (every condition with `lhs`, `rhs` and their ratio; a failing one
-//! blocks arming), the mixer fit of the a-priori `(T, τ)` box with its margin, the verdicts
-//! `certificate holds` / `set fits`, and refusals with the violated condition and its numbers.
+//! source, the `[design]` fields, the local regime's gains and energy levels), the MAVLink
+//! link's trust and signing set-up, the set-up, its a-priori bound certificate (every condition
+//! with `lhs`, `rhs` and their ratio; a failing one blocks arming), whether airmode flies, each
+//! rotor fit the gate checks with its margin (the certified set, or airmode's thrust interval and
+//! shadows), airmode's convergence verdict, the verdicts `certificate holds` / `set fits`, and
+//! refusals with the violated condition and its numbers.
 
 use controller_core::{Certificate, ParameterError};
 use defmt::{error, info, warn};
@@ -124,18 +126,54 @@ pub fn log_boot_report(r: &BootReport) {
             f.torque_shortfall[i]
         );
     }
-    let verdict = report::fit_verdict(r.fit_margin, r.required_margin);
-    if r.fit_margin >= r.required_margin {
+    if r.airmode {
         info!(
-            "mixer fit: certified set margin {=f32} of the rotor range (required {=f32}): {=str}",
-            r.fit_margin, r.required_margin, verdict
+            "airmode: on, keeps {=f32} of each rotor's range free: the thrust moves to where the \
+             rotors realise the law's torque; the gate fits the thrust interval at zero torque \
+             and each certified torque at some thrust (its shadow; docs/airmode.md)",
+            r.required_margin
         );
     } else {
-        error!(
-            "mixer fit: certified set margin {=f32} of the rotor range (required {=f32}): {=str} \
-             (see shortfalls)",
-            r.fit_margin, r.required_margin, verdict
-        );
+        info!("airmode: off: the gate fits the certified set over the whole thrust interval");
+    }
+    // Each rotor fit the gate checks, in its order: the certified set (and the local regime's),
+    // or airmode's thrust interval and shadows.
+    match &r.fits {
+        Some(fits) => {
+            for f in fits.as_slice() {
+                let verdict = report::fit_verdict(f.margin, r.required_margin);
+                if f.margin >= r.required_margin {
+                    info!(
+                        "mixer fit: {=str} margin {=f32} of the rotor range (required {=f32}): \
+                         {=str} [{=str}]",
+                        f.what, f.margin, r.required_margin, verdict, f.name
+                    );
+                } else {
+                    error!(
+                        "mixer fit: {=str} margin {=f32} of the rotor range (required {=f32}): \
+                         {=str} [{=str}]",
+                        f.what, f.margin, r.required_margin, verdict, f.name
+                    );
+                }
+            }
+        }
+        None => error!("mixer fit: the thrust interval is refused (see the gate)"),
+    }
+    if let Some(a) = r.aligned_margin {
+        let verdict = report::convergence_verdict(a, r.required_margin);
+        if a >= r.required_margin {
+            info!(
+                "airmode: aligned feedforward margin {=f32} over Theorem 1's [T_min, T_max] \
+                 (required {=f32}): {=str} (docs/airmode.md)",
+                a, r.required_margin, verdict
+            );
+        } else {
+            warn!(
+                "airmode: aligned feedforward margin {=f32} over Theorem 1's [T_min, T_max] \
+                 (required {=f32}): {=str} (docs/airmode.md)",
+                a, r.required_margin, verdict
+            );
+        }
     }
     match r.gate {
         Ok(_) => info!("gate: certificate holds and set fits; arming allowed"),
@@ -174,6 +212,26 @@ pub fn log_identity(config: &crate::config::FlightConfig) {
         ),
         controller_core::PositionSaturation::Norm => {
             info!("flight: position saturation: norm (|ubar_p| < M_p; docs/position-saturation.md)")
+        }
+    }
+    match &config.gains.position.vertical {
+        None => info!("flight: vertical channel: as the horizontal one (M_p on every axis)"),
+        Some(v) => {
+            info!(
+                "flight: vertical channel apart: its own braking and descent levels and filters \
+                 (docs/vertical-channel.md)"
+            );
+            log_values("vertical", &report::vertical_values(v));
+        }
+    }
+    match &config.gains.local {
+        None => info!("flight: local regime: off (one set of position gains)"),
+        Some(l) => {
+            info!(
+                "flight: local regime: on: faster position gains while the attitude energy is at \
+                 most E_in, the global ones again above E_out (docs/envelope-design.md)"
+            );
+            log_values("local", &report::local_values(l));
         }
     }
     match config.gains.lemma1 {

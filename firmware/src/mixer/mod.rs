@@ -271,6 +271,18 @@ impl Mixer {
         }
     }
 
+    /// The largest headroom `m` (a fraction of the range `f_max − f_min`) such that every torque
+    /// of `set` is realised at *some* collective thrust with every rotor at least `m` of its
+    /// range inside it: [`RotorEnvelope::shadow_margin`] of [`Mixer::envelope`] (negative when
+    /// some torque of the set is beyond the rotors at any thrust; `−∞` when a rotor's thrust
+    /// column entry is not positive). What airmode needs (docs/airmode.md).
+    pub fn shadow_margin(&self, set: &TorqueSet<f32>) -> f32 {
+        match self.envelope() {
+            Some(e) => e.shadow_margin(set),
+            None => f32::NEG_INFINITY,
+        }
+    }
+
     /// The rotors' `(T, τ)` set as the law sees it: the rows of `M` and the rotor range
     /// ([`RotorEnvelope`], the one implementation of the fits the gate checks and of airmode's
     /// thrust). `None` when a rotor's thrust column entry is not positive (it cannot carry

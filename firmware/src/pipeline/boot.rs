@@ -44,15 +44,26 @@ pub struct BootReport {
     /// The certified box `[T_lo, T_hi] × Π[−τ_i, τ_i]` against the rotors (`[T_lo, T_hi]` the
     /// configured thrust's interval, [`crate::config::ThrustChoice::interval`]).
     pub a_priori_fit: BoxFit,
-    /// The box's smallest headroom inside the rotors, a fraction of the rotor range
-    /// ([`crate::mixer::Mixer::set_margin`]; negative: it does not fit).
+    /// The smallest headroom of the gate's rotor fits, a fraction of the rotor range (the
+    /// certified set's, [`crate::mixer::Mixer::set_margin`], without airmode or a local regime;
+    /// [`gate::fit_margin`]; negative: one does not fit; NaN: the thrust interval is refused).
     pub fit_margin: f32,
+    /// Each rotor fit the gate checks, with its margin, in the gate's order
+    /// ([`gate::rotor_fits`]); `None` when the thrust interval is refused (the gate says why).
+    pub fits: Option<gate::RotorFits>,
     /// The margin the configuration requires ([`FlightConfig::box_margin`]).
     pub required_margin: f32,
-    /// The gate on this set-up: `Ok(margin)` when every condition holds and the box fits
-    /// with the required margin, else the first failure. Arming is refused on `Err` unless
-    /// [`FlightConfig::allow_uncertified`].
+    /// The gate on this set-up: `Ok(margin)` when every condition holds and every rotor fit
+    /// leaves the required margin (`margin` the smallest, [`BootReport::fit_margin`]), else the
+    /// first failure. Arming is refused on `Err` unless [`FlightConfig::allow_uncertified`].
     pub gate: Result<f32, GateFailure>,
+    /// Whether airmode flies ([`FlightConfig::airmode`]).
+    pub airmode: bool,
+    /// With airmode: the headroom of the feedforward at zero attitude error over Theorem 1's
+    /// interval, a fraction of the rotor range ([`gate::aligned_margin`]; at least
+    /// [`BootReport::required_margin`]: airmode's convergence is proven, else shown by
+    /// simulation only); `None` without airmode.
+    pub aligned_margin: Option<f32>,
     /// Total rotor thrust capacity `4 f_max` \[N\] (vs the configured `T_max`).
     pub thrust_capacity: f32,
     /// The thrust the set-up flies (its interval is the box's thrust side).
@@ -90,9 +101,12 @@ pub(super) fn certify_setup(
     Ok(BootReport {
         certificate,
         a_priori_fit: mixer.box_fit(lo, hi, &b.torque_max),
-        fit_margin: gate::fit_margin(&certificate, &cfg.thrust, mixer),
+        fit_margin: gate::fit_margin(&certificate, cfg, mixer),
+        fits: gate::rotor_fits(&certificate, cfg, mixer).ok(),
         required_margin: cfg.box_margin,
-        gate: gate::check(&certificate, &cfg.thrust, mixer, cfg.box_margin),
+        gate: gate::check(&certificate, cfg, mixer),
+        airmode: cfg.airmode,
+        aligned_margin: gate::aligned_margin(&certificate, cfg, mixer),
         thrust_capacity: 4.0 * cfg.rotors.thrust_max,
         thrust: cfg.thrust,
     })

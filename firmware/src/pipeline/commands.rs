@@ -214,10 +214,13 @@ impl FlightPipeline {
     }
 
     /// Certificate gate for a new reference: refuses it unless every certificate condition
-    /// holds (Assumption 1, Theorem 1, Lemma 1, Theorem 2) and the certified `(T, τ)` box fits
-    /// the rotors with the configured margin ([`super::gate::check`]), or when the controller
-    /// refuses it. With [`crate::config::FlightConfig::allow_uncertified`] (the
-    /// `uncertified-paper` build only) a failure is logged as [`Event::Uncertified`] instead.
+    /// holds (Assumption 1, Theorem 1, Lemma 1, Theorem 2, the extensions') and the rotors
+    /// realise the certified `(T, τ)` with the configured margin ([`super::gate::check`]), or
+    /// when the controller refuses it. Sets the controller's thrust mode for the reference and,
+    /// with [`crate::config::FlightConfig::airmode`], its airmode envelope
+    /// ([`super::gate::airmode_envelope`]). With
+    /// [`crate::config::FlightConfig::allow_uncertified`] (the `uncertified-paper` build only) a
+    /// failure is logged as [`Event::Uncertified`] instead.
     pub(super) fn accept(
         &mut self,
         k: &TrajectoryConstants<f32>,
@@ -237,7 +240,7 @@ impl FlightPipeline {
                 });
             }
         };
-        let warning = match super::gate::check(&cert, &c.thrust, &self.mixer, c.box_margin) {
+        let warning = match super::gate::check(&cert, c, &self.mixer) {
             Ok(_) => None,
             Err(f) if c.allow_uncertified => Some(f),
             Err(f) => {
@@ -250,6 +253,8 @@ impl FlightPipeline {
                 })
             }
         };
+        // Airmode flies the rotor range the gate's shadow fits were checked on.
+        let airmode = super::gate::airmode_envelope(c, &self.mixer);
         let controller = match self.controller.as_mut() {
             Some(ctl) => ctl,
             None => return Err(Self::simple("not armed")),
@@ -269,6 +274,7 @@ impl FlightPipeline {
                 rhs: r.high as f32,
             });
         }
+        controller.set_airmode(airmode);
         if let Some(f) = warning {
             self.event(Event::Uncertified {
                 condition: f.condition,

@@ -56,7 +56,7 @@ pub enum Event {
     },
     /// An uncertified set-up or reference was accepted (only with
     /// [`crate::config::FlightConfig::allow_uncertified`], the `uncertified-paper` build): the
-    /// first failing condition (or `rotor_fit.margin`) with both sides. The a-priori bounds are
+    /// first failing condition (or a `rotor_fit.*` fit) with both sides. The a-priori bounds are
     /// not guaranteed, or the rotors cannot deliver them.
     Uncertified {
         /// Condition name.

@@ -358,7 +358,7 @@ impl FlightPipeline {
                 rhs: f32::NAN,
             }
         })?;
-        super::gate::check(&cert, &c.thrust, &self.mixer, c.box_margin).map(|_| ())
+        super::gate::check(&cert, c, &self.mixer).map(|_| ())
     }
 
     /// Queues a mission reply, or counts it dropped.

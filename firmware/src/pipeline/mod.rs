@@ -23,7 +23,7 @@ mod boot;
 mod commands;
 mod events;
 mod failsafe;
-mod gate;
+pub mod gate;
 mod landed;
 #[cfg(feature = "hil")]
 pub mod lockstep;
@@ -43,7 +43,10 @@ mod tests;
 
 pub use boot::{BootError, BootReport};
 pub use events::{Counters, Event, PipelineStatus};
-pub use gate::{check as gate_check, fit_margin, GateFailure, ROTOR_FIT};
+pub use gate::{
+    check as gate_check, fit_margin, GateFailure, RotorFit, RotorFits, ROTOR_FIT, ROTOR_FIT_LOCAL,
+    ROTOR_FIT_LOCAL_SHADOW, ROTOR_FIT_SHADOW, ROTOR_FIT_THRUST,
+};
 pub use landed::{LandedDetector, LandedInputs};
 pub use mission::{Mode, ModeMachine};
 pub use param_protocol::{ParamRefusal, RestoreError, STREAM_PERIOD_US as PARAM_STREAM_PERIOD_US};
@@ -205,6 +208,13 @@ impl FlightPipeline {
     /// The last allocation (achieved thrust/torque, what was given up), if any.
     pub fn last_mix(&self) -> Option<MixOutput> {
         self.last_mix
+    }
+
+    /// Airmode's rotor envelope in the controller flying now (the rotors' range shrunk by
+    /// [`FlightConfig::box_margin`]; [`gate::airmode_envelope`]), or `None` when disarmed or
+    /// airmode is off ([`FlightConfig::airmode`]).
+    pub fn airmode(&self) -> Option<controller_core::RotorEnvelope<f32>> {
+        self.controller.as_ref().and_then(|c| c.airmode().copied())
     }
 
     /// Logs a state change and queues its STATUSTEXT; the failsafe freezes the integral

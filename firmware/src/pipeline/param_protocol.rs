@@ -40,7 +40,7 @@ pub enum ParamRefusal {
     Value(ParamError),
     /// The candidate set-up fails a condition: the parameters' orderings
     /// ([`params::consistency`]), a parameter controller-core refuses (`lhs` its value, `rhs`
-    /// the bound or NaN), a certificate condition or the box fit ([`super::gate_check`]).
+    /// the bound or NaN), a certificate condition or a rotor fit ([`super::gate_check`]).
     Condition(GateFailure),
 }
 

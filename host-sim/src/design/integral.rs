@@ -206,6 +206,7 @@ mod tests {
                             ks: ratio * kf,
                             saturation: 1.0,
                             saturation_shape: controller_core::position_saturation::PositionSaturation::Componentwise,
+                            vertical: None,
                         };
                         let g = s.gains(&p).expect("stable within the halvings");
                         assert!(local_stability_conditions(&p, &g).iter().all(|c| c.holds));

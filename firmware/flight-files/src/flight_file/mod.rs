@@ -5,7 +5,8 @@
 //! `[design]` (free-text fields, the box-fit `margin`, `smoothing_rate_per_s` and
 //! `control_rate_hz`, which env `FIRMWARE_CONTROL_RATE_HZ` overrides) and an optional
 //! `[controller]` (the thrust: `thrust = "norm"`, the default, or `"vertical-priority"` with
-//! `thrust_ramp` and `thrust_floor_N`; docs/no-dive-thrust.md).
+//! `thrust_ramp` and `thrust_floor_N`; docs/no-dive-thrust.md; and `airmode = true`, keeping
+//! `[design] margin` free, docs/airmode.md).
 //! Written to `OUT_DIR/flight.rs` as Rust source, which `src/built_flight.rs` includes.
 //!
 //! Every error panics with the file, the key and the reason: a build must not quietly fly
@@ -46,16 +47,26 @@ struct FlightTables {
     controller: Option<ControllerTable>,
 }
 
-/// `[controller]`: how the thrust is computed from `u` (the scenario files' keys).
-#[derive(Debug, Deserialize)]
+/// `[controller]`: how the thrust is computed from `u`, and airmode (the scenario files' keys).
+#[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
 struct ControllerTable {
-    thrust: String,
+    /// `"norm"` (absent: the paper's `T = m|u|`) or `"vertical-priority"`.
+    #[serde(default)]
+    thrust: Option<String>,
     #[serde(default)]
     thrust_ramp: Option<f64>,
     #[serde(default)]
     thrust_floor_N: Option<f64>,
+    /// Airmode (absent: off; docs/airmode.md).
+    #[serde(default)]
+    airmode: Option<bool>,
+    /// The margin airmode keeps free: a scenario's key, accepted only with `airmode = true` and
+    /// equal to `[design] margin`, which is what the firmware keeps free (so that a design's
+    /// `[controller]` table reads here as in its scenario).
+    #[serde(default)]
+    airmode_margin: Option<f64>,
 }
 
 /// Vertical priority's ramp `b₀` when `[controller]` gives none (the scenario files' default).
@@ -363,6 +374,11 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         "/// `[controller]`: the thrust.\n\
          pub(crate) const THRUST: crate::config::ThrustChoice = {};",
         thrust_source(file, tables.controller.as_ref())
+    ));
+    put(format!(
+        "/// `[controller] airmode`: airmode on, keeping `MARGIN` of each rotor's range free.\n\
+         pub(crate) const AIRMODE: bool = {};",
+        airmode_source(file, tables.controller.as_ref(), margin)
     ));
     put(format!(
         "/// The other `[design]` fields, in key order.\n\

@@ -11,7 +11,7 @@ pub(super) fn thrust_source(file: &str, c: Option<&ControllerTable>) -> String {
     let Some(c) = c else {
         return "crate::config::ThrustChoice::Norm".to_string();
     };
-    match c.thrust.as_str() {
+    match c.thrust.as_deref().unwrap_or("norm") {
         "norm" => {
             if c.thrust_ramp.is_some() || c.thrust_floor_N.is_some() {
                 fail(
@@ -50,6 +50,32 @@ pub(super) fn thrust_source(file: &str, c: Option<&ControllerTable>) -> String {
             "controller.thrust",
             format!("{other:?} is not \"norm\" or \"vertical-priority\" (the firmware's thrusts)"),
         ),
+    }
+}
+
+/// `[controller] airmode` (absent: off). The margin airmode keeps free is `[design] margin`
+/// (`margin`, a fraction of the rotor range): a scenario's `airmode_margin` is taken only with
+/// `airmode = true` and equal to it, so that no key says another margin than the one flown.
+pub(super) fn airmode_source(file: &str, c: Option<&ControllerTable>, margin: f64) -> bool {
+    let Some(c) = c else {
+        return false;
+    };
+    let airmode = c.airmode.unwrap_or(false);
+    match c.airmode_margin {
+        Some(_) if !airmode => fail(
+            file,
+            "controller.airmode_margin",
+            "only used with airmode = true".to_string(),
+        ),
+        Some(m) if m != margin => fail(
+            file,
+            "controller.airmode_margin",
+            format!(
+                "{m} differs from [design] margin = {margin}: airmode keeps [design] margin \
+                 free (leave airmode_margin out)"
+            ),
+        ),
+        _ => airmode,
     }
 }
 
@@ -164,5 +190,70 @@ pub(super) fn trajectory_source(file: &str, t: &TrajectoryTable) -> String {
                 heading_source(file, heading)
             )
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(text: &str) -> ControllerTable {
+        toml::from_str(text).expect("a [controller] table")
+    }
+
+    /// Given `[controller]` without `thrust`, when it is read, then the thrust is the paper's
+    /// norm; airmode is off unless `airmode = true`, and off without the table.
+    #[test]
+    fn airmode_alone_keeps_the_norm_thrust() {
+        let c = table("airmode = true");
+        assert_eq!(
+            thrust_source("f.toml", Some(&c)),
+            "crate::config::ThrustChoice::Norm"
+        );
+        assert!(airmode_source("f.toml", Some(&c), 0.05));
+        assert!(!airmode_source(
+            "f.toml",
+            Some(&table("airmode = false")),
+            0.05
+        ));
+        assert!(!airmode_source(
+            "f.toml",
+            Some(&table("thrust = \"norm\"")),
+            0.05
+        ));
+        assert!(!airmode_source("f.toml", None, 0.05));
+    }
+
+    /// Given a scenario's `airmode_margin` equal to `[design] margin`, when it is read, then
+    /// airmode is on (a design's `[controller]` table reads as in its scenario).
+    #[test]
+    fn airmode_margin_equal_to_the_design_margin_is_taken() {
+        let c = table("thrust = \"vertical-priority\"\nairmode = true\nairmode_margin = 0.07");
+        assert!(airmode_source("f.toml", Some(&c), 0.07));
+    }
+
+    /// Given an `airmode_margin` other than `[design] margin`, when it is read, then the build
+    /// stops naming the key and both margins.
+    #[test]
+    #[should_panic(
+        expected = "controller.airmode_margin: 0.07 differs from [design] margin = 0.05"
+    )]
+    fn airmode_margin_other_than_the_design_margin_is_refused() {
+        let c = table("airmode = true\nairmode_margin = 0.07");
+        airmode_source("f.toml", Some(&c), 0.05);
+    }
+
+    /// Given an `airmode_margin` without airmode, when it is read, then the build stops.
+    #[test]
+    #[should_panic(expected = "controller.airmode_margin: only used with airmode = true")]
+    fn airmode_margin_without_airmode_is_refused() {
+        airmode_source("f.toml", Some(&table("airmode_margin = 0.05")), 0.05);
+    }
+
+    /// Unknown `[controller]` keys stay refused.
+    #[test]
+    fn unknown_controller_keys_are_refused() {
+        let e = toml::from_str::<ControllerTable>("airmode = true\nairmod = true").unwrap_err();
+        assert!(e.to_string().contains("airmod"), "{e}");
     }
 }

@@ -30,9 +30,10 @@ fn arm_refusal(events: &[Event]) -> (&'static str, f32, f32) {
     reference_refusal(events).expect("the refusal names its condition")
 }
 
-/// The default build's flight file (and, in the test command, each preset design's) is
-/// certified at boot (every condition, the certified set's rotor-fit margin at least the file's)
-/// and arms, with no uncertified warning.
+/// The default build's flight file (and, in the test command, each preset design's and the
+/// airmode fixture's) is certified at boot (every condition, every rotor fit's margin at least
+/// the file's) and arms, with no uncertified warning; the armed controller flies airmode exactly
+/// when the file asks for it, on the rotor range shrunk by the file's margin.
 #[test]
 #[cfg(not(feature = "uncertified-paper"))] // the default flight file's x500
 fn built_config_is_certified_and_arms() {
@@ -53,6 +54,8 @@ fn built_config_is_certified_and_arms() {
     assert!(!events
         .iter()
         .any(|e| matches!(e, Event::Uncertified { .. })));
+    assert_eq!(p.airmode().is_some(), c.airmode);
+    assert_eq!(p.airmode(), gate::airmode_envelope(&c, p.mixer()));
 }
 
 /// A configuration whose certificate fails refuses to arm and says which condition, with its

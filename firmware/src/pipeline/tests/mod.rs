@@ -1,6 +1,8 @@
 //! Cross-facet tests of the whole pipeline: boot, telemetry with command refusals, non-finite
 //! IMU samples, and the HIL messages.
 
+#[cfg_attr(feature = "uncertified-paper", allow(unused_imports, dead_code))]
+mod airmode;
 #[cfg_attr(feature = "uncertified-paper", allow(unused_imports))]
 mod arming;
 #[cfg(feature = "hil")]

@@ -96,7 +96,7 @@ fn independent(c: &FlightConfig) -> (Certificate<f32>, Result<f32, GateFailure>)
         FilterStart::Zero,
     )
     .unwrap();
-    let gate = gate_check(&cert, &c.thrust, &mixer, c.box_margin);
+    let gate = gate_check(&cert, c, &mixer);
     (cert, gate)
 }
 
