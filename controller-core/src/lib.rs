@@ -32,6 +32,7 @@
 #![deny(missing_docs)]
 
 pub mod attitude_control;
+pub mod attitude_energy;
 pub mod bounds;
 pub mod clamped_estimate;
 pub mod condition;

@@ -1,37 +1,25 @@
 //! The envelope design's local regime: faster position gains flown while the attitude error is
-//! inside a sublevel set of the attitude energy, the global gains outside it (extension,
-//! docs/envelope-design.md).
-//!
-//! **The attitude energy.** With the law's exact feedforward `τ_c`, the attitude error obeys
-//! `J ω̃̇ = Δ + τ_fb` with `ω̃ᵀΔ = 0` (the paper's `Δ`, Section V), whatever `ω_d` and `ω̇_d` are.
-//! The energy `E = ½ ω̃ᵀJω̃ + Ψ(ϑ̃)`, with `Ψ(ϑ) = (M_ϑ/k_ϑ)(√(M_ϑ² + k_ϑ²|ϑ|²) − M_ϑ)` (whose
-//! gradient is `s_ϑ(k_ϑ ϑ)`) and, with tilt priority, the trace potential `½ tr(G(I − R̃))`,
-//! obeys `Ė = −ω̃ᵀ s_ω(ω̃) ≤ 0` along flows (the MRP identity `ϑᵀT(ϑ) = (1 + |ϑ|²)/4 ϑᵀ` turns the
-//! MRP term into `d/dt Ψ`), and drops at the path lifting's jumps (`Ψ` falls as `|ϑ̃|` goes from
-//! `1 + δ` to its shadow's `1/(1 + δ)`; the memory resets keep `ϑ̃`). So **every sublevel set
-//! `{E ≤ c}` is forward invariant, whatever the position loop does**, as long as `ω_d` does not
-//! jump (`ω̃` would).
+//! inside a sublevel set of the attitude energy ([`crate::attitude_energy`]: every sublevel set
+//! is forward invariant), the global gains outside it (extension, docs/envelope-design.md).
 //!
 //! **The switch.** The controller flies the global gains until `E ≤ E_in`, then the local ones
-//! (`k_p, k_v, k_f, k_s`: faster filters; `M_p` and the shape are shared), and goes back only if
-//! `E > E_out > E_in` (which the nominal model never does: `E` does not increase). At the switch
-//! to the local gains the inner filter state is re-timed so that `u̇ = −k_f(u_f − u_s)` keeps its
-//! value ([`retime`]): `ω_d` does not jump, and neither does `E`. The re-timed state lies between
-//! `u_f` and `u_s` (the local `k_f` is at least the global one), so it stays in the saturation set
+//! (`k_p, k_v, k_f, k_s` and the level `M_p,L`: faster filters, the shape is shared) once the
+//! filter states lie in the local saturation set, and goes back only if `E > E_out > E_in`
+//! (which the nominal model never does: `E` does not increase). At the switch to the local gains
+//! the inner filter state is re-timed so that `u̇ = −k_f(u_f − u_s)` keeps its value
+//! ([`retime`]): `ω_d` does not jump, and neither does `E`. The re-timed state lies between `u_f`
+//! and `u_s` (the local `k_f` is at least the global one), so it stays in the saturation set
 //! Lemma 1 assumes.
 //!
 //! **What it certifies.** Inside `{E ≤ E_out}` the MRP error, the rotation error and `ω̃` are
-//! bounded ([`EnergyLimits`]), so the local regime's torque is bounded by the feedback at those
+//! bounded ([`crate::attitude_energy::EnergyLimits`]), so the local regime's torque is bounded by the feedback at those
 //! errors plus the feedforward of the local gains' Lemma 1, turned by at most that rotation
 //! (`crate::bounds`' local certificate): much less than Theorem 2's worst case over every
 //! attitude, so faster filters fit the same rotors.
 
-use nalgebra::{Matrix3, Vector3};
-
-use crate::gains::Gains;
 use crate::parameter_error::{positive, ParameterError};
 use crate::position::{FilterState, PositionGains};
-use crate::scalar::{lit, to_f64, Scalar};
+use crate::scalar::{to_f64, Scalar};
 
 /// The local regime's position gains and the energy levels of its switch.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -44,8 +32,10 @@ pub struct LocalGains<T: Scalar> {
     pub kf: T,
     /// `k_s` [1/s] of the local regime.
     pub ks: T,
-    /// `M_p,L` [m/s²] of the local regime, in `(0, M_p]` (the global shape): a smaller tilt range,
-    /// so smaller thrust-direction rates and a smaller yaw share of them.
+    /// `M_p,L` [m/s²] of the local regime (the global shape; the horizontal level with the
+    /// vertical channel apart): below `M_p`, a smaller tilt range, so smaller thrust-direction
+    /// rates and a smaller yaw share of them; above it, more authority where the attitude is
+    /// near the reference and the torque demand small.
     pub saturation: T,
     /// `E_in` [J]: the local gains take over once the attitude energy is at most this (and the
     /// filter states lie in the local saturation set).
@@ -64,26 +54,12 @@ pub enum Regime {
     Local,
 }
 
-/// Bounds on the attitude error inside `{E ≤ c}`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EnergyLimits<T: Scalar> {
-    /// `c` [J].
-    pub energy: T,
-    /// Largest `|ϑ̃|` (dimensionless): `√((M_ϑ + c k_ϑ/M_ϑ)² − M_ϑ²)/k_ϑ`, from `Ψ(ϑ̃) ≤ c`,
-    /// at most `1 + δ`.
-    pub mrp: T,
-    /// Largest rotation angle of `R̃` [rad]: `4 atan(|ϑ̃|)` (π once `|ϑ̃| ≥ 1`).
-    pub angle: T,
-    /// Largest `|ω̃_i|` per body axis [rad/s]: `√(2c/J_ii)`, from `½ ω̃ᵀJω̃ ≤ c`.
-    pub omega_error: Vector3<T>,
-}
-
 impl<T: Scalar> LocalGains<T> {
-    /// Checks the gains `> 0`, `0 < E_in < E_out`, `k_f` at least `global`'s and
-    /// `0 < M_p,L ≤ M_p`.
+    /// Checks the gains `> 0`, `0 < E_in < E_out` and `k_f` at least `global`'s (`M_p,L` may
+    /// exceed `M_p`: the certificate then checks Theorem 1 for the local level too).
     /// Errors: [`ParameterError::NotPositive`] naming the gain (`"local k_p"`, …, `"E_in"`),
-    /// [`ParameterError::OutOfRange`] naming `"E_out"` (not above `E_in`), `"local k_f"`
-    /// (below the global `k_f`) or `"local M_p"` (above the global `M_p`).
+    /// [`ParameterError::OutOfRange`] naming `"E_out"` (not above `E_in`) or `"local k_f"`
+    /// (below the global `k_f`).
     pub fn validate(&self, global: &PositionGains<T>) -> Result<(), ParameterError> {
         for (name, v) in [
             ("local k_p", self.kp),
@@ -94,14 +70,6 @@ impl<T: Scalar> LocalGains<T> {
             ("E_in", self.energy_in),
         ] {
             positive(name, v)?;
-        }
-        if self.saturation > global.saturation {
-            return Err(ParameterError::OutOfRange {
-                name: "local M_p",
-                value: to_f64(self.saturation),
-                low: 0.0,
-                high: to_f64(global.saturation),
-            });
         }
         if !(self.energy_out.is_finite() && self.energy_out > self.energy_in) {
             return Err(ParameterError::OutOfRange {
@@ -166,68 +134,14 @@ impl<T: Scalar> LocalGains<T> {
     }
 }
 
-/// The attitude energy `E = ½ ω̃ᵀJω̃ + Ψ(ϑ̃) (+ ½ tr(G(I − R̃)) with tilt priority)` [J] of the
-/// MRP error `mrp_error`, the angular velocity error `omega_error` [rad/s] (body) and the error
-/// rotation `error_rotation` (`R̃ = R_dᵀR`) for `gains` and the inertia diagonal `inertia`
-/// [kg m²] (module documentation). Non-increasing along the closed loop with the exact
-/// feedforward. Source: extension of Theorem 2's argument (docs/envelope-design.md).
-pub fn attitude_energy<T: Scalar>(
-    gains: &Gains<T>,
-    inertia: &Vector3<T>,
-    mrp_error: &Vector3<T>,
-    omega_error: &Vector3<T>,
-    error_rotation: &Matrix3<T>,
-) -> T {
-    let a = &gains.attitude;
-    let (m, k) = (a.mrp_saturation, a.k_mrp);
-    let kinetic = omega_error.dot(&inertia.component_mul(omega_error)) * lit(0.5);
-    let potential = (m / k) * ((m * m + k * k * mrp_error.norm_squared()).sqrt() - m);
-    let trace = match &gains.tilt_priority {
-        None => T::zero(),
-        Some(t) => {
-            let g = &t.trace_weights;
-            let r = error_rotation;
-            (g.x * (T::one() - r[(0, 0)])
-                + g.y * (T::one() - r[(1, 1)])
-                + g.z * (T::one() - r[(2, 2)]))
-                * lit(0.5)
-        }
-    };
-    kinetic + potential + trace
-}
-
-/// The attitude error's bounds inside `{E ≤ energy}` for `gains` and `inertia` [kg m²] (module
-/// documentation). The trace potential (tilt priority) only lowers them further; it is left
-/// out, so they hold with or without it.
-pub fn energy_limits<T: Scalar>(
-    gains: &Gains<T>,
-    inertia: &Vector3<T>,
-    energy: T,
-) -> EnergyLimits<T> {
-    let a = &gains.attitude;
-    let (m, k) = (a.mrp_saturation, a.k_mrp);
-    let r = m + energy * k / m;
-    let mrp = ((r * r - m * m).max(T::zero()).sqrt() / k).min(T::one() + gains.hysteresis);
-    let angle = if mrp >= T::one() {
-        T::pi()
-    } else {
-        lit::<T>(4.0) * mrp.atan()
-    };
-    EnergyLimits {
-        energy,
-        mrp,
-        angle,
-        omega_error: inertia.map(|j| (lit::<T>(2.0) * energy / j).sqrt()),
-    }
-}
-
 /// The inner filter state re-timed when `k_f` changes from `from_kf` to `to_kf` [1/s]:
 /// `u_s' = u_f − (from_kf/to_kf)(u_f − u_s)`, so that `u̇ = −k_f(u_f − u_s)` keeps its value
 /// (`ω_d` does not jump); with the vertical channel apart only its horizontal part, the vertical
 /// filters being the same in both regimes. With `to_kf ≥ from_kf` the new state lies between `u_f` and `u_s`; the
-/// other way it may leave the saturation set of `set` (the global gains'), and is then brought
-/// back into it ([`PositionGains::project`]: a jump of `u̇`, only on the way back to the global
-/// gains, whose certificate covers any attitude). Source: extension (docs/envelope-design.md).
+/// other way it may leave the saturation set of `set` (the global gains'), and both states are
+/// then brought back into it ([`PositionGains::project`]; `u_f` too when `M_p,L > M_p`: a jump
+/// of `u` and `u̇`, only on the way back to the global gains, whose certificate covers any
+/// attitude). Source: extension (docs/envelope-design.md).
 pub fn retime<T: Scalar>(
     filter: &FilterState<T>,
     from_kf: T,
@@ -240,7 +154,7 @@ pub fn retime<T: Scalar>(
         u_s.z = filter.u_s.z;
     }
     FilterState {
-        u_f: filter.u_f,
+        u_f: set.project(&filter.u_f),
         u_s: set.project(&u_s),
     }
 }

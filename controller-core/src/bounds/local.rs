@@ -5,8 +5,9 @@
 use nalgebra::{Vector2, Vector3};
 
 use super::{certify, Bounds, Condition, FilterStart};
+use crate::attitude_energy::{energy_limits, EnergyLimits};
 use crate::gains::Gains;
-use crate::local_regime::{energy_limits, EnergyLimits, LocalGains};
+use crate::local_regime::LocalGains;
 use crate::parameter_error::ParameterError;
 use crate::reference::TrajectoryConstants;
 use crate::scalar::{lit, Scalar};
@@ -26,9 +27,15 @@ pub struct LocalCertificate<T: Scalar> {
     /// [`LocalCertificate::energy`] and the local feedforward turned by at most their rotation
     /// ([`local_torque_set`]).
     pub torque_set: TorqueSet<T>,
-    /// `τ_max,i >` the set's extent on body axis `i` (`local_regime.torque_max_*`).
-    pub conditions: [Condition<T>; 3],
+    /// `τ_max,i >` the set's extent on body axis `i` (`local_regime.torque_max_*`), then
+    /// Theorem 1's two conditions for the local gains (`local_regime.saturation_margin`: the
+    /// local thrust floor is positive; `local_regime.thrust_bound_within_actuator`: the local
+    /// `T_max` within the rotors'), which matter once `M_p,L` exceeds `M_p`.
+    pub conditions: [Condition<T>; LOCAL_CONDITION_COUNT],
 }
+
+/// Number of the local regime's conditions.
+pub const LOCAL_CONDITION_COUNT: usize = 5;
 
 /// The local regime's certificate for `gains` (whose `local` is `l`) on `vehicle` with `limits`
 /// and the reference `constants`. Errors: `certify` refuses the local gains.
@@ -45,14 +52,24 @@ pub(super) fn local_certificate<T: Scalar>(
         local: None,
         ..*gains
     };
-    let bounds = certify(
+    let local = certify(
         vehicle,
         limits,
         &local_gains,
         constants,
         FilterStart::InSaturationBox,
-    )?
-    .bounds;
+    )?;
+    let bounds = local.bounds;
+    // Theorem 1 for the local gains, renamed: the same inequalities, the local levels.
+    let renamed = |from: &str, name: &'static str| {
+        let c = local
+            .conditions
+            .iter()
+            .find(|c| c.name == from)
+            .copied()
+            .unwrap_or_else(|| Condition::strict(name, "", T::zero(), T::zero()));
+        Condition { name, ..c }
+    };
     let energy = energy_limits(gains, &vehicle.inertia, l.energy_out);
     let torque_set = local_torque_set(gains, &vehicle.inertia, &bounds, &energy);
     let extents = torque_set.axis_extents();
@@ -76,6 +93,14 @@ pub(super) fn local_certificate<T: Scalar>(
             "tau_max_3 > the local regime's yaw extent (docs/envelope-design.md)",
             tau[2],
             extents[2],
+        ),
+        renamed(
+            "theorem1.saturation_margin",
+            "local_regime.saturation_margin",
+        ),
+        renamed(
+            "theorem1.thrust_bound_within_actuator",
+            "local_regime.thrust_bound_within_actuator",
         ),
     ];
     Ok(LocalCertificate {

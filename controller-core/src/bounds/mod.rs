@@ -22,7 +22,7 @@ use crate::torque_set::TorqueSet;
 use crate::vehicle::{Limits, Vehicle};
 
 mod local;
-pub use local::{local_torque_set, LocalCertificate};
+pub use local::{local_torque_set, LocalCertificate, LOCAL_CONDITION_COUNT};
 mod vertical;
 
 /// Where the filter states start; Lemma 1's `U_l` depends on it.
@@ -67,6 +67,12 @@ pub struct Bounds<T: Scalar> {
     /// action `m sqrt((sqrt(L_x² + L_y²) + K_a12)² + (g + K_a3 + L_z)²)`. With the norm shape of
     /// `σ_p` ([`PositionSaturation::Norm`]) `M_p` replaces `√3 M_p`, and with the integral action
     /// `m(M_p + sqrt((|M_i,xy| + K_a12)² + (g + K_a3 + M_i,z)²))`.
+    ///
+    /// With the envelope design's local regime, [`certify`] widens `thrust_min` and
+    /// `thrust_max` to the hull of both regimes' intervals (the local one is
+    /// `LocalCertificate::bounds`'): every thrust the law asks for, the interval the rotor fits
+    /// and the thrust floor are checked on. The `theorem1.*` conditions are the global gains';
+    /// `local_regime.*` the local ones'.
     pub thrust_max: T,
     /// `U_l` of Lemma 1 (dimensionless).
     pub filter_overshoot: T,
@@ -545,7 +551,7 @@ pub fn certify<T: Scalar>(
             torque_max[2],
         ),
     ];
-    Ok(Certificate {
+    let mut certificate = Certificate {
         bounds: Bounds {
             thrust_min,
             thrust_max,
@@ -594,7 +600,14 @@ pub fn certify<T: Scalar>(
                 rhs,
             )]
         }),
-    })
+    };
+    if let Some(l) = &certificate.local {
+        // Every thrust the law asks for: the hull of the two regimes' Theorem 1 intervals.
+        let b = &mut certificate.bounds;
+        b.thrust_min = b.thrust_min.min(l.bounds.thrust_min);
+        b.thrust_max = b.thrust_max.max(l.bounds.thrust_max);
+    }
+    Ok(certificate)
 }
 
 #[cfg(test)]

@@ -15,11 +15,12 @@
 
 use nalgebra::Vector3;
 
+use crate::attitude_energy::attitude_energy;
 use crate::desired_attitude::desired_attitude;
 use crate::feedforward_scale::FeedforwardScaleState;
 use crate::gains::Gains;
 use crate::integral::{modelled_compensation, IntegralGains, IntegralState};
-use crate::local_regime::{attitude_energy, Regime};
+use crate::local_regime::Regime;
 use crate::mrp::rotation_from_quaternion;
 use crate::parameter_error::ParameterError;
 use crate::path_lifting::{JumpCounters, PathLifting};

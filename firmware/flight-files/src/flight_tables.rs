@@ -114,7 +114,8 @@ pub struct LocalTable {
     pub kf: f64,
     /// `k_s` [1/s] of the local regime.
     pub ks: f64,
-    /// `M_p,L` [m/s²]: the local regime's saturation level, at most `[gains] M_p`.
+    /// `M_p,L` [m/s²]: the local regime's saturation level (above `[gains] M_p` too: the
+    /// certificate then checks Theorem 1 for it, `local_regime.*`).
     pub M_p_m_s2: f64,
     /// `E_in` \[J\]: the local gains take over once the attitude energy is at most this.
     pub energy_in_J: f64,

@@ -6,9 +6,9 @@ use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
 
 use super::local_torque_set;
+use crate::attitude_energy::{attitude_energy, energy_limits};
 use crate::bounds::{certify, FilterStart};
 use crate::gains::Gains;
-use crate::local_regime::{attitude_energy, energy_limits};
 use crate::mrp::rotation_from_mrp;
 use crate::tilt_priority::TiltPriorityGains;
 use crate::{Limits, TrajectoryConstants, Vehicle};
@@ -88,4 +88,68 @@ proptest! {
         let h = set.support(&d);
         prop_assert!(d.dot(&out.torque) <= h * (1.0 + 1e-9) + 1e-12, "{} > {h}", d.dot(&out.torque));
     }
+}
+
+/// Given global gains and a local regime whose level `M_p,L` is above `M_p`, when certified,
+/// then the certificate's thrust interval is the hull of the two regimes' Theorem 1 intervals
+/// (computed again here from the local gains alone), the local interval is the wider one, and
+/// `local_regime.thrust_bound_within_actuator` compares the local `T_max` with the actuator's:
+/// it holds with room and fails, by name, once the actuator is below the local `T_max` though
+/// above the global one.
+#[test]
+fn a_wider_local_level_widens_the_certified_thrust_interval() {
+    let mut g = gains(false);
+    let v = Vehicle::<f64>::paper();
+    let constants = TrajectoryConstants::<f64>::zero();
+    let local = crate::local_regime::LocalGains {
+        kp: 4.0,
+        kv: 4.0,
+        kf: 6.0,
+        ks: 15.0,
+        saturation: 3.5,
+        energy_in: 1e-4,
+        energy_out: 2e-4,
+    };
+    let global_only = certify(&v, &Limits::paper(), &g, &constants, FilterStart::Zero).unwrap();
+    g.local = Some(local);
+    let local_alone = certify(
+        &v,
+        &Limits::paper(),
+        &Gains {
+            position: local.position(&g.position),
+            local: None,
+            ..g
+        },
+        &constants,
+        FilterStart::InSaturationBox,
+    )
+    .unwrap()
+    .bounds;
+    let both = |thrust_max: f64| {
+        let limits = Limits {
+            thrust_max,
+            ..Limits::paper()
+        };
+        certify(&v, &limits, &g, &constants, FilterStart::Zero).unwrap()
+    };
+    let c = both(2.0 * local_alone.thrust_max);
+    let (lo, hi) = (c.bounds.thrust_min, c.bounds.thrust_max);
+    assert!(local_alone.thrust_max > global_only.bounds.thrust_max);
+    assert!(local_alone.thrust_min < global_only.bounds.thrust_min);
+    assert_eq!(lo, local_alone.thrust_min);
+    assert_eq!(hi, local_alone.thrust_max);
+    let named = |c: &crate::Certificate<f64>, name: &str| {
+        c.all_conditions()
+            .find(|k| k.name == name)
+            .copied()
+            .unwrap()
+    };
+    let held = named(&c, "local_regime.thrust_bound_within_actuator");
+    assert!(held.holds && held.rhs == local_alone.thrust_max, "{held:?}");
+    let between = 0.5 * (global_only.bounds.thrust_max + local_alone.thrust_max);
+    let tight = both(between);
+    assert!(named(&tight, "theorem1.thrust_bound_within_actuator").holds);
+    let failed = named(&tight, "local_regime.thrust_bound_within_actuator");
+    assert!(!failed.holds && failed.lhs == between, "{failed:?}");
+    assert!(named(&c, "local_regime.saturation_margin").holds);
 }
