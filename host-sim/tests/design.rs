@@ -6,6 +6,8 @@ use std::path::PathBuf;
 
 use controller_core::{certify, FilterStart, Trajectory};
 use firmware::mixer::Mixer;
+use host_sim::design::options::LawSearch;
+use host_sim::design::variables::AttitudeLaw;
 use host_sim::design::{run_design, DesignOptions};
 use host_sim::model::scenario::Scenario;
 
@@ -35,7 +37,7 @@ fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOptions 
         vertical: false,
         evaluations,
         duration_s: host_sim::design::options::DEFAULT_DURATION_S,
-        law: Default::default(),
+        law: LawSearch::One(AttitudeLaw::Paper),
         bounds: Default::default(),
         integral: None,
         thrust: host_sim::model::scenario::ThrustKind::Norm,
@@ -178,7 +180,7 @@ fn design_certifies_and_the_written_scenario_recertifies() {
 fn tilt_priority_design_certifies_per_axis_levels() {
     let out = out_dir("tilt");
     let mut o = options(preset_path("hummingbird"), out.clone(), 4);
-    o.law = host_sim::design::variables::AttitudeLaw::TiltPriority;
+    o.law = LawSearch::One(AttitudeLaw::TiltPriority);
     let outcome = run_design(&o).unwrap();
     let r = &outcome.report;
     assert!(r.certificate.all_hold && r.rotor_fit.fits && r.rotor_fit.fits_with_margin);
@@ -387,18 +389,25 @@ fn speed_limit_is_written_and_bad_ones_are_refused() {
     for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         assert_refused_unwritten("--speed-limit", bad, |o| o.speed_limit = Some(bad));
     }
+    // Not combined with the vertical channel apart (its braking profile is per axis at M_p).
+    assert_refused_unwritten("--vertical off", 4.0, |o| {
+        o.speed_limit = Some(4.0);
+        o.vertical = true;
+    });
 }
 
 /// The CLI's default path: when no design meets the convergence constraints with the paper's
 /// feedback on 30 s runs (the x500 with a one-point budget), `design` designs again with the
-/// velocity-limited feedback on 300 s runs, writes that one and says why in the report; with
-/// the fallback off the first design is written as it is.
+/// velocity-limited feedback on 300 s runs (the vertical channel set aside: they are not
+/// combined), writes that one and says why in the report; with the fallback off the first design is written as it is.
 #[test]
 fn unconverged_design_falls_back_to_the_velocity_limit() {
     use host_sim::design::options::{Fallback, FALLBACK_DURATION_S, FALLBACK_SPEED_LIMIT_M_S};
     let out = out_dir("fallback");
     let mut o = options(preset_path("x500"), out.clone(), 1);
     o.fallback = Fallback::VelocityLimited;
+    // As the CLI's defaults: the vertical channel apart, which the fallback sets aside.
+    o.vertical = true;
     let r = run_design(&o).unwrap().report;
     let why = r.fallback.as_deref().expect("the fallback was taken");
     assert!(why.contains("no design met the convergence"), "{why}");
@@ -611,5 +620,64 @@ fn vertical_priority_design_certifies_its_floor() {
         upside_down(&paper, false).unwrap().altitude_loss_m,
     );
     assert!(with < without, "{with} m with, {without} m without");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// The command line's defaults (both attitude laws, the norm shape, airmode, the vertical
+/// channel apart, the envelope design's local regime, the no-dive thrust and the integral
+/// action) on the Crazyflie with a small budget: the written scenario, read back, passes
+/// `certify` with the local regime's conditions and the vertical channel; airmode's shadow fit
+/// of the certified set and of the local set holds with the 5 % margin on the rotors' own
+/// envelope; the report names both laws' objectives and carries the helix tracking of the design
+/// and of both baselines.
+#[test]
+fn default_design_flies_airmode_with_its_local_regime_and_vertical_channel() {
+    use host_sim::design::authority::RotorFit;
+    let out = out_dir("defaults");
+    let mut o = options(preset_path("crazyflie-2.1"), out.clone(), 8);
+    o.law = LawSearch::Both;
+    o.fit = RotorFit::Airmode;
+    o.envelope = true;
+    o.vertical = true;
+    o.position_saturation = controller_core::PositionSaturation::Norm;
+    o.thrust = host_sim::model::scenario::ThrustKind::VerticalPriority;
+    o.integral = Some(host_sim::design::integral::IntegralSpec::covering(9.81, 0.1, 0.05).unwrap());
+    let r = run_design(&o).unwrap().report;
+    assert!(r.certificate.all_hold && r.rotor_fit.fits_with_margin);
+    assert_eq!(r.rotor_fit.fit, RotorFit::Airmode);
+    assert!(r.rotor_fit.aligned_margin.is_some());
+    assert_eq!(r.law_search.len(), 2);
+    let tasks = &r.objective.nominal_tasks;
+    assert_eq!(tasks.len(), 3);
+    for t in tasks {
+        let e = t.helix_tracking_error_m.expect("the helix was flown");
+        assert!(e.is_finite() && e >= 0.0, "{}: {e}", t.label);
+    }
+
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    assert!(s.controller.airmode);
+    let g = s.gains::<f64>();
+    assert!(
+        g.position.vertical.is_some(),
+        "the vertical channel was written"
+    );
+    let cert = certified_read_back(&s);
+    let envelope = s
+        .airmode_envelope::<f64>()
+        .unwrap()
+        .expect("airmode carries the rotors' envelope");
+    assert!(envelope.shadow_margin(&cert.bounds.torque_set) >= 0.0);
+    match (&g.local, &cert.local) {
+        (Some(_), Some(local)) => {
+            assert!(r.local_regime.is_some());
+            assert!(envelope.shadow_margin(&local.torque_set) >= 0.0);
+            assert!(local.conditions.iter().all(|c| c.holds));
+        }
+        (None, None) => assert!(r.local_regime.is_none()),
+        (g, c) => panic!("local gains {g:?} but certificate {:?}", c.is_some()),
+    }
+    let flight = std::fs::read_to_string(out.join("firmware.toml")).unwrap();
+    assert!(flight.contains("airmode = true"), "{flight}");
+    assert!(flight.contains("[gains.vertical]"), "{flight}");
     let _ = std::fs::remove_dir_all(&out);
 }

@@ -30,7 +30,7 @@ use crate::model::scenario::Scenario;
 use crate::runs::metrics::{Convergence, MetricsAccumulator};
 use crate::runs::runner::paper_bound_set;
 use crate::runs::sampler::{Sampler, SamplerRadii, HALF_TURN_AXES};
-use crate::studies::compare::{sanity, Contestant, SanityRow};
+use crate::studies::compare::{helix_tracking_error, sanity, Contestant, SanityRow};
 
 /// The end window checked for a limit cycle \[s\].
 pub const TAIL_S: f64 = 5.0;
@@ -241,7 +241,10 @@ pub fn baseline_tasks(scenario: &Scenario) -> Result<Vec<SanityRow>> {
                 clip: scenario.simulation.clip_to_limits,
                 integral: false,
             };
-            sanity(scenario, &c, bounds)
+            Ok(SanityRow {
+                helix_tracking_error_m: Some(helix_tracking_error(scenario, &c, bounds)?),
+                ..sanity(scenario, &c, bounds)?
+            })
         })
         .collect()
 }
@@ -256,6 +259,19 @@ pub fn nominal_tasks(scenario: &Scenario) -> Result<SanityRow> {
         integral: true,
     };
     sanity(scenario, &design, paper_bound_set(scenario)?)
+}
+
+/// The design's tracking of its own certified reference ([`helix_tracking_error`]) on
+/// `scenario` (its plant, gains, thrust and motor lag) \[m\]. Errors: the controller refused
+/// the scenario.
+pub fn design_helix_tracking(scenario: &Scenario) -> Result<f64> {
+    let design = Contestant {
+        label: "design".into(),
+        controller: ControllerKind::Paper,
+        clip: scenario.simulation.clip_to_limits,
+        integral: true,
+    };
+    helix_tracking_error(scenario, &design, paper_bound_set(scenario)?)
 }
 
 /// Scores a design: `worst settling [s] + 0.5 × worst settling with the motor time constant

@@ -56,6 +56,49 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
         100.0 * r.rotor_fit.margin,
         r.rotor_fit.box_fits
     );
+    if let (Some(aligned), Some(proven)) = (
+        r.rotor_fit.aligned_margin,
+        r.rotor_fit.airmode_convergence_proven,
+    ) {
+        let _ = writeln!(
+            s,
+            "**Airmode** (docs/airmode.md; the flight file's `[controller] airmode`): the headroom \
+             above is the shadow fit's (every torque of the set at some thrust; the thrust moves \
+             there). The feedforward at zero attitude error fits the whole thrust interval with \
+             {:.2} % headroom: {}.\n",
+            100.0 * aligned,
+            if proven {
+                "at least the margin, so airmode's convergence argument is a proof"
+            } else {
+                "below the margin, so convergence is shown by the simulations below only"
+            }
+        );
+    }
+    if r.law_search.len() > 1 {
+        let listed: Vec<String> = r
+            .law_search
+            .iter()
+            .map(|c| {
+                format!(
+                    "`{}` {:.3}{}",
+                    c.law.name(),
+                    c.objective,
+                    if c.constraints_met {
+                        ""
+                    } else {
+                        " (constraints not met)"
+                    }
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            "Attitude law: `{}`, the better of the laws searched (`--law both`; objective, lower is \
+             better): {}.\n",
+            r.law.name(),
+            listed.join(", ")
+        );
+    }
     let _ = writeln!(
         s,
         "Lemma 1's bound on `|ω̇_d|`: the {} chain{}.\n",
@@ -208,6 +251,42 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             v.braking_m_s2 * (g.kv / g.kp).powi(2),
         );
     }
+    if let Some(v) = &g.vertical {
+        let _ = writeln!(
+            s,
+            "Vertical channel (`[gains.vertical]`, docs/vertical-channel.md): braking (upward) \
+             level M_up = {:.4} m/s^2, downward level M_down = {:.4} m/s^2 (horizontal M_p = {:.4} \
+             m/s^2), its own filters k_f,z = {:.4} 1/s, k_s,z = {:.4} 1/s.\n",
+            v.up_m_s2, v.down_m_s2, g.M_p, v.kf, v.ks
+        );
+    }
+    if let (Some(l), Some(e)) = (&g.local, &r.local_regime) {
+        let _ = writeln!(
+            s,
+            "Envelope design (`[gains.local]`, docs/envelope-design.md): the local position gains \
+             k_p = {:.4}, k_v = {:.4}, k_f = {:.4}, k_s = {:.4}, M_p,L = {:.4} m/s^2 fly once the \
+             attitude energy is at most E_in = {:.4e} J, the global ones again above E_out = {:.4e} J. \
+             Inside {{E <= E_out}} (forward invariant): attitude error at most {:.1} deg, |omega \
+             error| at most [{:.3}, {:.3}, {:.3}] rad/s; the local gains' U_omega_d_dot = {:.3} \
+             rad/s^2 and torque set extents [{:.4e}, {:.4e}, {:.4e}] N m (conditions \
+             `local_regime.*`).\n",
+            l.kp,
+            l.kv,
+            l.kf,
+            l.ks,
+            l.M_p_m_s2,
+            l.energy_in_J,
+            l.energy_out_J,
+            e.angle_out_deg,
+            e.omega_error_out_rad_s[0],
+            e.omega_error_out_rad_s[1],
+            e.omega_error_out_rad_s[2],
+            e.angular_acceleration_bound_rad_s2,
+            e.torque_extent_Nm[0],
+            e.torque_extent_Nm[1],
+            e.torque_extent_Nm[2],
+        );
+    }
     let c = &r.choices;
     let _ = writeln!(
         s,
@@ -288,7 +367,8 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
         table.row(&[name.to_string(), opt(*t, "s"), opt(d, "s")]);
     }
     s.push_str(
-        "\nNominal tasks from hover (10 s runs, as `host-sim compare` flies them), the design \
+        "\nNominal tasks from hover (10 s runs, as `host-sim compare` flies them) and the \
+         certified helix from the scenario's initial state over its run length, the design \
          beside the baselines on the same vehicle, plant and motor lag (what the certificate \
          costs):\n\n",
     );
@@ -299,6 +379,7 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             "1 m step: settling",
             "1 m step: error at 10 s",
             "30 deg roll: settling",
+            "certified helix: mean error over the last 5 s",
         ],
         Rule::Compact,
     );
@@ -308,6 +389,8 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             opt(row.step_settling_time_s, "s"),
             format!("{:.2e} m", row.step_final_position_error_m),
             opt(row.tilt_settling_time_s, "s"),
+            row.helix_tracking_error_m
+                .map_or("–".to_owned(), |e| format!("{e:.2e} m")),
         ]);
     }
     if let Some(d) = &o.disturbed_hover {

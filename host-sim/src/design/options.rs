@@ -69,8 +69,9 @@ pub struct DesignOptions {
     /// [`MIN_DURATION_S`]): the horizon a run must settle in, 5 s before its end. A vehicle whose
     /// certified authority is small needs longer than the paper's 30 s.
     pub duration_s: f64,
-    /// The attitude feedback searched: the paper's law or tilt priority (per-axis levels).
-    pub law: AttitudeLaw,
+    /// The attitude feedbacks searched: both (each on the full budget, the better design is
+    /// written) or one.
+    pub law: LawSearch,
     /// Whether the envelope design's local regime is searched too (`--envelope`,
     /// docs/envelope-design.md): faster position gains while the attitude energy is small.
     pub envelope: bool,
@@ -98,6 +99,29 @@ pub struct DesignOptions {
     pub fallback: Fallback,
     /// Output directory.
     pub out: PathBuf,
+}
+
+/// Which attitude feedbacks `design` searches.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LawSearch {
+    /// Both the paper's law and tilt priority, each with the whole evaluation budget; the
+    /// design that meets the convergence constraints with the lower objective is written (which
+    /// wins depends on the vehicle: tilt priority where yaw's authority is a small part of
+    /// roll's, docs/tilt-priority.md). Twice the wall time of one.
+    #[default]
+    Both,
+    /// This one only.
+    One(AttitudeLaw),
+}
+
+impl LawSearch {
+    /// The laws searched, in order.
+    pub fn laws(self) -> Vec<AttitudeLaw> {
+        match self {
+            Self::Both => vec![AttitudeLaw::Paper, AttitudeLaw::TiltPriority],
+            Self::One(l) => vec![l],
+        }
+    }
 }
 
 /// A scored candidate.

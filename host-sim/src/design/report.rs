@@ -81,6 +81,31 @@ pub struct RotorFitEntry {
     /// Per-axis torque capacity over the certified thrust interval [N m]: the `τ_max` limits
     /// (each axis alone for the set; with the other axes at their bounds for the tight box).
     pub torque_capacity_Nm: [f32; 3],
+    /// How the set was fitted (`--airmode`): `set` (the thrust interval times the torque set)
+    /// or `airmode` (every torque at some thrust: `margin` is then the shadow fit's headroom,
+    /// docs/airmode.md).
+    pub fit: super::authority::RotorFit,
+    /// With airmode: the headroom of the feedforward at zero attitude error over Theorem 1's
+    /// interval (the aligned fit), fraction of the rotor range; `null` without airmode.
+    pub aligned_margin: Option<f64>,
+    /// With airmode: the aligned fit leaves the requested margin, so airmode's convergence
+    /// argument is a proof (docs/airmode.md); `false`: shown by simulation only. `null` without.
+    pub airmode_convergence_proven: Option<bool>,
+}
+
+/// `local_regime`: the envelope design's local regime (docs/envelope-design.md); its gains are
+/// `gains.local`.
+#[derive(Clone, Debug, Serialize)]
+#[allow(non_snake_case)]
+pub struct LocalRegimeEntry {
+    /// Largest attitude error angle inside `{E ≤ E_out}` [deg].
+    pub angle_out_deg: f64,
+    /// Largest `|ω̃_i|` inside `{E ≤ E_out}` [rad/s], body axes.
+    pub omega_error_out_rad_s: [f64; 3],
+    /// `U_ω̇d` of the local gains' Lemma 1 [rad/s²].
+    pub angular_acceleration_bound_rad_s2: f64,
+    /// Per-axis extent of the local torque set [N m].
+    pub torque_extent_Nm: [f64; 3],
 }
 
 /// `reference`.
@@ -164,6 +189,17 @@ pub struct MarginsEntry {
     pub doubled_lag_settling_180_s: Vec<(String, Option<f64>)>,
 }
 
+/// `law_search`: one searched attitude law's outcome.
+#[derive(Clone, Debug, Serialize)]
+pub struct LawCandidate {
+    /// The law.
+    pub law: super::variables::AttitudeLaw,
+    /// Its best design's objective (lower is better; graded penalty when unconverged).
+    pub objective: f64,
+    /// Its best design met the convergence constraints.
+    pub constraints_met: bool,
+}
+
 /// `design.json`.
 #[derive(Clone, Debug, Serialize)]
 #[allow(non_snake_case)]
@@ -189,12 +225,17 @@ pub struct Report {
     pub certificate: CertificateEntry,
     /// The rotor fit of the certified set.
     pub rotor_fit: RotorFitEntry,
+    /// The envelope design's local regime (`--envelope`), `null` when the design has none.
+    pub local_regime: Option<LocalRegimeEntry>,
     /// Gains (scenario `[gains]`).
     pub gains: GainsConfig,
     /// Limits (scenario `[limits]`): what the rotors deliver.
     pub limits: LimitsConfig,
-    /// The attitude feedback searched (`paper` or `tilt-priority`).
+    /// The attitude feedback of this design (`paper` or `tilt-priority`).
     pub law: super::variables::AttitudeLaw,
+    /// Every law searched (`--law`, both by default) with its best design's objective and
+    /// whether it met the convergence constraints; this design's law is the better one.
+    pub law_search: Vec<LawCandidate>,
     /// With the integral action (the default; absent with `--no-integral`): the disturbance the bounded integral action covers and its level
     /// `M_i` [m/s²] (its gains are in `gains.integral`); `null` without.
     pub integral: Option<super::integral::IntegralSpec>,
@@ -232,7 +273,7 @@ impl Report {
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         vehicle: &DesignVehicle,
-        o: &DesignOptions,
+        (o, law): (&DesignOptions, super::variables::AttitudeLaw),
         (requested, certified, scale, binding): (&Reference, &Reference, f64, Option<&str>),
         choices: Choices,
         best: &Scored,
@@ -301,10 +342,20 @@ impl Report {
                 thrust_capacity_N: c.box_fit.thrust_capacity,
                 torque_needed_Nm: c.box_fit.torque_needed,
                 torque_capacity_Nm: c.limits.torque_max.map(|x| x as f32).into(),
+                fit: c.fit,
+                aligned_margin: c.aligned_margin,
+                airmode_convergence_proven: c.aligned_margin.map(|m| m >= o.margin),
             },
+            local_regime: c.certificate.local.as_ref().map(|l| LocalRegimeEntry {
+                angle_out_deg: l.energy.angle.to_degrees(),
+                omega_error_out_rad_s: l.energy.omega_error.into(),
+                angular_acceleration_bound_rad_s2: l.bounds.angular_acceleration,
+                torque_extent_Nm: l.torque_set.axis_extents().into(),
+            }),
             gains: gains_config(g),
             limits: limits_config(&c.limits),
-            law: o.law,
+            law,
+            law_search: Vec::new(),
             integral: o.integral,
             thrust: best.thrust.clone(),
             choices,

@@ -15,10 +15,11 @@ use super::optimise::minimise;
 use super::options::*;
 use super::outputs::write_outputs;
 use super::reference::{largest_certifiable_scale, Reference};
+use super::report::LawCandidate;
 use super::report::Report;
 use super::thrust::ThrustDesign;
 use super::tight::SEARCH_BOXES;
-use super::variables::{map, Choices, Context, Layout};
+use super::variables::{map, AttitudeLaw, Choices, Context, Layout};
 use super::vehicle::DesignVehicle;
 use crate::model::scenario::{ControllerConfig, Scenario, ThrustKind};
 use firmware::mixer::Mixer;
@@ -165,8 +166,84 @@ fn thrust_of(
 
 /// Runs `design`. Errors: unreadable or invalid inputs, an impossible vehicle (with the
 /// reason), a reference no scaling makes certifiable, or an output that cannot be written.
+///
+/// With [`LawSearch::Both`] each law is designed on the whole budget and the better design is
+/// written (one that meets the convergence constraints before one that does not, then the
+/// lower objective); the report lists both. The velocity-limited fallback, when no design
+/// converges, designs again with the better law only.
 pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
     let started = Instant::now();
+    check_options(o)?;
+    let mut designs = Vec::new();
+    for law in o.law.laws() {
+        designs.push(design_with(o, law)?);
+    }
+    let searched: Vec<LawCandidate> = designs
+        .iter()
+        .map(|d| LawCandidate {
+            law: d.law,
+            objective: d.best.evaluation.cost,
+            constraints_met: d.best.evaluation.feasible,
+        })
+        .collect();
+    let mut chosen = designs
+        .into_iter()
+        .min_by(|a, b| {
+            let key = |d: &Designed| (!d.best.evaluation.feasible, d.best.evaluation.cost);
+            key(a)
+                .partial_cmp(&key(b))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        })
+        .ok_or_else(|| anyhow::anyhow!("no attitude law to search (bug)"))?;
+    if !chosen.best.evaluation.feasible && o.fallback == Fallback::VelocityLimited {
+        let e = &chosen.best.evaluation;
+        let why = format!(
+            "with the paper's position feedback on {} s runs no design met the convergence \
+             constraints (the best: worst settling from 180 degrees {}, {:.1} m lost upside down)",
+            o.duration_s,
+            e.worst_settling_180_s
+                .map_or("not settled".to_owned(), |t| format!("{t:.1} s")),
+            e.altitude_loss_upside_down_m
+        );
+        eprintln!(
+            "design: {why}; designing again with the velocity-limited position feedback \
+             ({FALLBACK_SPEED_LIMIT_M_S} m/s) on {FALLBACK_DURATION_S} s runs{}",
+            if o.vertical {
+                " (and M_p on every axis: the velocity limit is not combined with the vertical channel apart)"
+            } else {
+                ""
+            }
+        );
+        let again = DesignOptions {
+            speed_limit: Some(FALLBACK_SPEED_LIMIT_M_S),
+            // The velocity limit's braking profile is per axis with `M_p` (controller-core's
+            // `Gains::validate` refuses the pair).
+            vertical: false,
+            duration_s: FALLBACK_DURATION_S,
+            fallback: Fallback::Taken {
+                why,
+                seconds: started.elapsed().as_secs_f64(),
+            },
+            ..o.clone()
+        };
+        chosen = design_with(&again, chosen.law)?;
+    }
+    let mut report = chosen.report;
+    report.law_search = searched;
+    report.wall_time_s = started.elapsed().as_secs_f64();
+    let files = write_outputs(
+        &o.out,
+        &report,
+        &chosen.vehicle,
+        &chosen.best,
+        &chosen.reference,
+        chosen.period,
+    )?;
+    Ok(DesignOutcome { report, files })
+}
+
+/// Refuses options no design can use (with the option's name and value).
+fn check_options(o: &DesignOptions) -> Result<()> {
     if !(o.margin.is_finite() && (0.0..0.5).contains(&o.margin)) {
         bail!("--margin: must lie in [0, 0.5), got {}", o.margin);
     }
@@ -183,7 +260,30 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         if !(v.is_finite() && v > 0.0) {
             bail!("--speed-limit: must be finite and > 0 m/s, got {v}");
         }
+        if o.vertical {
+            bail!(
+                "--speed-limit: the velocity-limited feedback brakes per axis at M_p and is not \
+                 combined with the vertical channel apart; add --vertical off"
+            );
+        }
     }
+    Ok(())
+}
+
+/// One law's design, not yet written.
+struct Designed {
+    law: AttitudeLaw,
+    report: Report,
+    vehicle: DesignVehicle,
+    best: Scored,
+    reference: Reference,
+    period: f64,
+}
+
+/// Designs with attitude law `law` under `o` (its `fallback` only names this attempt in the
+/// report). Errors: as [`run_design`], except writing.
+fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
+    let started = Instant::now();
     let vehicle = DesignVehicle::load(&o.vehicle)?;
     let set = refuse_impossible(&vehicle)?;
     let (requested, period) = load_reference(o.reference.as_ref())?;
@@ -200,7 +300,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
     let binding = binding_condition(
         &vehicle,
         &set,
-        (o.margin, o.law, o.bounds, o.fit),
+        (o.margin, law, o.bounds, o.fit),
         position,
         &requested,
     );
@@ -208,14 +308,15 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         None => (requested.clone(), 1.0),
         Some(why) => {
             eprintln!(
-                "design: the requested reference cannot be certified on {}: {why}",
+                "design ({}): the requested reference cannot be certified on {}: {why}",
+                law.name(),
                 vehicle.name
             );
             let s = largest_certifiable_scale(&requested, |r| {
                 binding_condition(
                     &vehicle,
                     &set,
-                    (o.margin, o.law, o.bounds, o.fit),
+                    (o.margin, law, o.bounds, o.fit),
                     position,
                     r,
                 )
@@ -228,7 +329,10 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
                     vehicle.origin, vehicle.name
                 )
             })?;
-            eprintln!("design: designing for the same reference slowed down by {s:.4} (frequencies x {s:.4})");
+            eprintln!(
+                "design ({}): designing for the same reference slowed down by {s:.4} (frequencies x {s:.4})",
+                law.name()
+            );
             (requested.scaled(s), s)
         }
     };
@@ -253,7 +357,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         },
     };
     let layout = Layout {
-        law: o.law,
+        law,
         local: o.envelope,
         vertical: o.vertical,
     };
@@ -281,30 +385,6 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         true,
     )
     .map_err(|_| anyhow::anyhow!("the best design found could not be certified and flown (bug)"))?;
-    if !best.evaluation.feasible && o.fallback == Fallback::VelocityLimited {
-        let why = format!(
-            "with the paper's position feedback on {} s runs no design met the convergence \
-             constraints (the best: worst settling from 180 degrees {}, {:.1} m lost upside down)",
-            o.duration_s,
-            best.evaluation
-                .worst_settling_180_s
-                .map_or("not settled".to_owned(), |t| format!("{t:.1} s")),
-            best.evaluation.altitude_loss_upside_down_m
-        );
-        eprintln!(
-            "design: {why}; designing again with the velocity-limited position feedback \
-             ({FALLBACK_SPEED_LIMIT_M_S} m/s) on {FALLBACK_DURATION_S} s runs"
-        );
-        return run_design(&DesignOptions {
-            speed_limit: Some(FALLBACK_SPEED_LIMIT_M_S),
-            duration_s: FALLBACK_DURATION_S,
-            fallback: Fallback::Taken {
-                why,
-                seconds: started.elapsed().as_secs_f64(),
-            },
-            ..o.clone()
-        });
-    }
     let (scenario, _) = scenarios(
         &vehicle,
         &best.certified.limits,
@@ -317,22 +397,28 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
     )?;
     let lag_max = largest_converging_lag(&scenario, vehicle.motor_time_constant_s);
     let baselines = baseline_tasks(&scenario)?;
-    let earlier_s = match &o.fallback {
-        Fallback::Taken { seconds, .. } => *seconds,
-        _ => 0.0,
-    };
-    let report = Report::new(
+    let helix = super::evaluate::design_helix_tracking(&scenario)?;
+    let mut report = Report::new(
         &vehicle,
-        o,
+        (o, law),
         (&requested, &reference, scale, binding.as_deref()),
         Choices::from_unit(&optimum.x, layout),
         &best,
         (lag_max, baselines),
         optimum.evaluations,
-        earlier_s + started.elapsed().as_secs_f64(),
+        started.elapsed().as_secs_f64(),
     );
-    let files = write_outputs(&o.out, &report, &vehicle, &best, &reference, period)?;
-    Ok(DesignOutcome { report, files })
+    if let Some(own) = report.objective.nominal_tasks.first_mut() {
+        own.helix_tracking_error_m = Some(helix);
+    }
+    Ok(Designed {
+        law,
+        report,
+        vehicle,
+        best,
+        reference,
+        period,
+    })
 }
 
 /// What `design` produced.

@@ -74,6 +74,14 @@ pub enum AttitudeLaw {
 }
 
 impl AttitudeLaw {
+    /// Its name on the command line and in `design.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Paper => "paper",
+            Self::TiltPriority => "tilt-priority",
+        }
+    }
+
     /// Number of decision variables.
     pub fn dimension(self) -> usize {
         match self {
@@ -172,14 +180,15 @@ impl VerticalChoices {
 /// | 2 | local position natural frequency `ω_p,L` | 0.5 to 8 rad/s (log) |
 /// | 3 | local position damping `ζ_p,L` | 0.6 to 1.5 |
 /// | 4 | the tilt error `θ_out` whose MRP potential is `E_out` | 2 to 60 degrees (log) |
-/// | 5 | `M_p,L / M_p` | 0.2 to 1 |
+/// | 5 | `M_p,L / M_p` | 0.25 to 4 (log): above 1, more authority near the reference than the
+/// global level's worst-case torque allows |
 const LOCAL_RANGES: [(f64, f64, bool); LOCAL_DIMENSION] = [
     (1.0, 30.0, true),
     (1.5, 12.0, true),
     (0.5, 8.0, true),
     (0.6, 1.5, false),
     (2.0, 60.0, true),
-    (0.2, 1.0, false),
+    (0.25, 4.0, true),
 ];
 
 /// The envelope design's local regime, before it becomes gains (docs/envelope-design.md).
@@ -647,7 +656,13 @@ fn local_fits(ctx: &Context<'_>, g: &Gains<f64>, local: LocalGains<f64>) -> bool
     };
     let b = &c.bounds;
     match ctx.fit {
-        RotorFit::Airmode => ctx.rotors.envelope(ctx.margin).shadow_margin(&l.torque_set) >= 0.0,
+        // The thrust interval (the hull of both regimes') at zero torque, and the shadow.
+        RotorFit::Airmode => {
+            let thrust_alone = controller_core::TorqueSet::boxed(Vector3::zeros());
+            super::authority::set_margin(ctx.rotors, (b.thrust_min, b.thrust_max), &thrust_alone)
+                >= ctx.margin
+                && ctx.rotors.envelope(ctx.margin).shadow_margin(&l.torque_set) >= 0.0
+        }
         RotorFit::Set => {
             super::authority::set_margin(ctx.rotors, (b.thrust_min, b.thrust_max), &l.torque_set)
                 >= ctx.margin
@@ -657,30 +672,42 @@ fn local_fits(ctx: &Context<'_>, g: &Gains<f64>, local: LocalGains<f64>) -> bool
 
 /// The local regime of `l` for the global gains `g`: its filters as chosen when its torque set
 /// fits ([`local_fits`]), else slowed (bisection on `k_f,L / k_f` towards 1, 40 steps, keeping
-/// `k_s,L / k_f,L`); `None` when even `k_f,L = k_f` does not fit.
+/// `k_s,L / k_f,L`); when even `k_f,L = k_f` does not fit with a local level above the global
+/// one, the same with `M_p,L = M_p`; `None` when nothing fits.
 fn local_gains(ctx: &Context<'_>, g: &Gains<f64>, l: &LocalChoices) -> Option<LocalGains<f64>> {
     let e_out = energy_out(g, l);
     let wp = l.position_frequency_rad_s;
-    let build = |ratio: f64| {
+    let build = |ratio: f64, fraction: f64| {
         let kf = g.position.kf * ratio;
         LocalGains {
             kp: wp * wp,
             kv: 2.0 * l.position_damping * wp,
             kf,
             ks: kf * l.ks_ratio,
-            saturation: l.saturation_fraction * g.position.saturation,
+            saturation: fraction * g.position.saturation,
             energy_in: 0.5 * e_out,
             energy_out: e_out,
         }
     };
-    let fits = |ratio: f64| local_fits(ctx, g, build(ratio));
-    if fits(l.kf_ratio) {
-        return Some(build(l.kf_ratio));
-    }
-    if !fits(1.0) {
-        return None;
-    }
-    Some(build(super::bisect::bisect(1.0, l.kf_ratio, 40, fits)))
+    let fractions = [l.saturation_fraction, l.saturation_fraction.min(1.0)];
+    let levels = if fractions[0] > fractions[1] {
+        &fractions[..]
+    } else {
+        &fractions[..1]
+    };
+    levels.iter().find_map(|&fraction| {
+        let fits = |ratio: f64| local_fits(ctx, g, build(ratio, fraction));
+        if fits(l.kf_ratio) {
+            return Some(build(l.kf_ratio, fraction));
+        }
+        if !fits(1.0) {
+            return None;
+        }
+        Some(build(
+            super::bisect::bisect(1.0, l.kf_ratio, 40, fits),
+            fraction,
+        ))
+    })
 }
 
 #[cfg(test)]

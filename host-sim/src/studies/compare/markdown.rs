@@ -60,7 +60,8 @@ pub fn markdown(r: &CompareReport, plots: &[(String, String)]) -> String {
     }
     let _ = writeln!(
         md,
-        "## Sanity checks of each controller on its own (hover at (0, 0, 5) m, 10 s)\n"
+        "## Sanity checks of each controller on its own (hover at (0, 0, 5) m, 10 s; the \
+         scenario's own reference from its initial state)\n"
     );
     let mut t = Table::new(
         &mut md,
@@ -70,6 +71,7 @@ pub fn markdown(r: &CompareReport, plots: &[(String, String)]) -> String {
             "1 m step: settling [s]",
             "1 m step: error at 10 s [m]",
             "30 deg roll: settling [s]",
+            "reference: mean error over the last 5 s [m]",
         ],
         Rule::Spaced,
     );
@@ -81,6 +83,8 @@ pub fn markdown(r: &CompareReport, plots: &[(String, String)]) -> String {
             fmt_opt(s.step_settling_time_s),
             format!("{:.2e}", s.step_final_position_error_m),
             fmt_opt(s.tilt_settling_time_s),
+            s.helix_tracking_error_m
+                .map_or("–".to_owned(), |e| format!("{e:.2e}")),
         ]);
     }
     let _ = writeln!(

@@ -14,7 +14,7 @@ use plots::write_plots;
 mod markdown;
 pub use markdown::markdown;
 pub mod sanity;
-pub use sanity::{sanity, SanityRow};
+pub use sanity::{helix_tracking_error, sanity, SanityRow};
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
@@ -197,8 +197,14 @@ pub fn run_compare(
         ))?;
         let campaign = run_campaign(&config(runs, SamplerRadii::default()))?;
         results.push(ContestantResult {
-            sanity: sanity(base, &c, own_bounds)
-                .with_context(|| format!("sanity runs of {}", c.label))?,
+            sanity: SanityRow {
+                helix_tracking_error_m: Some(
+                    helix_tracking_error(base, &c, own_bounds)
+                        .with_context(|| format!("helix run of {}", c.label))?,
+                ),
+                ..sanity(base, &c, own_bounds)
+                    .with_context(|| format!("sanity runs of {}", c.label))?
+            },
             half_turns: summarise(&half, nominal),
             campaign: summarise(&campaign, nominal),
             chattering: chattering(base, &c, seed, own_bounds)?,

@@ -26,6 +26,10 @@ pub struct SanityRow {
     pub step_final_position_error_m: f64,
     /// 30° roll step: settling time \[s\].
     pub tilt_settling_time_s: Option<f64>,
+    /// Tracking of the scenario's own reference (for a design, its certified helix) from the
+    /// scenario's initial state over its duration: mean `|p − p_d|` over the last 5 s \[m\]
+    /// ([`helix_tracking_error`]); `None` where it was not flown (the design's search).
+    pub helix_tracking_error_m: Option<f64>,
 }
 
 /// Hover, 1 m step and 30° tilt from hover at (0, 0, 5) m, 10 s each, for contestant `c` on
@@ -66,5 +70,23 @@ pub fn sanity(base: &Scenario, c: &Contestant, bounds: BoundSet) -> Result<Sanit
         step_settling_time_s: step.settling_time_s,
         step_final_position_error_m: step.final_position_error_m,
         tilt_settling_time_s: tilt.settling_time_s,
+        helix_tracking_error_m: None,
     })
+}
+
+/// The scenario's own reference flown by contestant `c` on `base` from `base`'s initial state
+/// for its duration (for a design's scenario: the certified helix, 30 s or the design's run
+/// length), its samples checked against `bounds`: the mean `|p − p_d|` over the last 5 s \[m\],
+/// once the start's transient is over. Errors: the controller refused the scenario.
+pub fn helix_tracking_error(base: &Scenario, c: &Contestant, bounds: BoundSet) -> Result<f64> {
+    let s = c.scenario(base);
+    let conv = Convergence {
+        after_s: s.simulation.duration_s,
+        ..Convergence::default()
+    };
+    Ok(
+        trace(&s, c.controller, &base.initial_state(), 0, conv, bounds)?
+            .0
+            .steady_position_error_m,
+    )
 }

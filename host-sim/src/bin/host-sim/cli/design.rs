@@ -8,7 +8,7 @@ use controller_core::{Lemma1Form, PositionSaturation};
 use host_sim::design::{
     authority::RotorFit,
     integral::IntegralSpec,
-    options::{Fallback, DEFAULT_DURATION_S, DEFAULT_EVALUATIONS},
+    options::{Fallback, LawSearch, DEFAULT_DURATION_S, DEFAULT_EVALUATIONS},
     run_design,
     tight::BoundsKind,
     variables::AttitudeLaw,
@@ -29,6 +29,8 @@ pub enum DesignThrust {
 /// command line).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum DesignLaw {
+    /// Both, each on the whole budget; the better design is written (twice the wall time).
+    Both,
     /// The paper's law (Section V): one feedback torque level on every axis.
     Paper,
     /// Tilt priority (docs/tilt-priority.md): per-axis levels, yaw's small.
@@ -100,9 +102,10 @@ pub struct DesignArgs {
     /// and says so.
     #[arg(long)]
     pub duration_s: Option<f64>,
-    /// Attitude feedback to search: `paper` (one feedback torque level on every axis) or
-    /// `tilt-priority` (per-axis levels, yaw's small; docs/tilt-priority.md).
-    #[arg(long, value_enum, default_value_t = DesignLaw::Paper)]
+    /// Attitude feedback to search: `both` (each on the whole budget, the better design is
+    /// written), `paper` (one feedback torque level on every axis) or `tilt-priority` (per-axis
+    /// levels, yaw's small; docs/tilt-priority.md).
+    #[arg(long, value_enum, default_value_t = DesignLaw::Both)]
     pub law: DesignLaw,
     /// Bounds that certify Theorem 2's torque condition and the rotor fit: `paper` (Lemma 1 and
     /// Theorem 2 as written; the firmware re-checks them on board) or `tight` (the tight
@@ -142,8 +145,8 @@ pub struct DesignArgs {
     pub thrust: DesignThrust,
     /// Shape of the position feedback's saturation: `componentwise` (the paper's, each component
     /// below `M_p`) or `norm` (`|ubar_p| < M_p`, so Theorem 1 and Lemma 1 lose the paper's √3:
-    /// docs/position-saturation.md; the Crazyflie preset's choice).
-    #[arg(long, value_enum, default_value_t = DesignPositionSaturation::Componentwise)]
+    /// docs/position-saturation.md; the default, as on every preset).
+    #[arg(long, value_enum, default_value_t = DesignPositionSaturation::Norm)]
     pub position_saturation: DesignPositionSaturation,
     /// The chain the certificate bounds `|ω̇_d|` with: `tangential` (only the parts of `ρ̈` and
     /// `ϋ` that `ω̇_d` reads; a proven, smaller bound: docs/tangential-lemma1.md) or `paper`
@@ -209,8 +212,9 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         evaluations: args.evaluations,
         duration_s: args.duration_s.unwrap_or(DEFAULT_DURATION_S),
         law: match args.law {
-            DesignLaw::Paper => AttitudeLaw::Paper,
-            DesignLaw::TiltPriority => AttitudeLaw::TiltPriority,
+            DesignLaw::Both => LawSearch::Both,
+            DesignLaw::Paper => LawSearch::One(AttitudeLaw::Paper),
+            DesignLaw::TiltPriority => LawSearch::One(AttitudeLaw::TiltPriority),
         },
         envelope: args.envelope == DesignAirmode::On,
         vertical: args.vertical == DesignAirmode::On,
