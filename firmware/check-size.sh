@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Size budget of the release firmware: flash (vector table + text + rodata + the load image of
-# .data) <= 256 KiB, static RAM (.data + .bss + .uninit, stack excluded) <= 64 KiB. Our budget,
+# .data) <= 384 KiB, static RAM (.data + .bss + .uninit, stack excluded) <= 64 KiB. Our budget,
 # not the chip's: the STM32F405RG has 1 MiB of flash and 128 KiB of SRAM (boards/stm32f405/
 # memory.x); half the RAM is left to the stack. Per-package opt-levels: the workspace Cargo.toml.
 #
@@ -10,7 +10,9 @@
 # Reads the section table with binutils' `size -A` (installed with gcc); exits 1 over budget.
 set -euo pipefail
 
-FLASH_BUDGET=$((256 * 1024))
+# 384 KiB since the on-board certificate grew to re-check airmode's shadow fits, the envelope
+# design's local regime and the vertical channel (docs/firmware-board.md#size-budget).
+FLASH_BUDGET=$((384 * 1024))
 RAM_BUDGET=$((64 * 1024))
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 

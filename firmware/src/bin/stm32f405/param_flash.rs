@@ -1,6 +1,6 @@
 //! Where the STM32F405 keeps its parameters: the last two 128 KiB sectors of its flash (10 and
 //! 11, 0x080C_0000..0x0810_0000), which the program never occupies (`boards/stm32f405/
-//! memory.x` ends FLASH at 768 KiB; the size budget is 256 KiB). Two sectors: sequential-
+//! memory.x` ends FLASH at 768 KiB; the size budget is 384 KiB). Two sectors: sequential-
 //! storage needs a spare page to migrate into. Sector erases stall the CPU (single bank) for
 //! up to seconds: only the boot restore and a save whose page is full erase, each under a
 //! lengthened watchdog (`erase_watchdog.rs`), and only while disarmed (the pipeline holds
