@@ -20,18 +20,18 @@ use crate::scalar::{lit, Scalar};
 /// Bounds on the attitude error inside `{E ≤ c}`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnergyLimits<T: Scalar> {
-    /// `c` [J].
+    /// `c` \[J\].
     pub energy: T,
     /// Largest `|ϑ̃|` (dimensionless): `√((M_ϑ + c k_ϑ/M_ϑ)² − M_ϑ²)/k_ϑ`, from `Ψ(ϑ̃) ≤ c`,
     /// at most `1 + δ`.
     pub mrp: T,
-    /// Largest rotation angle of `R̃` [rad]: `4 atan(|ϑ̃|)` (π once `|ϑ̃| ≥ 1`).
+    /// Largest rotation angle of `R̃` \[rad\]: `4 atan(|ϑ̃|)` (π once `|ϑ̃| ≥ 1`).
     pub angle: T,
     /// Largest `|ω̃_i|` per body axis [rad/s]: `√(2c/J_ii)`, from `½ ω̃ᵀJω̃ ≤ c`.
     pub omega_error: Vector3<T>,
 }
 
-/// The attitude energy `E = ½ ω̃ᵀJω̃ + Ψ(ϑ̃) (+ ½ tr(G(I − R̃)) with tilt priority)` [J] of the
+/// The attitude energy `E = ½ ω̃ᵀJω̃ + Ψ(ϑ̃) (+ ½ tr(G(I − R̃)) with tilt priority)` \[J\] of the
 /// MRP error `mrp_error`, the angular velocity error `omega_error` [rad/s] (body) and the error
 /// rotation `error_rotation` (`R̃ = R_dᵀR`) for `gains` and the inertia diagonal `inertia`
 /// [kg m²] (module documentation). Non-increasing along the closed loop with the exact

@@ -37,10 +37,10 @@ pub struct LocalGains<T: Scalar> {
     /// rates and a smaller yaw share of them; above it, more authority where the attitude is
     /// near the reference and the torque demand small.
     pub saturation: T,
-    /// `E_in` [J]: the local gains take over once the attitude energy is at most this (and the
+    /// `E_in` \[J\]: the local gains take over once the attitude energy is at most this (and the
     /// filter states lie in the local saturation set).
     pub energy_in: T,
-    /// `E_out` [J], `> E_in`: the global gains take back over above this.
+    /// `E_out` \[J\], `> E_in`: the global gains take back over above this.
     pub energy_out: T,
 }
 
@@ -103,7 +103,7 @@ impl<T: Scalar> LocalGains<T> {
         }
     }
 
-    /// The regime after a sample whose attitude energy is `energy` [J], from `current`, with the
+    /// The regime after a sample whose attitude energy is `energy` \[J\], from `current`, with the
     /// filter states `filter` [m/s²] the next sample starts from under `global`'s gains: the
     /// hysteresis `Global → Local` at `E ≤ E_in` once the filter states re-timed to the local
     /// `k_f` lie in the local saturation set (so Lemma 1's premise holds for the local gains),

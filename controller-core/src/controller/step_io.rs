@@ -66,7 +66,7 @@ pub struct Diagnostics<T: Scalar> {
     /// The envelope design's regime this sample flew ([`crate::local_regime`]; `Global`
     /// without it).
     pub regime: crate::local_regime::Regime,
-    /// The attitude energy `½ω̃ᵀJω̃ + Ψ(ϑ̃)` [J] of this sample (with tilt priority plus its trace
+    /// The attitude energy `½ω̃ᵀJω̃ + Ψ(ϑ̃)` \[J\] of this sample (with tilt priority plus its trace
     /// potential; [`crate::attitude_energy::attitude_energy`]), zero without the envelope design.
     pub attitude_energy: T,
     /// Path-lifting jumps applied at this sample.

@@ -98,7 +98,7 @@ pub struct RotorFitEntry {
 #[derive(Clone, Debug, Serialize)]
 #[allow(non_snake_case)]
 pub struct LocalRegimeEntry {
-    /// Largest attitude error angle inside `{E ≤ E_out}` [deg].
+    /// Largest attitude error angle inside `{E ≤ E_out}` \[deg\].
     pub angle_out_deg: f64,
     /// Largest `|ω̃_i|` inside `{E ≤ E_out}` [rad/s], body axes.
     pub omega_error_out_rad_s: [f64; 3],

@@ -202,7 +202,7 @@ pub struct LocalChoices {
     pub position_frequency_rad_s: f64,
     /// Local position damping ratio.
     pub position_damping: f64,
-    /// The tilt error [deg] at rest whose MRP potential is `E_out` (`E_in = E_out / 2`).
+    /// The tilt error \[deg\] at rest whose MRP potential is `E_out` (`E_in = E_out / 2`).
     pub tilt_out_deg: f64,
     /// `M_p,L / M_p`: the local regime's share of the saturation level.
     pub saturation_fraction: f64,
@@ -622,7 +622,7 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     })
 }
 
-/// `E_out` [J] of `l`: the MRP potential `Ψ(ϑ) = (M_ϑ/k_ϑ)(√(M_ϑ² + k_ϑ²ϑ²) − M_ϑ)` of a rotation
+/// `E_out` \[J\] of `l`: the MRP potential `Ψ(ϑ) = (M_ϑ/k_ϑ)(√(M_ϑ² + k_ϑ²ϑ²) − M_ϑ)` of a rotation
 /// by `θ_out` at rest (`ϑ = tan(θ_out/4)`).
 pub fn energy_out(g: &Gains<f64>, l: &LocalChoices) -> f64 {
     let (m, k) = (g.attitude.mrp_saturation, g.attitude.k_mrp);
