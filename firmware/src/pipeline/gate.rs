@@ -10,8 +10,10 @@
 //! - without airmode: the set `[T_lo, T_hi] × S` ([`ROTOR_FIT`],
 //!   [`crate::mixer::Mixer::set_margin`]); with the envelope design's local regime, also its
 //!   torque set over the same interval ([`ROTOR_FIT_LOCAL`]);
-//! - with airmode ([`FlightConfig::airmode`], docs/airmode.md): the interval alone, at zero
-//!   torque ([`ROTOR_FIT_THRUST`]); the shadow of `S`, every torque of `S` at *some* thrust
+//! - with airmode ([`FlightConfig::airmode`], docs/airmode.md): Theorem 1's interval
+//!   `[T_min, T_max]` alone, at zero torque ([`ROTOR_FIT_THRUST`]; not the no-dive thrust's
+//!   floor, which airmode lifts into the thrusts the rotors realise anyway: at zero torque that
+//!   is at least the shrunk range's collective minimum); the shadow of `S`, every torque of `S` at *some* thrust
 //!   ([`ROTOR_FIT_SHADOW`], [`crate::mixer::Mixer::shadow_margin`]); with a local regime, the
 //!   shadow of its torque set ([`ROTOR_FIT_LOCAL_SHADOW`]). Airmode then moves the thrust to
 //!   where the rotors realise the law's torque, so the mixer gives nothing up.
@@ -37,7 +39,7 @@ pub const ROTOR_FIT: &str = "rotor_fit.margin";
 /// `lhs` its smallest headroom, `rhs` the required margin (fractions of the rotor range).
 pub const ROTOR_FIT_LOCAL: &str = "rotor_fit.local";
 
-/// Name of airmode's thrust fit, `[T_lo, T_hi]` at zero torque: `lhs` its smallest headroom,
+/// Name of airmode's thrust fit, Theorem 1's `[T_min, T_max]` at zero torque: `lhs` its smallest headroom,
 /// `rhs` the required margin (fractions of the rotor range).
 pub const ROTOR_FIT_THRUST: &str = "rotor_fit.thrust";
 
@@ -148,10 +150,11 @@ pub fn rotor_fits(
     let local = certificate.local.as_ref().map(|l| &l.torque_set);
     Ok(if cfg.airmode {
         let thrust_alone = TorqueSet::boxed(Vector3::zeros());
+        let b = &certificate.bounds;
         let mut fits = RotorFits::one(
             ROTOR_FIT_THRUST,
-            "thrust interval at zero torque",
-            mixer.set_margin(lo, hi, &thrust_alone),
+            "Theorem 1's thrust interval at zero torque",
+            mixer.set_margin(b.thrust_min, b.thrust_max, &thrust_alone),
         );
         fits.push(
             ROTOR_FIT_SHADOW,

@@ -197,6 +197,16 @@ pub fn certify_design_with(
                 && e.set_margin(t_lo, t_hi, &TorqueSet::boxed(Vector3::zeros())) >= 0.0
         }),
     };
+    // The local regime's set, as the firmware's gate fits it (`rotor_fit.local`,
+    // `rotor_fit.local_shadow`) on the range shrunk by the margin.
+    let local_fits_with_margin = certificate.local.as_ref().is_none_or(|l| {
+        let s = set_f32(&l.torque_set);
+        match fit {
+            RotorFit::Set => shrunk.set_margin(t_lo, t_hi, &s) >= 0.0,
+            RotorFit::Airmode => shrunk.envelope().is_some_and(|e| e.shadow_margin(&s) >= 0.0),
+        }
+    });
+    let paper_fits_with_margin = paper_fits_with_margin && local_fits_with_margin;
     let (fits, fits_with_margin) = match (tight_box, fit) {
         (None, RotorFit::Set) => (
             mixer.set_margin(t_lo, t_hi, &paper_set) >= 0.0,

@@ -37,18 +37,18 @@ pub const TAIL_S: f64 = 5.0;
 /// Largest attitude error allowed over the end window \[deg\].
 pub const TAIL_ATTITUDE_DEG: f64 = 1.0;
 /// Objective weight of the altitude lost from upside down [s/m].
-pub const ALTITUDE_WEIGHT_S_PER_M: f64 = 1.0;
+pub const ALTITUDE_WEIGHT_S_PER_M: f64 = 2.0;
 /// Objective weight of the worst settling time with the motor time constant doubled: a design
 /// that only just converges with the doubled lag has no margin left for the campaigns' offsets.
 pub const DOUBLED_LAG_WEIGHT: f64 = 0.5;
 /// Objective weight of each nominal task's settling time (the 1 m step and the 30° roll): the
 /// agility a pilot sees, which the worst-case terms above do not measure.
-pub const NOMINAL_TASK_WEIGHT: f64 = 2.0;
+pub const NOMINAL_TASK_WEIGHT: f64 = 4.0;
 /// What an unsettled nominal task counts in the objective \[s\]: twice its 10 s run.
 pub const UNSETTLED_TASK_S: f64 = 20.0;
 /// Objective weight of the altitude the covered disturbance takes from rest [s/m]: a pilot's
 /// "how far does it sag when I add a payload" (the settling time alone does not see a deep sag).
-pub const DISTURBANCE_LOSS_WEIGHT_S_PER_M: f64 = 10.0;
+pub const DISTURBANCE_LOSS_WEIGHT_S_PER_M: f64 = 30.0;
 /// Cost floor of a design that fails a convergence constraint.
 pub const PENALTY: f64 = 1000.0;
 
@@ -275,8 +275,8 @@ pub fn design_helix_tracking(scenario: &Scenario) -> Result<f64> {
 }
 
 /// Scores a design: `worst settling [s] + 0.5 × worst settling with the motor time constant
-/// doubled [s] + 1 s/m × altitude lost [m] + 2 × (1 m step's + 30° roll's settling [s])`
-/// (`+` the disturbed hover's settling time \[s\] and 10 s/m × its altitude lost, with
+/// doubled [s] + 2 s/m × altitude lost [m] + 4 × (1 m step's + 30° roll's settling [s])`
+/// (`+` the disturbed hover's settling time \[s\] and 30 s/m × its altitude lost, with
 /// `integral`) when every run
 /// converges, else `PENALTY + 100 × (runs not converged) + 10 ln(1 + altitude lost [m]) +
 /// Σ ln(1 + final position error [m])` over the nominal 180° starts (and the disturbed hover).

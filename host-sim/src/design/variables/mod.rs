@@ -655,20 +655,28 @@ fn local_fits(ctx: &Context<'_>, g: &Gains<f64>, local: LocalGains<f64>) -> bool
         return false;
     };
     let b = &c.bounds;
+    // The board re-evaluates these fits in f32 from the flight file's decimals: the local
+    // filters are bisected onto the fit's boundary, so keep `F32_SLACK` of the rotor range more
+    // than the margin, or the gate could refuse by rounding what the host accepted.
+    let margin = ctx.margin + F32_SLACK;
     match ctx.fit {
-        // The thrust interval (the hull of both regimes') at zero torque, and the shadow.
+        // Theorem 1's interval (the hull of both regimes') at zero torque, and the shadow.
         RotorFit::Airmode => {
             let thrust_alone = controller_core::TorqueSet::boxed(Vector3::zeros());
             super::authority::set_margin(ctx.rotors, (b.thrust_min, b.thrust_max), &thrust_alone)
-                >= ctx.margin
-                && ctx.rotors.envelope(ctx.margin).shadow_margin(&l.torque_set) >= 0.0
+                >= margin
+                && ctx.rotors.envelope(margin).shadow_margin(&l.torque_set) >= 0.0
         }
         RotorFit::Set => {
             super::authority::set_margin(ctx.rotors, (b.thrust_min, b.thrust_max), &l.torque_set)
-                >= ctx.margin
+                >= margin
         }
     }
 }
+
+/// Headroom [fraction of the rotor range] the local regime's fits keep above the margin, for
+/// the board's f32 re-evaluation (the flight file's x500 design: 2.2e-4 short without it).
+pub const F32_SLACK: f64 = 2e-3;
 
 /// The local regime of `l` for the global gains `g`: its filters as chosen when its torque set
 /// fits ([`local_fits`]), else slowed (bisection on `k_f,L / k_f` towards 1, 40 steps, keeping
