@@ -9,19 +9,13 @@
 # With REUSE_DESIGNS=1, a preset whose OUT_DIR/<preset>/design.json exists is not designed again
 # (its campaigns are re-run, the design time is the one design.json recorded): to check the
 # committed designs, `REUSE_DESIGNS=1 bash host-sim/designs/check-designs.sh host-sim/designs`.
-# (default OUT_DIR out/designs, presets crazyflie-2.1 hummingbird x500). About 1 minute of
-# design and a few seconds of campaigns per preset on 2 cores, after the release build (the
-# Hummingbird's 120 s runs: about 2 minutes; the x500's 300 s runs: about 5 minutes).
-#
-# Run length (`design --duration-s`, which the written scenario and so the campaigns keep;
-# converged = settled 5 s before the end): the default (30 s), except the Hummingbird, whose
-# certified authority (M_p about 1 m/s^2, a feedback angular acceleration of 2-4 rad/s^2)
-# needs about 45 s to settle from a half turn: 120 s. The x500 runs with the defaults: no design
-# converges on 30 s runs with the paper's position feedback, so `design` falls back to the
-# velocity-limited feedback at 20 m/s on 300 s runs (docs/velocity-limit.md; its certified
-# authority, M_p about 1 m/s^2, loses hundreds of metres from upside down and climbs back at
-# that speed). With the norm-saturated position feedback that fallback's convergence is shown
-# by these campaigns, not proven (docs/position-saturation.md); its bounds are certified.
+# (default OUT_DIR out/designs, presets crazyflie-2.1 hummingbird x500). Every preset is designed
+# with `design`'s defaults (both attitude laws searched, the norm-saturated position feedback,
+# airmode, the vertical channel apart and the envelope design's local regime, 30 s runs): one to
+# two minutes of design and a few seconds of campaigns per preset on 2 cores, after the release
+# build. Where no design converges on 30 s runs (the x500 so far), `design` falls back to the
+# velocity-limited feedback at 20 m/s on 300 s runs (docs/velocity-limit.md) and says so: about
+# 5 minutes more.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 out="${1:-out/designs}"
@@ -38,23 +32,12 @@ for p in "${presets[@]}"; do
   vehicle="host-sim/vehicles/$p.toml"
   dir="$out/$p"
   printf '\n==> %s: design\n' "$p"
-  extra=()
-  case "$p" in
-    hummingbird) extra=(--duration-s 120) ;;
-    # The norm-saturated position feedback wins on the Crazyflie (docs/position-saturation.md).
-    # Seed 3: seed 1's design scores better (43.5 against 44.0) but converges in only 48 % of
-    # the 200 runs with the motor lag doubled, seed 3's in 100 % (docs/design.md).
-    crazyflie-2.1) extra=(--position-saturation norm --seed 3) ;;
-    # Tilt priority with the norm-saturated position feedback wins on the x500, whose yaw
-    # authority is a twentieth of roll's (docs/design.md, "What the presets give").
-    x500) extra=(--law tilt-priority --position-saturation norm) ;;
-  esac
   if [ "${REUSE_DESIGNS:-0}" = 1 ] && [ -f "$dir/design.json" ]; then
     printf '(reusing %s/design.json)\n' "$dir"
     design_s=$(python3 -c 'import json, sys; print(round(json.load(open(sys.argv[1]))["wall_time_s"]))' "$dir/design.json")
   else
     start=$(date +%s)
-    "$bin" design --vehicle "$vehicle" "${extra[@]}" --out "$dir"
+    "$bin" design --vehicle "$vehicle" --out "$dir"
     design_s=$(( $(date +%s) - start ))
   fi
   tau=$(awk -F'=' '/^motor_time_constant_s/ {gsub(/[ #].*/, "", $2); print $2; exit}' <(sed 's/ //g' "$vehicle"))
