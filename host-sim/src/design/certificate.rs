@@ -203,7 +203,9 @@ pub fn certify_design_with(
         let s = set_f32(&l.torque_set);
         match fit {
             RotorFit::Set => shrunk.set_margin(t_lo, t_hi, &s) >= 0.0,
-            RotorFit::Airmode => shrunk.envelope().is_some_and(|e| e.shadow_margin(&s) >= 0.0),
+            RotorFit::Airmode => shrunk
+                .envelope()
+                .is_some_and(|e| e.shadow_margin(&s) >= 0.0),
         }
     });
     let paper_fits_with_margin = paper_fits_with_margin && local_fits_with_margin;
