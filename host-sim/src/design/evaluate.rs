@@ -249,29 +249,36 @@ pub fn baseline_tasks(scenario: &Scenario) -> Result<Vec<SanityRow>> {
         .collect()
 }
 
-/// The nominal tasks of the design's `scenario` (its plant, gains, thrust and motor lag), the
-/// samples checked against its own bounds. Errors: the controller refused the scenario.
-pub fn nominal_tasks(scenario: &Scenario) -> Result<SanityRow> {
-    let design = Contestant {
+/// The design as `compare` names it: the paper's law (with the scenario's extensions) and its
+/// integral action, clipped as the scenario says.
+fn design_contestant(scenario: &Scenario) -> Contestant {
+    Contestant {
         label: "design".into(),
         controller: ControllerKind::Paper,
         clip: scenario.simulation.clip_to_limits,
         integral: true,
-    };
-    sanity(scenario, &design, paper_bound_set(scenario)?)
+    }
+}
+
+/// The nominal tasks of the design's `scenario` (its plant, gains, thrust and motor lag), the
+/// samples checked against its own bounds. Errors: the controller refused the scenario.
+pub fn nominal_tasks(scenario: &Scenario) -> Result<SanityRow> {
+    sanity(
+        scenario,
+        &design_contestant(scenario),
+        paper_bound_set(scenario)?,
+    )
 }
 
 /// The design's tracking of its own certified reference ([`helix_tracking_error`]) on
 /// `scenario` (its plant, gains, thrust and motor lag) \[m\]. Errors: the controller refused
 /// the scenario.
 pub fn design_helix_tracking(scenario: &Scenario) -> Result<f64> {
-    let design = Contestant {
-        label: "design".into(),
-        controller: ControllerKind::Paper,
-        clip: scenario.simulation.clip_to_limits,
-        integral: true,
-    };
-    helix_tracking_error(scenario, &design, paper_bound_set(scenario)?)
+    helix_tracking_error(
+        scenario,
+        &design_contestant(scenario),
+        paper_bound_set(scenario)?,
+    )
 }
 
 /// Scores a design: `worst settling [s] + 0.5 × worst settling with the motor time constant

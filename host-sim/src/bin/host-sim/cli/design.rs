@@ -307,18 +307,19 @@ mod tests {
         assert_eq!(e.kind(), clap::error::ErrorKind::ArgumentConflict);
     }
 
-    /// Given no shape flag, when parsed, then the design keeps the paper's componentwise
-    /// saturation; `norm` selects the norm shape (docs/position-saturation.md), anything else is
+    /// Given no shape or law flag, when parsed, then the design searches the norm shape (whose
+    /// convergence is proven, docs/position-saturation.md) and both attitude laws;
+    /// `componentwise` selects the paper's shape, `--law paper` one law, anything else is
     /// refused.
     #[test]
-    fn the_position_saturation_is_the_papers_by_default() {
-        use super::DesignPositionSaturation as Shape;
-        assert_eq!(
-            parse(&[]).unwrap().position_saturation,
-            Shape::Componentwise
-        );
-        let norm = parse(&["--position-saturation", "norm"]).unwrap();
-        assert_eq!(norm.position_saturation, Shape::Norm);
+    fn the_norm_shape_and_both_laws_are_the_defaults() {
+        use super::{DesignLaw, DesignPositionSaturation as Shape};
+        let d = parse(&[]).unwrap();
+        assert_eq!(d.position_saturation, Shape::Norm);
+        assert_eq!(d.law, DesignLaw::Both);
+        let paper = parse(&["--position-saturation", "componentwise", "--law", "paper"]).unwrap();
+        assert_eq!(paper.position_saturation, Shape::Componentwise);
+        assert_eq!(paper.law, DesignLaw::Paper);
         let e = parse(&["--position-saturation", "radial"]).unwrap_err();
         assert_eq!(e.kind(), clap::error::ErrorKind::InvalidValue);
     }
