@@ -44,7 +44,7 @@ if "${paper_flight[@]}" cargo check -p firmware --lib 2>/dev/null; then
   exit 1
 fi
 
-step "firmware built with each preset design's flight file ([controller] vertical priority with its floor): the gate certifies it and it arms"
+step "firmware built with each preset design's flight file (airmode, the vertical channel, the local regime where chosen): the gate certifies it and it arms"
 for preset in crazyflie-2.1 hummingbird x500; do
   FIRMWARE_FLIGHT_FILE="host-sim/designs/$preset/firmware.toml" \
     cargo test -p firmware --lib built_config_is_certified_and_arms
