@@ -87,4 +87,4 @@ pub fn energy_limits<T: Scalar>(
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

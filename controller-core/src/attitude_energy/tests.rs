@@ -15,8 +15,9 @@ fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
 }
 
-/// Hummingbird-like gains: the paper's radial law, or tilt priority (yaw weak).
-fn gains(tilt: bool) -> Gains<f64> {
+/// Hummingbird-like gains: the paper's radial law, or tilt priority (yaw weak); the local
+/// certificate's tests use them too.
+pub(crate) fn gains(tilt: bool) -> Gains<f64> {
     let mut g = Gains::<f64>::paper();
     g.attitude.k_mrp = 2.0;
     g.attitude.k_omega = 0.05;

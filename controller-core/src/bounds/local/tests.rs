@@ -10,25 +10,14 @@ use crate::attitude_energy::{attitude_energy, energy_limits};
 use crate::bounds::{certify, FilterStart};
 use crate::gains::Gains;
 use crate::mrp::rotation_from_mrp;
-use crate::tilt_priority::TiltPriorityGains;
 use crate::{Limits, TrajectoryConstants, Vehicle};
 
+/// The attitude energy tests' gains with a position loop whose filters fit the local set.
 fn gains(tilt: bool) -> Gains<f64> {
-    let mut g = Gains::<f64>::paper();
-    g.attitude.k_mrp = 2.0;
-    g.attitude.k_omega = 0.05;
-    g.attitude.mrp_saturation = 0.3;
-    g.attitude.omega_saturation = 0.1;
+    let mut g = crate::attitude_energy::tests::gains(tilt);
     g.position.kf = 4.0;
     g.position.ks = 10.0;
     g.position.saturation = 3.0;
-    if tilt {
-        g.tilt_priority = Some(TiltPriorityGains {
-            trace_weights: Vector3::new(0.02, 0.02, 0.3),
-            omega_gains: Vector3::new(0.05, 0.05, 0.02),
-            omega_levels: Vector3::new(0.1, 0.1, 0.01),
-        });
-    }
     g
 }
 

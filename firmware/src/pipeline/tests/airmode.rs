@@ -17,26 +17,7 @@ use crate::pipeline::gate::{self, RotorFits};
 use crate::pipeline::*;
 use crate::safety::FlightState;
 
-/// `(condition, lhs, rhs)` of the arm command's refusal.
-fn arm_refusal(events: &[Event]) -> (&'static str, f32, f32) {
-    assert!(
-        events
-            .iter()
-            .any(|e| matches!(e, Event::CommandRefused { command: "arm", .. })),
-        "{events:?}"
-    );
-    events
-        .iter()
-        .find_map(|e| match *e {
-            Event::ReferenceRefused {
-                condition,
-                lhs,
-                rhs,
-            } => Some((condition, lhs, rhs)),
-            _ => None,
-        })
-        .expect("the refusal names its condition")
-}
+use super::arming::arm_refusal;
 
 /// The default build's flight with its rotors' yaw torque per newton scaled by `yaw`, airmode
 /// as given.

@@ -20,7 +20,7 @@ fn reference_refusal(events: &[Event]) -> Option<(&'static str, f32, f32)> {
 }
 
 /// The refusal of the arm command: `(condition, lhs, rhs)` of its `ReferenceRefused` event.
-fn arm_refusal(events: &[Event]) -> (&'static str, f32, f32) {
+pub(super) fn arm_refusal(events: &[Event]) -> (&'static str, f32, f32) {
     assert!(
         events
             .iter()
