@@ -4,7 +4,8 @@
 
 use nalgebra::{Vector2, Vector3};
 
-use super::{certify, Bounds, Condition, FilterStart};
+use super::certificate::{Bounds, FilterStart, LocalCertificate};
+use super::{certify, Condition};
 use crate::attitude_energy::{energy_limits, EnergyLimits};
 use crate::gains::Gains;
 use crate::local_regime::LocalGains;
@@ -13,29 +14,6 @@ use crate::reference::TrajectoryConstants;
 use crate::scalar::{lit, Scalar};
 use crate::torque_set::TorqueSet;
 use crate::vehicle::{Limits, Vehicle};
-
-/// What the local regime adds to the certificate.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LocalCertificate<T: Scalar> {
-    /// Every bound of the law with the local position gains, the filters anywhere in the
-    /// saturation set (Lemma 1's `U_l = 1`: the regime starts from wherever the global one left
-    /// them).
-    pub bounds: Bounds<T>,
-    /// The attitude error's bounds inside `{E ≤ E_out}`.
-    pub energy: EnergyLimits<T>,
-    /// The local regime's torque set [N m], body frame: the feedback at the attitude errors of
-    /// [`LocalCertificate::energy`] and the local feedforward turned by at most their rotation
-    /// ([`local_torque_set`]).
-    pub torque_set: TorqueSet<T>,
-    /// `τ_max,i >` the set's extent on body axis `i` (`local_regime.torque_max_*`), then
-    /// Theorem 1's two conditions for the local gains (`local_regime.saturation_margin`: the
-    /// local thrust floor is positive; `local_regime.thrust_bound_within_actuator`: the local
-    /// `T_max` within the rotors'), which matter once `M_p,L` exceeds `M_p`.
-    pub conditions: [Condition<T>; LOCAL_CONDITION_COUNT],
-}
-
-/// Number of the local regime's conditions.
-pub const LOCAL_CONDITION_COUNT: usize = 5;
 
 /// The local regime's certificate for `gains` (whose `local` is `l`) on `vehicle` with `limits`
 /// and the reference `constants`. Errors: `certify` refuses the local gains.

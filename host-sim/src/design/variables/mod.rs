@@ -40,8 +40,7 @@
 //! `ζ_p = 1`).
 
 use controller_core::{
-    certify, FilterStart, Gains, Limits, LocalGains, TiltPriorityGains, TorqueSet,
-    TrajectoryConstants, Vehicle, VelocityLimit,
+    Gains, TiltPriorityGains, TorqueSet, TrajectoryConstants, Vehicle, VelocityLimit,
 };
 use nalgebra::Vector3;
 
@@ -49,6 +48,13 @@ use super::authority::{
     envelope_with, iota_max, iota_max_along, iota_max_by, mrp_factor, probe_gains,
     saturation_max_with, shadow_iota_max, PositionLaw, RotorFit, RotorSet, ALPHA, DELTA,
 };
+
+mod local;
+mod vertical;
+
+use local::local_gains;
+pub use local::{energy_out, LocalChoices, F32_SLACK};
+pub use vertical::VerticalChoices;
 
 /// Number of decision variables of the paper's attitude law.
 pub const DIMENSION: usize = 9;
@@ -110,156 +116,6 @@ impl Layout {
         self.law.dimension()
             + if self.vertical { VERTICAL_DIMENSION } else { 0 }
             + if self.local { LOCAL_DIMENSION } else { 0 }
-    }
-}
-
-/// The vertical channel's levels as ratios to the horizontal `M_p` (docs/vertical-channel.md).
-///
-/// | # | variable | range |
-/// |---|----------|-------|
-/// | 0 | `M_up / M_p` | 1 to 8 (log) |
-/// | 1 | `M_down / M_p` | 0.1 to 1 (log) |
-/// | 2 | `k_f,z / k_f` | 0.5 to 10 (log) |
-/// | 3 | `k_s,z / k_f,z` | 1.5 to 12 (log) |
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct VerticalChoices {
-    /// `M_up / M_p`.
-    pub up_ratio: f64,
-    /// `M_down / M_p`.
-    pub down_ratio: f64,
-    /// `k_f,z / k_f`.
-    pub kf_ratio: f64,
-    /// `k_s,z / k_f,z`.
-    pub ks_ratio: f64,
-}
-
-const VERTICAL_RANGES: [(f64, f64); VERTICAL_DIMENSION] =
-    [(1.0, 8.0), (0.1, 1.0), (0.5, 10.0), (1.5, 12.0)];
-
-impl VerticalChoices {
-    /// The initial guess: brake at three times the horizontal level, descend at half of it,
-    /// vertical filters twice as fast as the horizontal ones.
-    pub fn initial_guess() -> Self {
-        Self {
-            up_ratio: 3.0,
-            down_ratio: 0.5,
-            kf_ratio: 2.0,
-            ks_ratio: 3.0,
-        }
-    }
-
-    fn from_unit(x: &[f64]) -> Self {
-        let v = |i: usize| {
-            let (lo, hi) = VERTICAL_RANGES[i];
-            let x = x.get(i).copied().unwrap_or(0.5).clamp(0.0, 1.0);
-            (lo.ln() + x * (hi.ln() - lo.ln())).exp()
-        };
-        Self {
-            up_ratio: v(0),
-            down_ratio: v(1),
-            kf_ratio: v(2),
-            ks_ratio: v(3),
-        }
-    }
-
-    fn to_unit(self) -> [f64; VERTICAL_DIMENSION] {
-        let values = [self.up_ratio, self.down_ratio, self.kf_ratio, self.ks_ratio];
-        core::array::from_fn(|i| {
-            let (lo, hi) = VERTICAL_RANGES[i];
-            ((values[i].ln() - lo.ln()) / (hi.ln() - lo.ln())).clamp(0.0, 1.0)
-        })
-    }
-}
-
-/// The local regime's variables: `(low, high, logarithmic)`.
-///
-/// | # | variable | range |
-/// |---|----------|-------|
-/// | 0 | `k_f,L / k_f` | 1 to 30 (log) |
-/// | 1 | `k_s,L / k_f,L` | 1.5 to 12 (log) |
-/// | 2 | local position natural frequency `ω_p,L` | 0.5 to 8 rad/s (log) |
-/// | 3 | local position damping `ζ_p,L` | 0.6 to 1.5 |
-/// | 4 | the tilt error `θ_out` whose MRP potential is `E_out` | 2 to 60 degrees (log) |
-/// | 5 | `M_p,L / M_p` | 0.25 to 4 (log): above 1, more authority near the reference than the
-/// global level's worst-case torque allows |
-const LOCAL_RANGES: [(f64, f64, bool); LOCAL_DIMENSION] = [
-    (1.0, 30.0, true),
-    (1.5, 12.0, true),
-    (0.5, 8.0, true),
-    (0.6, 1.5, false),
-    (2.0, 60.0, true),
-    (0.25, 4.0, true),
-];
-
-/// The envelope design's local regime, before it becomes gains (docs/envelope-design.md).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct LocalChoices {
-    /// `k_f,L / k_f`.
-    pub kf_ratio: f64,
-    /// `k_s,L / k_f,L`.
-    pub ks_ratio: f64,
-    /// Local position natural frequency [rad/s].
-    pub position_frequency_rad_s: f64,
-    /// Local position damping ratio.
-    pub position_damping: f64,
-    /// The tilt error \[deg\] at rest whose MRP potential is `E_out` (`E_in = E_out / 2`).
-    pub tilt_out_deg: f64,
-    /// `M_p,L / M_p`: the local regime's share of the saturation level.
-    pub saturation_fraction: f64,
-}
-
-impl LocalChoices {
-    /// The initial guess: filters twice the global ones (the fit then slows them as needed), a
-    /// stiff 5 rad/s local loop, `E_out` at 30 degrees.
-    pub fn initial_guess() -> Self {
-        Self {
-            kf_ratio: 2.0,
-            ks_ratio: 3.0,
-            position_frequency_rad_s: 5.0,
-            position_damping: 1.0,
-            tilt_out_deg: 30.0,
-            saturation_fraction: 0.7,
-        }
-    }
-
-    fn from_unit(x: &[f64]) -> Self {
-        let v = |i: usize| {
-            let (lo, hi, log) = LOCAL_RANGES[i];
-            let x = x.get(i).copied().unwrap_or(0.5).clamp(0.0, 1.0);
-            if log {
-                (lo.ln() + x * (hi.ln() - lo.ln())).exp()
-            } else {
-                lo + x * (hi - lo)
-            }
-        };
-        Self {
-            kf_ratio: v(0),
-            ks_ratio: v(1),
-            position_frequency_rad_s: v(2),
-            position_damping: v(3),
-            tilt_out_deg: v(4),
-            saturation_fraction: v(5),
-        }
-    }
-
-    fn to_unit(self) -> [f64; LOCAL_DIMENSION] {
-        let values = [
-            self.kf_ratio,
-            self.ks_ratio,
-            self.position_frequency_rad_s,
-            self.position_damping,
-            self.tilt_out_deg,
-            self.saturation_fraction,
-        ];
-        core::array::from_fn(|i| {
-            let (lo, hi, log) = LOCAL_RANGES[i];
-            let x = if log {
-                (values[i].ln() - lo.ln()) / (hi.ln() - lo.ln())
-            } else {
-                (values[i] - lo) / (hi - lo)
-            };
-            x.clamp(0.0, 1.0)
-        })
     }
 }
 
@@ -619,102 +475,6 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
         gains: g,
         saturation_max: mp_max,
         iota_max: i_max,
-    })
-}
-
-/// `E_out` \[J\] of `l`: the MRP potential `Ψ(ϑ) = (M_ϑ/k_ϑ)(√(M_ϑ² + k_ϑ²ϑ²) − M_ϑ)` of a rotation
-/// by `θ_out` at rest (`ϑ = tan(θ_out/4)`).
-pub fn energy_out(g: &Gains<f64>, l: &LocalChoices) -> f64 {
-    let (m, k) = (g.attitude.mrp_saturation, g.attitude.k_mrp);
-    let mrp = (l.tilt_out_deg.to_radians() / 4.0).tan();
-    (m / k) * ((m * m + k * k * mrp * mrp).sqrt() - m)
-}
-
-/// Whether the local regime `local` added to `g` leaves its torque set inside the rotors as the
-/// design's fit asks (the shadow with airmode, the certified thrust interval otherwise, both with
-/// the margin). `false` when `certify` refuses it.
-fn local_fits(ctx: &Context<'_>, g: &Gains<f64>, local: LocalGains<f64>) -> bool {
-    let gains = Gains {
-        local: Some(local),
-        ..*g
-    };
-    let limits = Limits {
-        thrust_max: 1.0,
-        torque_max: Vector3::repeat(1.0),
-    };
-    let Ok(c) = certify(
-        ctx.vehicle,
-        &limits,
-        &gains,
-        ctx.constants,
-        FilterStart::Zero,
-    ) else {
-        return false;
-    };
-    let Some(l) = c.local else {
-        return false;
-    };
-    let b = &c.bounds;
-    // The board re-evaluates these fits in f32 from the flight file's decimals: the local
-    // filters are bisected onto the fit's boundary, so keep `F32_SLACK` of the rotor range more
-    // than the margin, or the gate could refuse by rounding what the host accepted.
-    let margin = ctx.margin + F32_SLACK;
-    match ctx.fit {
-        // Theorem 1's interval (the hull of both regimes') at zero torque, and the shadow.
-        RotorFit::Airmode => {
-            let thrust_alone = controller_core::TorqueSet::boxed(Vector3::zeros());
-            super::authority::set_margin(ctx.rotors, (b.thrust_min, b.thrust_max), &thrust_alone)
-                >= margin
-                && ctx.rotors.envelope(margin).shadow_margin(&l.torque_set) >= 0.0
-        }
-        RotorFit::Set => {
-            super::authority::set_margin(ctx.rotors, (b.thrust_min, b.thrust_max), &l.torque_set)
-                >= margin
-        }
-    }
-}
-
-/// Headroom [fraction of the rotor range] the local regime's fits keep above the margin, for
-/// the board's f32 re-evaluation (the flight file's x500 design: 2.2e-4 short without it).
-pub const F32_SLACK: f64 = 2e-3;
-
-/// The local regime of `l` for the global gains `g`: its filters as chosen when its torque set
-/// fits ([`local_fits`]), else slowed (bisection on `k_f,L / k_f` towards 1, 40 steps, keeping
-/// `k_s,L / k_f,L`); when even `k_f,L = k_f` does not fit with a local level above the global
-/// one, the same with `M_p,L = M_p`; `None` when nothing fits.
-fn local_gains(ctx: &Context<'_>, g: &Gains<f64>, l: &LocalChoices) -> Option<LocalGains<f64>> {
-    let e_out = energy_out(g, l);
-    let wp = l.position_frequency_rad_s;
-    let build = |ratio: f64, fraction: f64| {
-        let kf = g.position.kf * ratio;
-        LocalGains {
-            kp: wp * wp,
-            kv: 2.0 * l.position_damping * wp,
-            kf,
-            ks: kf * l.ks_ratio,
-            saturation: fraction * g.position.saturation,
-            energy_in: 0.5 * e_out,
-            energy_out: e_out,
-        }
-    };
-    let fractions = [l.saturation_fraction, l.saturation_fraction.min(1.0)];
-    let levels = if fractions[0] > fractions[1] {
-        &fractions[..]
-    } else {
-        &fractions[..1]
-    };
-    levels.iter().find_map(|&fraction| {
-        let fits = |ratio: f64| local_fits(ctx, g, build(ratio, fraction));
-        if fits(l.kf_ratio) {
-            return Some(build(l.kf_ratio, fraction));
-        }
-        if !fits(1.0) {
-            return None;
-        }
-        Some(build(
-            super::bisect::bisect(1.0, l.kf_ratio, 40, fits),
-            fraction,
-        ))
     })
 }
 

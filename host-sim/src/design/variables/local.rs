@@ -1,0 +1,207 @@
+//! The envelope design's local regime (docs/envelope-design.md): its decision variables, its
+//! switching energies and the fit of its torque set inside the rotors, which slows its filters
+//! until the set fits.
+
+use controller_core::{certify, FilterStart, Gains, Limits, LocalGains};
+use nalgebra::Vector3;
+
+use super::{Context, LOCAL_DIMENSION};
+use crate::design::authority::RotorFit;
+
+/// The local regime's variables: `(low, high, logarithmic)`.
+///
+/// | # | variable | range |
+/// |---|----------|-------|
+/// | 0 | `k_f,L / k_f` | 1 to 30 (log) |
+/// | 1 | `k_s,L / k_f,L` | 1.5 to 12 (log) |
+/// | 2 | local position natural frequency `ω_p,L` | 0.5 to 8 rad/s (log) |
+/// | 3 | local position damping `ζ_p,L` | 0.6 to 1.5 |
+/// | 4 | the tilt error `θ_out` whose MRP potential is `E_out` | 2 to 60 degrees (log) |
+/// | 5 | `M_p,L / M_p` | 0.25 to 4 (log): above 1, more authority near the reference than the
+/// global level's worst-case torque allows |
+const LOCAL_RANGES: [(f64, f64, bool); LOCAL_DIMENSION] = [
+    (1.0, 30.0, true),
+    (1.5, 12.0, true),
+    (0.5, 8.0, true),
+    (0.6, 1.5, false),
+    (2.0, 60.0, true),
+    (0.25, 4.0, true),
+];
+
+/// The envelope design's local regime, before it becomes gains (docs/envelope-design.md).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct LocalChoices {
+    /// `k_f,L / k_f`.
+    pub kf_ratio: f64,
+    /// `k_s,L / k_f,L`.
+    pub ks_ratio: f64,
+    /// Local position natural frequency [rad/s].
+    pub position_frequency_rad_s: f64,
+    /// Local position damping ratio.
+    pub position_damping: f64,
+    /// The tilt error \[deg\] at rest whose MRP potential is `E_out` (`E_in = E_out / 2`).
+    pub tilt_out_deg: f64,
+    /// `M_p,L / M_p`: the local regime's share of the saturation level.
+    pub saturation_fraction: f64,
+}
+
+impl LocalChoices {
+    /// The initial guess: filters twice the global ones (the fit then slows them as needed), a
+    /// stiff 5 rad/s local loop, `E_out` at 30 degrees.
+    pub fn initial_guess() -> Self {
+        Self {
+            kf_ratio: 2.0,
+            ks_ratio: 3.0,
+            position_frequency_rad_s: 5.0,
+            position_damping: 1.0,
+            tilt_out_deg: 30.0,
+            saturation_fraction: 0.7,
+        }
+    }
+
+    pub(super) fn from_unit(x: &[f64]) -> Self {
+        let v = |i: usize| {
+            let (lo, hi, log) = LOCAL_RANGES[i];
+            let x = x.get(i).copied().unwrap_or(0.5).clamp(0.0, 1.0);
+            if log {
+                (lo.ln() + x * (hi.ln() - lo.ln())).exp()
+            } else {
+                lo + x * (hi - lo)
+            }
+        };
+        Self {
+            kf_ratio: v(0),
+            ks_ratio: v(1),
+            position_frequency_rad_s: v(2),
+            position_damping: v(3),
+            tilt_out_deg: v(4),
+            saturation_fraction: v(5),
+        }
+    }
+
+    pub(super) fn to_unit(self) -> [f64; LOCAL_DIMENSION] {
+        let values = [
+            self.kf_ratio,
+            self.ks_ratio,
+            self.position_frequency_rad_s,
+            self.position_damping,
+            self.tilt_out_deg,
+            self.saturation_fraction,
+        ];
+        core::array::from_fn(|i| {
+            let (lo, hi, log) = LOCAL_RANGES[i];
+            let x = if log {
+                (values[i].ln() - lo.ln()) / (hi.ln() - lo.ln())
+            } else {
+                (values[i] - lo) / (hi - lo)
+            };
+            x.clamp(0.0, 1.0)
+        })
+    }
+}
+
+/// `E_out` \[J\] of `l`: the MRP potential `Ψ(ϑ) = (M_ϑ/k_ϑ)(√(M_ϑ² + k_ϑ²ϑ²) − M_ϑ)` of a rotation
+/// by `θ_out` at rest (`ϑ = tan(θ_out/4)`).
+pub fn energy_out(g: &Gains<f64>, l: &LocalChoices) -> f64 {
+    let (m, k) = (g.attitude.mrp_saturation, g.attitude.k_mrp);
+    let mrp = (l.tilt_out_deg.to_radians() / 4.0).tan();
+    (m / k) * ((m * m + k * k * mrp * mrp).sqrt() - m)
+}
+
+/// Whether the local regime `local` added to `g` leaves its torque set inside the rotors as the
+/// design's fit asks (the shadow with airmode, the certified thrust interval otherwise, both with
+/// the margin). `false` when `certify` refuses it.
+fn local_fits(ctx: &Context<'_>, g: &Gains<f64>, local: LocalGains<f64>) -> bool {
+    let gains = Gains {
+        local: Some(local),
+        ..*g
+    };
+    let limits = Limits {
+        thrust_max: 1.0,
+        torque_max: Vector3::repeat(1.0),
+    };
+    let Ok(c) = certify(
+        ctx.vehicle,
+        &limits,
+        &gains,
+        ctx.constants,
+        FilterStart::Zero,
+    ) else {
+        return false;
+    };
+    let Some(l) = c.local else {
+        return false;
+    };
+    let b = &c.bounds;
+    // The board re-evaluates these fits in f32 from the flight file's decimals: the local
+    // filters are bisected onto the fit's boundary, so keep `F32_SLACK` of the rotor range more
+    // than the margin, or the gate could refuse by rounding what the host accepted.
+    let margin = ctx.margin + F32_SLACK;
+    match ctx.fit {
+        // Theorem 1's interval (the hull of both regimes') at zero torque, and the shadow.
+        RotorFit::Airmode => {
+            let thrust_alone = controller_core::TorqueSet::boxed(Vector3::zeros());
+            crate::design::authority::set_margin(
+                ctx.rotors,
+                (b.thrust_min, b.thrust_max),
+                &thrust_alone,
+            ) >= margin
+                && ctx.rotors.envelope(margin).shadow_margin(&l.torque_set) >= 0.0
+        }
+        RotorFit::Set => {
+            crate::design::authority::set_margin(
+                ctx.rotors,
+                (b.thrust_min, b.thrust_max),
+                &l.torque_set,
+            ) >= margin
+        }
+    }
+}
+
+/// Headroom [fraction of the rotor range] the local regime's fits keep above the margin, for
+/// the board's f32 re-evaluation (the flight file's x500 design: 2.2e-4 short without it).
+pub const F32_SLACK: f64 = 2e-3;
+
+/// The local regime of `l` for the global gains `g`: its filters as chosen when its torque set
+/// fits ([`local_fits`]), else slowed (bisection on `k_f,L / k_f` towards 1, 40 steps, keeping
+/// `k_s,L / k_f,L`); when even `k_f,L = k_f` does not fit with a local level above the global
+/// one, the same with `M_p,L = M_p`; `None` when nothing fits.
+pub(super) fn local_gains(
+    ctx: &Context<'_>,
+    g: &Gains<f64>,
+    l: &LocalChoices,
+) -> Option<LocalGains<f64>> {
+    let e_out = energy_out(g, l);
+    let wp = l.position_frequency_rad_s;
+    let build = |ratio: f64, fraction: f64| {
+        let kf = g.position.kf * ratio;
+        LocalGains {
+            kp: wp * wp,
+            kv: 2.0 * l.position_damping * wp,
+            kf,
+            ks: kf * l.ks_ratio,
+            saturation: fraction * g.position.saturation,
+            energy_in: 0.5 * e_out,
+            energy_out: e_out,
+        }
+    };
+    let fractions = [l.saturation_fraction, l.saturation_fraction.min(1.0)];
+    let levels = if fractions[0] > fractions[1] {
+        &fractions[..]
+    } else {
+        &fractions[..1]
+    };
+    levels.iter().find_map(|&fraction| {
+        let fits = |ratio: f64| local_fits(ctx, g, build(ratio, fraction));
+        if fits(l.kf_ratio) {
+            return Some(build(l.kf_ratio, fraction));
+        }
+        if !fits(1.0) {
+            return None;
+        }
+        Some(build(
+            crate::design::bisect::bisect(1.0, l.kf_ratio, 40, fits),
+            fraction,
+        ))
+    })
+}

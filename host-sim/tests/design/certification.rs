@@ -1,0 +1,258 @@
+//! The certificate of the written scenario: re-certified as read back (the core's `certify` and
+//! the firmware mixer's `set_margin`), with tilt priority's per-axis levels, with tight bounds,
+//! and with a reference slowed down when the requested one cannot be certified.
+
+use controller_core::{certify, FilterStart, Trajectory};
+use firmware::mixer::Mixer;
+use host_sim::design::options::LawSearch;
+use host_sim::design::run_design;
+use host_sim::design::variables::AttitudeLaw;
+use host_sim::model::scenario::Scenario;
+use host_sim::model::vehicle::{preset_path, VehicleFile};
+
+use crate::support::{certified_read_back, f32_set, options, out_dir, read_back, rotors_of};
+
+/// A small-budget design of the Crazyflie: `all_hold` and `fits`, and the written
+/// scenario.toml, read back, passes `certify` and the rotor fit of its certified set (with the
+/// 5 % margin) on its own.
+#[test]
+fn design_certifies_and_the_written_scenario_recertifies() {
+    let out = out_dir("cf");
+    let outcome = run_design(&options(preset_path("crazyflie-2.1"), out.clone(), 16)).unwrap();
+    let r = &outcome.report;
+    assert!(r.certificate.all_hold && r.rotor_fit.fits && r.rotor_fit.fits_with_margin);
+    assert!(r.evaluations <= 16 && r.evaluations > 0);
+
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    let cert = certified_read_back(&s);
+    let b = cert.bounds;
+    let set = f32_set(&b.torque_set);
+    let (t_lo, t_hi) = (b.thrust_min as f32, b.thrust_max as f32);
+    let mut rotors = rotors_of(&s);
+    let mixer = Mixer::new(&rotors).unwrap();
+    assert!(mixer.set_margin(t_lo, t_hi, &set) >= 0.0);
+    // The limits written are what the rotors deliver on each axis alone over the certified
+    // interval, and the set's per-axis bounds are inside them.
+    let alone = mixer.box_fit(t_lo, t_hi, &nalgebra::Vector3::zeros());
+    for i in 0..3 {
+        assert!((f64::from(alone.torque_capacity[i]) - s.limits.torque_max_Nm[i]).abs() < 1e-6);
+        assert!(b.torque_max[i] < s.limits.torque_max_Nm[i]);
+    }
+    // The margin: the same set fits the range shrunk by 5 % at both ends.
+    let span = rotors.thrust_max - rotors.thrust_min;
+    rotors.thrust_min += 0.05 * span;
+    rotors.thrust_max -= 0.05 * span;
+    let shrunk = Mixer::new(&rotors).unwrap();
+    assert!(shrunk.set_margin(t_lo, t_hi, &set) >= 0.0);
+
+    // design.json says the same.
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
+    assert_eq!(json["certificate"]["all_hold"], true);
+    assert_eq!(json["rotor_fit"]["fits"], true);
+    assert_eq!(json["rotor_fit"]["shape"], "set");
+    // Certified with the tangential Lemma 1 (the default), and so is what is read back.
+    assert_eq!(json["certificate"]["lemma1"], "tangential");
+    assert_eq!(
+        s.gains::<f64>().lemma1,
+        controller_core::Lemma1Form::Tangential
+    );
+    let mut paper_gains = s.gains::<f64>();
+    paper_gains.lemma1 = controller_core::Lemma1Form::Paper;
+    let paper = certify(
+        &s.vehicle::<f64>(),
+        &s.limits::<f64>(),
+        &paper_gains,
+        &s.trajectory::<f64>().constants(),
+        FilterStart::Zero,
+    )
+    .unwrap();
+    assert!(b.angular_acceleration < paper.bounds.angular_acceleration);
+    assert_eq!(
+        json["certificate"]["conditions"].as_array().unwrap().len(),
+        10
+    );
+    assert!(json["objective"]["altitude_loss_upside_down_m"].is_number());
+    for f in ["design.md", "firmware.toml", "attitude_180.png"] {
+        assert!(out.join(f).exists(), "{f} missing");
+    }
+    // The flight file carries the vehicle file's tables: the firmware's parser reads them.
+    let flight = std::fs::read_to_string(out.join("firmware.toml")).unwrap();
+    assert!(flight.contains("lemma1 = \"tangential\""), "{flight}");
+    VehicleFile::parse_embedded(
+        &flight,
+        "firmware.toml",
+        &["limits", "gains", "trajectory", "design"],
+    )
+    .unwrap();
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// `--law tilt-priority`: the design's per-axis levels are certified as written (the read-back
+/// scenario passes `certify`, tilt priority's band condition included, and the per-axis box fits
+/// with the margin), yaw's level is at most roll's, and the firmware's flight file carries the
+/// same `[gains.tilt_priority]` table.
+#[test]
+fn tilt_priority_design_certifies_per_axis_levels() {
+    let out = out_dir("tilt");
+    let mut o = options(preset_path("hummingbird"), out.clone(), 4);
+    o.law = LawSearch::One(AttitudeLaw::TiltPriority);
+    let outcome = run_design(&o).unwrap();
+    let r = &outcome.report;
+    assert!(r.certificate.all_hold && r.rotor_fit.fits && r.rotor_fit.fits_with_margin);
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    let gains = s.gains::<f64>();
+    let tilt = gains
+        .tilt_priority
+        .expect("the written scenario flies tilt priority");
+    let cert = certified_read_back(&s);
+    let band = cert
+        .tilt_priority
+        .expect("the band condition is part of the certificate");
+    assert!(band[0].holds && band[0].lhs > band[0].rhs);
+    let b = cert.bounds;
+    let levels = b.feedback_torque_axes;
+    assert!(
+        levels.z <= levels.x * (1.0 + 1e-12) && levels.x == levels.y,
+        "{levels:?}"
+    );
+    for i in 0..3 {
+        assert!((levels[i] - r.feedback_torque_axes_Nm[i]).abs() < 1e-9 * levels.x);
+    }
+    // Body z first: g3 is at least g1 = g2.
+    let g = tilt.trace_weights;
+    assert!(g.z >= g.x && g.x == g.y, "{g:?}");
+    let mut rotors = rotors_of(&s);
+    let span = rotors.thrust_max - rotors.thrust_min;
+    rotors.thrust_min += 0.05 * span;
+    rotors.thrust_max -= 0.05 * span;
+    assert!(
+        Mixer::new(&rotors).unwrap().set_margin(
+            b.thrust_min as f32,
+            b.thrust_max as f32,
+            &f32_set(&b.torque_set)
+        ) >= 0.0
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("design.json")).unwrap()).unwrap();
+    assert_eq!(json["law"], "tilt-priority");
+    let names: Vec<&str> = json["certificate"]["conditions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|c| c["name"].as_str())
+        .collect();
+    assert!(
+        names.contains(&"tilt_priority.hysteresis_band"),
+        "{names:?}"
+    );
+    let flight: toml::Table =
+        toml::from_str(&std::fs::read_to_string(out.join("firmware.toml")).unwrap()).unwrap();
+    let scenario: toml::Table =
+        toml::from_str(&std::fs::read_to_string(out.join("scenario.toml")).unwrap()).unwrap();
+    assert_eq!(
+        flight["gains"]["tilt_priority"], scenario["gains"]["tilt_priority"],
+        "the firmware flies the gains that were certified"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// `--bounds tight` on the x500, whose helix the paper's bounds certify only slowed down: the
+/// tight bounds certify a faster one. The written scenario is re-checked with tight bounds
+/// computed again at the full budget (Theorem 2 per axis against the rotors' capacity, and the
+/// firmware mixer's box fit with the margin), and the firmware file is written only when the
+/// paper's certificate, which the firmware re-checks on board, holds too.
+#[test]
+fn tight_bounds_certify_a_faster_reference_than_the_papers() {
+    use host_sim::design::tight::{tight_feedforward, BoundsKind};
+    // Both with Lemma 1 as the paper states it: this compares the tight bounds with the paper's.
+    let paper_out = out_dir("x500-paper");
+    let mut p = options(preset_path("x500"), paper_out.clone(), 1);
+    p.lemma1 = controller_core::Lemma1Form::Paper;
+    let paper = run_design(&p).unwrap();
+    let out = out_dir("x500-tight");
+    let mut o = options(preset_path("x500"), out.clone(), 2);
+    o.lemma1 = controller_core::Lemma1Form::Paper;
+    o.bounds = BoundsKind::Tight;
+    let tight = run_design(&o).unwrap();
+    let r = &tight.report;
+    assert!(r.certificate.all_hold && r.rotor_fit.fits && r.rotor_fit.fits_with_margin);
+    assert!(
+        r.reference.scale > paper.report.reference.scale,
+        "tight {} vs paper {}",
+        r.reference.scale,
+        paper.report.reference.scale
+    );
+    // Theorem 2's rows carry the paper's bound beside the tight one, which is below it.
+    let theorem2: Vec<_> = r
+        .certificate
+        .conditions
+        .iter()
+        .filter(|c| c.name.starts_with("theorem2.torque_max"))
+        .collect();
+    assert_eq!(theorem2.len(), 3);
+    for c in &theorem2 {
+        let (paper_rhs, _) = c.paper.expect("the paper's bound beside");
+        assert!(c.holds && c.rhs < paper_rhs, "{c:?}");
+    }
+    assert_eq!(
+        out.join("firmware.toml").exists(),
+        r.certificate.paper_certified,
+        "a flight file only when the firmware's own check passes"
+    );
+
+    // Independently: the core's bounds and the tight bounds at the full budget.
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    let core = read_back(&s);
+    let t = host_sim::bounds::certificate::scenario_tight_bounds(&s).unwrap();
+    let split = tight_feedforward(&s.vehicle(), (t.angular_velocity, t.angular_acceleration))
+        + core.bounds.feedback_torque_axes;
+    let torque = nalgebra::Vector3::from_fn(|i, _| t.torque_max[i].min(split[i]));
+    for i in 0..3 {
+        assert!(
+            torque[i] < s.limits.torque_max_Nm[i],
+            "axis {i}: {torque:?} vs {:?}",
+            s.limits.torque_max_Nm
+        );
+    }
+    let mut rotors = rotors_of(&s);
+    let span = rotors.thrust_max - rotors.thrust_min;
+    rotors.thrust_min += 0.05 * span;
+    rotors.thrust_max -= 0.05 * span;
+    let b = &core.bounds;
+    assert!(
+        Mixer::new(&rotors)
+            .unwrap()
+            .box_fit(
+                b.thrust_min as f32,
+                b.thrust_max as f32,
+                &torque.map(|x| x as f32)
+            )
+            .fits
+    );
+    let _ = std::fs::remove_dir_all(&out);
+    let _ = std::fs::remove_dir_all(&paper_out);
+}
+
+/// When the requested reference cannot be certified, the design says which condition binds
+/// and certifies the same reference slowed down: its constants are those of the scaled
+/// reference, below the requested ones.
+#[test]
+fn uncertifiable_reference_is_slowed_down_and_said() {
+    let out = out_dir("x500");
+    let outcome = run_design(&options(preset_path("x500"), out.clone(), 1)).unwrap();
+    let r = &outcome.report.reference;
+    assert!(r.scaled && r.scale > 0.0 && r.scale < 1.0, "{r:?}");
+    assert!(
+        r.binding.as_deref().is_some_and(|b| b.contains("iota")),
+        "{r:?}"
+    );
+    let md = std::fs::read_to_string(out.join("design.md")).unwrap();
+    assert!(md.contains("CANNOT BE CERTIFIED"));
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    let paper = Scenario::paper().trajectory::<f64>().constants();
+    let k = s.trajectory::<f64>().constants();
+    assert!(k.heading_rate < paper.heading_rate && k.jerk < paper.jerk);
+    assert!(outcome.report.certificate.all_hold && outcome.report.rotor_fit.fits);
+    let _ = std::fs::remove_dir_all(&out);
+}
