@@ -32,6 +32,8 @@ use crate::runs::runner::paper_bound_set;
 use crate::runs::sampler::{Sampler, SamplerRadii, HALF_TURN_AXES};
 use crate::studies::compare::{helix_tracking_error, sanity, Contestant, SanityRow};
 
+use super::turn_over::{TurnOver, TurnOverWatch};
+
 /// The end window checked for a limit cycle \[s\].
 pub const TAIL_S: f64 = 5.0;
 /// Largest attitude error allowed over the end window \[deg\].
@@ -67,6 +69,9 @@ pub struct Trial {
     pub altitude_loss_m: f64,
     /// `|p − p_d|` at the last sample \[m\] (infinite when the run stopped early).
     pub final_position_error_m: f64,
+    /// When the run started with the body z axis down: the time, altitude lost and sink rate
+    /// when it first came back above the horizon ([`TurnOver`]); `None` otherwise.
+    pub turn_over: Option<TurnOver>,
     /// `(t [s], attitude error [deg])` per sample when traced.
     #[serde(skip)]
     pub attitude_trace: Vec<(f64, f64)>,
@@ -92,6 +97,7 @@ pub fn fly_trial(
     );
     let mut law = ControllerKind::Paper.build(scenario)?;
     let (mut tail, mut z_min) = (0.0f64, initial.position.z);
+    let mut watch = TurnOverWatch::new(initial.position.z);
     let mut points = Vec::new();
     let tail_from = sim.duration_s - TAIL_S;
     let outcome = fly(scenario, law.as_mut(), initial, 0, |s| {
@@ -101,6 +107,8 @@ pub fn fly_trial(
             tail = tail.max(deg);
         }
         z_min = z_min.min(s.state.position.z);
+        let body_z_up = (s.state.attitude * Vector3::z()).z;
+        watch.push(s.t, body_z_up, s.state.position.z, s.state.velocity.z);
         if trace {
             points.push((s.t, deg));
         }
@@ -119,6 +127,7 @@ pub fn fly_trial(
         tail_attitude_error_max_deg: tail,
         altitude_loss_m: (initial.position.z - z_min).max(0.0),
         final_position_error_m: final_error,
+        turn_over: watch.finish(),
         attitude_trace: points,
     })
 }

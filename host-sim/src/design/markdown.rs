@@ -349,6 +349,25 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
         opt(o.worst_settling_180_s, "s"),
         o.altitude_loss_upside_down_m
     );
+    if let Some(t) = &o.upside_down_turn_over {
+        let braking = t
+            .mean_braking_m_s2(o.altitude_loss_upside_down_m)
+            .map(|a| format!(", braked at {a:.2} m/s^2 on average"))
+            .unwrap_or_default();
+        let _ = writeln!(
+            s,
+            "Where the altitude goes upside down: the turn-over (until the body z axis is back \
+             above the horizon) took {:.2} s and {:.2} m, sinking at {:.2} m/s by then; the \
+             braking after it took the other {:.2} m{braking}. A long turn-over is the attitude \
+             feedback's torque near the half turn (the radial MRP term); a long braking is the \
+             position loop's level (`M_p`, or `M_up` with the vertical channel) and how fast its \
+             filters (`k_f`, `k_s`, or `k_f,z`, `k_s,z`) let the command reach it.\n",
+            t.time_s,
+            t.altitude_loss_m,
+            t.sink_rate_m_s,
+            o.altitude_loss_upside_down_m - t.altitude_loss_m,
+        );
+    }
     let mut table = Table::new(
         &mut s,
         &[

@@ -29,6 +29,7 @@ pub mod report;
 pub mod run;
 pub mod thrust;
 pub mod tight;
+pub mod turn_over;
 pub mod variables;
 pub mod vehicle;
 

@@ -132,6 +132,9 @@ pub struct ObjectiveEntry {
     pub value: f64,
     /// Altitude lost recovering from upside down at hover \[m\].
     pub altitude_loss_upside_down_m: f64,
+    /// Where that altitude went: the turn-over (time, loss and sink rate when the body z axis
+    /// came back above the horizon); the rest is the braking after it.
+    pub upside_down_turn_over: Option<super::turn_over::TurnOver>,
     /// Worst settling time over the seven 180° starts \[s\].
     pub worst_settling_180_s: Option<f64>,
     /// Settling time per 180° start \[s\].
@@ -379,6 +382,7 @@ impl Report {
                 ),
                 value: e.cost,
                 altitude_loss_upside_down_m: e.altitude_loss_upside_down_m,
+                upside_down_turn_over: e.upside_down.turn_over,
                 worst_settling_180_s: e.worst_settling_180_s,
                 settling_180_s: settling(&e.nominal),
                 disturbed_hover: e.disturbed_hover.as_ref().map(|t| DisturbedEntry {
