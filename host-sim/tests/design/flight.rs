@@ -227,6 +227,23 @@ fn default_design_flies_airmode_with_its_local_regime_and_vertical_channel() {
         (None, None) => assert!(r.local_regime.is_none()),
         (g, c) => panic!("local gains {g:?} but certificate {:?}", c.is_some()),
     }
+    // The upside-down loss's split respects what the rotors can do at all: turning the body
+    // z axis through 90 degrees from rest takes at least sqrt(pi J / tau) with tau the largest
+    // tilting torque (roll and pitch at their limits at once), and stopping the sink rate takes at least v^2 / (2 (T_max / m - g)).
+    let o = &r.objective;
+    let t = o.upside_down_turn_over.expect("upside down turns over");
+    let (v, l) = (s.vehicle::<f64>(), s.limits::<f64>());
+    let tilting_torque = l.torque_max.x.hypot(l.torque_max.y);
+    let fastest_turn =
+        (std::f64::consts::PI * v.inertia.x.min(v.inertia.y) / tilting_torque).sqrt();
+    assert!(t.time_s >= fastest_turn, "{t:?} vs {fastest_turn} s");
+    let braking_max = l.thrust_max / v.mass - v.gravity;
+    let shortest_stop = t.sink_rate_m_s.powi(2) / (2.0 * braking_max);
+    let after = o.altitude_loss_upside_down_m - t.altitude_loss_m;
+    assert!(
+        t.sink_rate_m_s > 0.0 && after >= shortest_stop,
+        "{t:?}: {after} m vs {shortest_stop} m"
+    );
     let flight = std::fs::read_to_string(out.join("firmware.toml")).unwrap();
     assert!(flight.contains("airmode = true"), "{flight}");
     assert!(flight.contains("[gains.vertical]"), "{flight}");
