@@ -9,7 +9,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-step() { printf '\n==> %s\n' "$*"; }
+# Each step says when it starts (minutes:seconds since this script started), so a slow run shows
+# where its time went.
+step() { printf '\n==> [%d:%02d] %s\n' $((SECONDS / 60)) $((SECONDS % 60)) "$*"; }
 
 step "toolchain: thumbv7em-none-eabihf target, clippy, rustfmt"
 rustup target add thumbv7em-none-eabihf
@@ -132,4 +134,4 @@ bash tests/mavlink-client/mavproxy/run.sh "$target_dir/debug/host-sim"
 step "Cortex-M4F instruction counts of the control step, f32 on ARM vs host, budget"
 bash firmware/qemu/bench.sh
 
-printf '\n==> all checks passed\n'
+step "all checks passed"
