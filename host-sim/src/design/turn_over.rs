@@ -9,7 +9,9 @@
 
 use serde::Serialize;
 
-/// The state of a run when the body z axis first comes back above the horizon.
+/// The state of a run when the body z axis first comes back above the horizon (inertial
+/// frame, z up). Source: this project's design report (docs/design.md, "Objective and
+/// constraints"); not from the paper.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct TurnOver {
     /// Time from the start \[s\].
@@ -34,7 +36,8 @@ impl TurnOver {
 
 /// Watches a run sample by sample and records its [`TurnOver`]: the first sample whose body z
 /// axis (inertial frame) has a positive vertical component, when the run started with it at or
-/// below the horizon. Runs that start upright never record one.
+/// below the horizon. Runs that start upright never record one. No errors: every input is a
+/// sample of a simulated run. Source: as [`TurnOver`].
 #[derive(Clone, Copy, Debug)]
 pub struct TurnOverWatch {
     z0: f64,
