@@ -5,6 +5,7 @@
 use controller_core::{certify, FilterStart, Gains, Limits, LocalGains};
 use nalgebra::Vector3;
 
+use super::interval::{unit_in, value_in, Interval};
 use super::{Context, LOCAL_DIMENSION};
 use crate::design::authority::RotorFit;
 
@@ -19,7 +20,7 @@ use crate::design::authority::RotorFit;
 /// | 4 | the tilt error `θ_out` whose MRP potential is `E_out` | 2 to 60 degrees (log) |
 /// | 5 | `M_p,L / M_p` | 0.25 to 4 (log): above 1, more authority near the reference than the
 /// global level's worst-case torque allows |
-const LOCAL_RANGES: [(f64, f64, bool); LOCAL_DIMENSION] = [
+const LOCAL_RANGES: [Interval; LOCAL_DIMENSION] = [
     (1.0, 30.0, true),
     (1.5, 12.0, true),
     (0.5, 8.0, true),
@@ -60,15 +61,7 @@ impl LocalChoices {
     }
 
     pub(super) fn from_unit(x: &[f64]) -> Self {
-        let v = |i: usize| {
-            let (lo, hi, log) = LOCAL_RANGES[i];
-            let x = x.get(i).copied().unwrap_or(0.5).clamp(0.0, 1.0);
-            if log {
-                (lo.ln() + x * (hi.ln() - lo.ln())).exp()
-            } else {
-                lo + x * (hi - lo)
-            }
-        };
+        let v = |i: usize| value_in(LOCAL_RANGES[i], x.get(i).copied().unwrap_or(0.5));
         Self {
             kf_ratio: v(0),
             ks_ratio: v(1),
@@ -88,15 +81,7 @@ impl LocalChoices {
             self.tilt_out_deg,
             self.saturation_fraction,
         ];
-        core::array::from_fn(|i| {
-            let (lo, hi, log) = LOCAL_RANGES[i];
-            let x = if log {
-                (values[i].ln() - lo.ln()) / (hi.ln() - lo.ln())
-            } else {
-                (values[i] - lo) / (hi - lo)
-            };
-            x.clamp(0.0, 1.0)
-        })
+        core::array::from_fn(|i| unit_in(LOCAL_RANGES[i], values[i]))
     }
 }
 

@@ -49,8 +49,11 @@ use super::authority::{
     saturation_max_with, shadow_iota_max, PositionLaw, RotorFit, RotorSet, ALPHA, DELTA,
 };
 
+mod interval;
 mod local;
 mod vertical;
+
+use interval::{unit_in, value_in, Interval};
 
 use local::local_gains;
 pub use local::{energy_out, LocalChoices, F32_SLACK};
@@ -120,7 +123,7 @@ impl Layout {
 }
 
 /// The interval of each variable: `(low, high, logarithmic)`.
-const RANGES: [(f64, f64, bool); TILT_DIMENSION] = [
+const RANGES: [Interval; TILT_DIMENSION] = [
     (0.1, 6.0, true),
     (1.5, 12.0, true),
     (0.05, 0.95, false),
@@ -136,23 +139,11 @@ const RANGES: [(f64, f64, bool); TILT_DIMENSION] = [
 ];
 
 fn to_value(i: usize, x: f64) -> f64 {
-    let (lo, hi, log) = RANGES[i];
-    let x = x.clamp(0.0, 1.0);
-    if log {
-        (lo.ln() + x * (hi.ln() - lo.ln())).exp()
-    } else {
-        lo + x * (hi - lo)
-    }
+    value_in(RANGES[i], x)
 }
 
 fn to_unit(i: usize, v: f64) -> f64 {
-    let (lo, hi, log) = RANGES[i];
-    let x = if log {
-        (v.ln() - lo.ln()) / (hi.ln() - lo.ln())
-    } else {
-        (v - lo) / (hi - lo)
-    };
-    x.clamp(0.0, 1.0)
+    unit_in(RANGES[i], v)
 }
 
 /// The physical choices of one design (before they become gains).

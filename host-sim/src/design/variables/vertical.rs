@@ -1,6 +1,7 @@
 //! The vertical channel's decision variables (docs/vertical-channel.md): its braking and
 //! descent levels and its filters, as ratios to the horizontal ones.
 
+use super::interval::{unit_in, value_in, Interval};
 use super::VERTICAL_DIMENSION;
 
 /// The vertical channel's levels as ratios to the horizontal `M_p` (docs/vertical-channel.md).
@@ -23,8 +24,12 @@ pub struct VerticalChoices {
     pub ks_ratio: f64,
 }
 
-const VERTICAL_RANGES: [(f64, f64); VERTICAL_DIMENSION] =
-    [(1.0, 8.0), (0.1, 1.0), (0.5, 10.0), (1.5, 12.0)];
+const VERTICAL_RANGES: [Interval; VERTICAL_DIMENSION] = [
+    (1.0, 8.0, true),
+    (0.1, 1.0, true),
+    (0.5, 10.0, true),
+    (1.5, 12.0, true),
+];
 
 impl VerticalChoices {
     /// The initial guess: brake at three times the horizontal level, descend at half of it,
@@ -39,11 +44,7 @@ impl VerticalChoices {
     }
 
     pub(super) fn from_unit(x: &[f64]) -> Self {
-        let v = |i: usize| {
-            let (lo, hi) = VERTICAL_RANGES[i];
-            let x = x.get(i).copied().unwrap_or(0.5).clamp(0.0, 1.0);
-            (lo.ln() + x * (hi.ln() - lo.ln())).exp()
-        };
+        let v = |i: usize| value_in(VERTICAL_RANGES[i], x.get(i).copied().unwrap_or(0.5));
         Self {
             up_ratio: v(0),
             down_ratio: v(1),
@@ -54,9 +55,6 @@ impl VerticalChoices {
 
     pub(super) fn to_unit(self) -> [f64; VERTICAL_DIMENSION] {
         let values = [self.up_ratio, self.down_ratio, self.kf_ratio, self.ks_ratio];
-        core::array::from_fn(|i| {
-            let (lo, hi) = VERTICAL_RANGES[i];
-            ((values[i].ln() - lo.ln()) / (hi.ln() - lo.ln())).clamp(0.0, 1.0)
-        })
+        core::array::from_fn(|i| unit_in(VERTICAL_RANGES[i], values[i]))
     }
 }
