@@ -105,17 +105,7 @@ impl<T: Scalar> Gains<T> {
             t.validate()?;
         }
         if let Some(v) = &self.velocity_limit {
-            v.validate(self.position.saturation)?;
-            if self.position.vertical.is_some() {
-                // The velocity limit's braking profile is per axis with `M_p`; the vertical
-                // channel apart has its own levels. Not combined.
-                return Err(ParameterError::OutOfRange {
-                    name: "speed_limit",
-                    value: crate::scalar::to_f64(v.speed),
-                    low: 0.0,
-                    high: 0.0,
-                });
-            }
+            v.validate(self.position.saturation, self.position.vertical.as_ref())?;
         }
         if let Some(v) = &self.position.vertical {
             v.validate()?;

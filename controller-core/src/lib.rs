@@ -94,5 +94,5 @@ pub use thrust::ThrustMode;
 pub use tilt_priority::TiltPriorityGains;
 pub use torque_set::TorqueSet;
 pub use vehicle::{Limits, Vehicle};
-pub use velocity_limit::VelocityLimit;
+pub use velocity_limit::{VelocityLimit, VerticalBraking};
 pub use vertical_channel::VerticalChannel;

@@ -159,8 +159,8 @@ impl<T: Scalar> PositionGains<T> {
     /// The position law at one sample.
     ///
     /// Inputs: the feedback shape (`None`: the paper's `ubar_p = −σ_p(k_p z₁ + k_v z₂)`;
-    /// `Some(limit)`: the velocity-limited feedback of [`VelocityLimit::feedback`], an extension,
-    /// docs/velocity-limit.md), `p̃ = p − p_d` \[m\], `ṽ = v − ṗ_d` [m/s], filter states, the
+    /// `Some(limit)`: the velocity-limited feedback `−σ_p(`[`VelocityLimit::argument`]`)`, an
+    /// extension, docs/velocity-limit.md), `p̃ = p − p_d` \[m\], `ṽ = v − ṗ_d` [m/s], filter states, the
     /// reference's `p̈_d`, `p_d⁽³⁾`, `p_d⁽⁴⁾`, and gravity `g` [m/s²]; all inertial. Source:
     /// Section IV, eq:PositionControlLaw, eq:FilterDynamics, eq:Zcoordinates;
     /// `σ_p = M tanh(·/M)` as in Section VI, or the norm shape of [`PositionSaturation`].
@@ -179,12 +179,7 @@ impl<T: Scalar> PositionGains<T> {
         let (z1, z2) = self.z_coordinates(position_error, velocity_error, filter);
         let ubar_p = match limit {
             None => self.feedback_of(&(z1 * self.kp + z2 * self.kv)),
-            Some(l) => l.feedback(
-                (self.kp, self.kv),
-                (self.saturation_shape, self.saturation),
-                &z1,
-                &z2,
-            ),
+            Some(l) => self.feedback_of(&l.argument((self.kp, self.kv), &z1, &z2)),
         };
         let filter_gap = filter.u_f - filter.u_s;
         let mut u_f_dot = -filter_gap * self.kf;

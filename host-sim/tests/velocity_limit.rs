@@ -61,8 +61,9 @@ fn the_x500_design_comes_back_from_upside_down_only_with_the_velocity_limit() {
     );
 }
 
-/// Given a scenario whose `[gains.velocity_limit]` asks for braking at or above `M_p`, or a
-/// speed limit that is not positive, then loading it fails naming the key.
+/// Given a scenario whose `[gains.velocity_limit]` asks for braking at or above `M_p`, a speed
+/// limit that is not positive, a vertical braking at or above `M_up`, or no vertical braking
+/// with the vertical channel apart, then loading it fails naming the key.
 #[test]
 fn a_bad_velocity_limit_is_refused_by_key() {
     let text = std::fs::read_to_string(concat!(
@@ -93,6 +94,31 @@ fn a_bad_velocity_limit_is_refused_by_key() {
     assert!(e.contains("gains.velocity_limit.speed_m_s"), "{e}");
     let e = with("nan", "0.5").unwrap_err().to_string();
     assert!(e.contains("gains.velocity_limit.speed_m_s"), "{e}");
+
+    // The design flies the vertical channel apart: its profile's braking above the reference
+    // must lie below M_up, and without the two vertical keys the scenario is refused by name.
+    assert!(text.contains("[gains.vertical]") && text.contains("braking_up_m_s2"));
+    let edited = |edit: &dyn Fn(&str) -> Option<String>| {
+        let t = text.lines().filter_map(edit).collect::<Vec<_>>().join("\n");
+        Scenario::parse(&t, "test").map(|_| ())
+    };
+    let e = edited(&|l| {
+        Some(if l.starts_with("braking_up_m_s2") {
+            "braking_up_m_s2 = 1000.0".to_owned()
+        } else {
+            l.to_owned()
+        })
+    })
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("gains.velocity_limit.braking_up_m_s2"), "{e}");
+    let e = edited(&|l| {
+        (!l.starts_with("braking_up_m_s2") && !l.starts_with("braking_down_m_s2"))
+            .then(|| l.to_owned())
+    })
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("gains.velocity_limit.braking_up_m_s2"), "{e}");
 }
 
 /// Given the x500 design (which carries `[gains.velocity_limit]`), the ablated controllers,

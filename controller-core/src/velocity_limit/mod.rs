@@ -16,11 +16,19 @@
 //!   reference; continuous with a continuous slope at `a/c²`);
 //! - `|φ| ≤ V`, the speed limit.
 //!
-//! **Bounds.** Every component of `ubar_p` is still in `(−M_p, M_p)`, and Theorem 1, Lemma 1 and
-//! Theorem 2 use nothing else about `ubar_p` (the filters bound `u_f`, `u̇`, `ü` from
-//! `|ubar_p,i| < M_p` alone), so the certificate is the paper's, unchanged.
+//! With the vertical channel apart (docs/vertical-channel.md) the vertical component is
+//! `−σ_z(k_v (z₂,z + φ_z(z₁,z)))` with the channel's two levels, and its profile `φ_z` brakes at
+//! `a_up < M_up` above the reference (the descent to it is stopped by an upward acceleration) and
+//! at `a_down < M_down` below it ([`VerticalBraking`]).
 //!
-//! **Stability of the z-subsystem** (each axis `ż₁ = z₂`, `ż₂ = −σ_p(k_v(z₂ + φ(z₁)))`): the
+//! **Bounds.** Every component of `ubar_p` is still a value of the saturation: in `(−M_p, M_p)`,
+//! or `(−M_down, M_up)` vertically with the vertical channel. Theorem 1, Lemma 1 and Theorem 2 use
+//! nothing else about `ubar_p` (the filters bound `u_f`, `u̇`, `ü` from those levels alone), so
+//! the certificate is the one the same gains have without the velocity limit, unchanged.
+//!
+//! **Stability of the z-subsystem** (each axis `ż₁ = z₂`, `ż₂ = −σ_p(k_v(z₂ + φ(z₁)))`, with
+//! `σ_z` and `φ_z` vertically; the argument below uses only that `σ` is strictly increasing
+//! through 0 and `φ` non-decreasing with the sign of its argument, so the two sides may differ): the
 //! only equilibrium is the origin, where the linearisation is the paper's `s² + k_v s + k_p`;
 //! every solution is bounded (`|z₂|` enters `V + ε`, and where `|φ| = V` the sign of `ż₁` points
 //! back); the divergence `−k_v σ_p'(·)` is negative everywhere, so by Bendixson's criterion there
@@ -32,8 +40,8 @@
 use nalgebra::Vector3;
 
 use crate::parameter_error::{positive, ParameterError};
-use crate::position_saturation::PositionSaturation;
 use crate::scalar::{to_f64, Scalar};
+use crate::vertical_channel::VerticalChannel;
 
 /// The braking profile of the velocity-limited position feedback (extension,
 /// docs/velocity-limit.md).
@@ -43,34 +51,102 @@ pub struct VelocityLimit<T: Scalar> {
     /// `> 0`.
     pub speed: T,
     /// Braking acceleration `a` [m/s²] of the profile, `0 < a < M_p`: the desired velocity is
-    /// one from which braking at `a` stops at the reference.
+    /// one from which braking at `a` stops at the reference. The vertical axis's too without the
+    /// vertical channel apart.
     pub braking: T,
+    /// The vertical axis's braking accelerations with the vertical channel apart: required with
+    /// it, refused without it.
+    pub vertical: Option<VerticalBraking<T>>,
+}
+
+/// The vertical profile's braking accelerations with the vertical channel apart
+/// (docs/velocity-limit.md, docs/vertical-channel.md), inertial z axis up.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VerticalBraking<T: Scalar> {
+    /// `a_up` [m/s²], `0 < a_up < M_up`: above the reference, where the descent towards it is
+    /// stopped by an upward acceleration.
+    pub up: T,
+    /// `a_down` [m/s²], `0 < a_down < M_down`: below the reference, where the climb towards it
+    /// is stopped by a downward one.
+    pub down: T,
 }
 
 impl<T: Scalar> VelocityLimit<T> {
     /// Checks `V > 0` and `0 < a < M_p` (finite), `M_p` \[m/s²\] being the position saturation
-    /// level.
-    /// Errors: [`ParameterError::NotPositive`] (`"speed_limit"`, `"braking"`) or
-    /// [`ParameterError::OutOfRange`] (`"braking"`, the interval `(0, M_p)`).
-    pub fn validate(&self, saturation: T) -> Result<(), ParameterError> {
+    /// level; with the vertical channel apart (`vertical`), `0 < a_up < M_up` and
+    /// `0 < a_down < M_down`.
+    /// Errors: [`ParameterError::NotPositive`] (`"speed_limit"`, `"braking"`, `"braking_up"`,
+    /// `"braking_down"`) or [`ParameterError::OutOfRange`] (`"braking"` outside `(0, M_p)`;
+    /// `"braking_up"`, `"braking_down"` outside `(0, M_up)`, `(0, M_down)`, read as 0 when the
+    /// vertical channel is on without them, and refused with the interval `(0, 0)` when given
+    /// without it).
+    pub fn validate(
+        &self,
+        saturation: T,
+        vertical: Option<&VerticalChannel<T>>,
+    ) -> Result<(), ParameterError> {
         positive("speed_limit", self.speed)?;
         positive("braking", self.braking)?;
-        if self.braking >= saturation {
-            return Err(ParameterError::OutOfRange {
-                name: "braking",
-                value: to_f64(self.braking),
+        below("braking", self.braking, saturation)?;
+        match (vertical, &self.vertical) {
+            (None, None) => Ok(()),
+            (Some(channel), Some(b)) => {
+                positive("braking_up", b.up)?;
+                positive("braking_down", b.down)?;
+                below("braking_up", b.up, channel.up)?;
+                below("braking_down", b.down, channel.down)
+            }
+            (Some(channel), None) => Err(ParameterError::OutOfRange {
+                name: "braking_up",
+                value: 0.0,
                 low: 0.0,
-                high: to_f64(saturation),
-            });
+                high: to_f64(channel.up),
+            }),
+            (None, Some(b)) => Err(ParameterError::OutOfRange {
+                name: "braking_up",
+                value: to_f64(b.up),
+                low: 0.0,
+                high: 0.0,
+            }),
         }
-        Ok(())
     }
 
     /// `φ(x)` [m/s] for one component `x = z₁,i` \[m\], with `c = k_p/k_v` \[1/s\]: `c x` inside
     /// `|x| ≤ a/c²`, `sign(x)√(2a|x| − a²/c²)` beyond, clipped to `±V`. Odd and
     /// non-decreasing.
     pub fn profile(&self, x: T, c: T) -> T {
-        let a = self.braking;
+        self.profile_braking_at(x, c, self.braking)
+    }
+
+    /// The vertical profile `φ_z(x)` [m/s] for `x = z₁,z` \[m\] (inertial z up), `c` \[1/s\]
+    /// as in [`Self::profile`]: with [`VerticalBraking`], braking at `a_up` above the reference
+    /// (`x > 0`) and at `a_down` below it; without, [`Self::profile`]. Non-decreasing, with
+    /// the sign of `x`, within `±V`, and `c x` near 0 on both sides.
+    pub fn vertical_profile(&self, x: T, c: T) -> T {
+        match &self.vertical {
+            None => self.profile(x, c),
+            Some(b) => self.profile_braking_at(x, c, if x > T::zero() { b.up } else { b.down }),
+        }
+    }
+
+    /// The argument `k_v (z₂ + φ(z₁))` [m/s²] of the position saturation, inertial, for the
+    /// z-coordinates `z₁` \[m\], `z₂` [m/s] (eq:Zcoordinates) and the gains `k_p` [1/s²],
+    /// `k_v` [1/s]: [`Self::profile`] horizontally, [`Self::vertical_profile`] vertically.
+    /// `ubar_p` is the position gains' saturation of it
+    /// ([`crate::position::PositionGains::feedback_of`]): each component within the level of its
+    /// axis (`M_p`, or `M_up`/`M_down` with the vertical channel apart).
+    pub fn argument(&self, (kp, kv): (T, T), z1: &Vector3<T>, z2: &Vector3<T>) -> Vector3<T> {
+        let c = kp / kv;
+        let desired = Vector3::new(
+            self.profile(z1.x, c),
+            self.profile(z1.y, c),
+            self.vertical_profile(z1.z, c),
+        );
+        (z2 + desired) * kv
+    }
+
+    /// The profile with the braking acceleration `a` [m/s²].
+    fn profile_braking_at(&self, x: T, c: T, a: T) -> T {
         let reach = a / (c * c);
         let magnitude = if x.abs() <= reach {
             c * x.abs()
@@ -88,21 +164,19 @@ impl<T: Scalar> VelocityLimit<T> {
             clipped
         }
     }
+}
 
-    /// The feedback `ubar_p = −σ_p(k_v (z₂ + φ(z₁)))` [m/s²], inertial, each component in
-    /// `(−M_p, M_p)` (its norm, with the norm shape); `z₁` \[m\] and `z₂` [m/s] are the
-    /// z-coordinates (eq:Zcoordinates) and `kp` [1/s²], `kv` [1/s], `saturation` (`M_p`, m/s²)
-    /// and `shape` the position loop's gains ([`crate::position::PositionGains`]).
-    pub fn feedback(
-        &self,
-        (kp, kv): (T, T),
-        (shape, saturation): (PositionSaturation, T),
-        z1: &Vector3<T>,
-        z2: &Vector3<T>,
-    ) -> Vector3<T> {
-        let c = kp / kv;
-        let desired = z1.map(|x| self.profile(x, c));
-        -shape.apply(&((z2 + desired) * kv), saturation)
+/// `value < level`, or [`ParameterError::OutOfRange`] naming `name` with `(0, level)`.
+fn below<T: Scalar>(name: &'static str, value: T, level: T) -> Result<(), ParameterError> {
+    if value < level {
+        Ok(())
+    } else {
+        Err(ParameterError::OutOfRange {
+            name,
+            value: to_f64(value),
+            low: 0.0,
+            high: to_f64(level),
+        })
     }
 }
 

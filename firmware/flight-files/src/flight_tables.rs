@@ -171,6 +171,25 @@ pub struct VelocityLimitTable {
     pub speed_m_s: f64,
     /// `a` [m/s²]: braking acceleration of the profile, `0 < a < M_p`.
     pub braking_m_s2: f64,
+    /// `a_up` [m/s²]: with `[gains.vertical]`, the vertical profile's braking above the
+    /// reference, `0 < a_up < M_up`; required with it, refused without it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub braking_up_m_s2: Option<f64>,
+    /// `a_down` [m/s²]: with `[gains.vertical]`, the vertical profile's braking below the
+    /// reference, `0 < a_down < M_down`; required with it, refused without it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub braking_down_m_s2: Option<f64>,
+}
+
+impl VelocityLimitTable {
+    /// The vertical braking `(a_up, a_down)` [m/s²]: `None` when neither key is given; a key
+    /// given alone reads the other as 0, which controller-core's validation refuses by name.
+    pub fn vertical_braking(&self) -> Option<(f64, f64)> {
+        match (self.braking_up_m_s2, self.braking_down_m_s2) {
+            (None, None) => None,
+            (up, down) => Some((up.unwrap_or(0.0), down.unwrap_or(0.0))),
+        }
+    }
 }
 
 /// `[gains.tilt_priority]`: per-axis attitude feedback with tilt priority (extension,

@@ -206,6 +206,13 @@ pub fn log_identity(config: &crate::config::FlightConfig) {
             v.speed, v.braking
         ),
     }
+    if let Some(b) = config.gains.velocity_limit.and_then(|v| v.vertical) {
+        info!(
+            "flight: position feedback: vertical braking {=f32} m/s^2 above the reference, \
+             {=f32} m/s^2 below (the vertical channel's levels)",
+            b.up, b.down
+        );
+    }
     match config.gains.position.saturation_shape {
         controller_core::PositionSaturation::Componentwise => info!(
             "flight: position saturation: componentwise (the paper's; |ubar_p| < sqrt(3) M_p)"

@@ -73,6 +73,8 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
             .map(|v| firmware::flight_tables::VelocityLimitTable {
                 speed_m_s: v.speed,
                 braking_m_s2: v.braking,
+                braking_up_m_s2: v.vertical.map(|b| b.up),
+                braking_down_m_s2: v.vertical.map(|b| b.down),
             }),
         vertical: g
             .position

@@ -250,6 +250,14 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             v.braking_m_s2 / g.M_p,
             v.braking_m_s2 * (g.kv / g.kp).powi(2),
         );
+        if let Some((up, down)) = v.vertical_braking() {
+            let _ = writeln!(
+                s,
+                "Vertically, with the vertical channel apart, the profile brakes at {up:.4} m/s^2 \
+                 above the reference and {down:.4} m/s^2 below it (the same share of M_up and \
+                 M_down).\n",
+            );
+        }
     }
     if let Some(v) = &g.vertical {
         let _ = writeln!(

@@ -213,18 +213,10 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         );
         eprintln!(
             "design: {why}; designing again with the velocity-limited position feedback \
-             ({FALLBACK_SPEED_LIMIT_M_S} m/s) on {FALLBACK_DURATION_S} s runs{}",
-            if o.vertical {
-                " (and M_p on every axis: the velocity limit is not combined with the vertical channel apart)"
-            } else {
-                ""
-            }
+             ({FALLBACK_SPEED_LIMIT_M_S} m/s) on {FALLBACK_DURATION_S} s runs"
         );
         let again = DesignOptions {
             speed_limit: Some(FALLBACK_SPEED_LIMIT_M_S),
-            // The velocity limit's braking profile is per axis with `M_p` (controller-core's
-            // `Gains::validate` refuses the pair).
-            vertical: false,
             duration_s: FALLBACK_DURATION_S,
             fallback: Fallback::Taken {
                 why,
@@ -265,12 +257,6 @@ fn check_options(o: &DesignOptions) -> Result<()> {
     if let Some(v) = o.speed_limit {
         if !(v.is_finite() && v > 0.0) {
             bail!("--speed-limit: must be finite and > 0 m/s, got {v}");
-        }
-        if o.vertical {
-            bail!(
-                "--speed-limit: the velocity-limited feedback brakes per axis at M_p and is not \
-                 combined with the vertical channel apart; add --vertical off"
-            );
         }
     }
     Ok(())

@@ -26,9 +26,9 @@ fn duration_sets_the_written_scenario_and_short_ones_are_refused() {
 }
 
 /// `--speed-limit V`: the design flies and writes the velocity-limited feedback with braking at
-/// 0.7 of its `M_p`, in the scenario and the flight file, and the firmware's gains built from
-/// the flight file carry it; a limit that is not a positive speed is refused before anything is
-/// written.
+/// 0.7 of its `M_p` (and of `M_up`, `M_down` vertically with the vertical channel apart), in the
+/// scenario and the flight file, and the firmware's gains built from the flight file carry it; a
+/// limit that is not a positive speed is refused before anything is written.
 #[test]
 fn speed_limit_is_written_and_bad_ones_are_refused() {
     let out = out_dir("speed-limit");
@@ -58,24 +58,43 @@ fn speed_limit_is_written_and_bad_ones_are_refused() {
     for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         assert_refused_unwritten("--speed-limit", bad, |o| o.speed_limit = Some(bad));
     }
-    // Not combined with the vertical channel apart (its braking profile is per axis at M_p).
-    assert_refused_unwritten("--vertical off", 4.0, |o| {
-        o.speed_limit = Some(4.0);
-        o.vertical = true;
-    });
+
+    // With the vertical channel apart, the vertical profile brakes at the same share of each of
+    // its levels, written to both files and read back by the scenario's gains.
+    let out = out_dir("speed-limit-vertical");
+    let mut o = options(preset_path("crazyflie-2.1"), out.clone(), 1);
+    o.speed_limit = Some(4.0);
+    o.vertical = true;
+    let r = run_design(&o).unwrap().report;
+    let channel = r.gains.vertical.expect("the vertical channel apart");
+    let v = r.gains.velocity_limit.expect("and the velocity limit");
+    let (up, down) = v.vertical_braking().expect("the vertical braking");
+    assert!((up - share * channel.up_m_s2).abs() < 1e-12, "{v:?}");
+    assert!((down - share * channel.down_m_s2).abs() < 1e-12, "{v:?}");
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    let b = s
+        .gains::<f64>()
+        .velocity_limit
+        .and_then(|l| l.vertical)
+        .expect("scenario.toml carries the vertical braking");
+    assert_eq!((b.up, b.down), (up, down));
+    let flight = std::fs::read_to_string(out.join("firmware.toml")).unwrap();
+    assert!(flight.contains("braking_up_m_s2"), "{flight}");
+    let _ = std::fs::remove_dir_all(&out);
 }
 
 /// The CLI's default path: when no design meets the convergence constraints with the paper's
 /// feedback on 30 s runs (the x500 with a one-point budget), `design` designs again with the
-/// velocity-limited feedback on 300 s runs (the vertical channel set aside: they are not
-/// combined), writes that one and says why in the report; with the fallback off the first design is written as it is.
+/// velocity-limited feedback on 300 s runs (with the vertical channel apart, as asked), writes
+/// that one and says why in the report; with the fallback off the first design is written as it
+/// is.
 #[test]
 fn unconverged_design_falls_back_to_the_velocity_limit() {
     use host_sim::design::options::{Fallback, FALLBACK_DURATION_S, FALLBACK_SPEED_LIMIT_M_S};
     let out = out_dir("fallback");
     let mut o = options(preset_path("x500"), out.clone(), 1);
     o.fallback = Fallback::VelocityLimited;
-    // As the CLI's defaults: the vertical channel apart, which the fallback sets aside.
+    // As the CLI's defaults: the vertical channel apart, which the fallback keeps.
     o.vertical = true;
     let r = run_design(&o).unwrap().report;
     let why = r.fallback.as_deref().expect("the fallback was taken");
@@ -86,6 +105,10 @@ fn unconverged_design_falls_back_to_the_velocity_limit() {
         .velocity_limit
         .expect("the fallback flies the velocity limit");
     assert_eq!(v.speed_m_s, FALLBACK_SPEED_LIMIT_M_S);
+    assert!(
+        r.gains.vertical.is_some() && v.vertical_braking().is_some(),
+        "{v:?}"
+    );
     let s = Scenario::load(&out.join("scenario.toml")).unwrap();
     assert_eq!(s.simulation.duration_s, FALLBACK_DURATION_S);
     assert!(s.gains.velocity_limit.is_some());

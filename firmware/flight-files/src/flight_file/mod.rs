@@ -332,9 +332,14 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         )),
         // `[gains.velocity_limit]` (absent = None, the paper's position feedback).
         g.velocity_limit.map_or("None".to_string(), |v| format!(
-            "Some(controller_core::VelocityLimit {{ speed: {}, braking: {} }})",
+            "Some(controller_core::VelocityLimit {{ speed: {}, braking: {}, vertical: {} }})",
             lit(v.speed_m_s),
-            lit(v.braking_m_s2)
+            lit(v.braking_m_s2),
+            v.vertical_braking().map_or("None".to_string(), |(up, down)| format!(
+                "Some(controller_core::VerticalBraking {{ up: {}, down: {} }})",
+                lit(up),
+                lit(down)
+            ))
         )),
         // `[gains] lemma1` (absent = the paper's chain); the variant names match.
         g.lemma1,

@@ -41,6 +41,7 @@
 
 use controller_core::{
     Gains, TiltPriorityGains, TorqueSet, TrajectoryConstants, Vehicle, VelocityLimit,
+    VerticalBraking,
 };
 use nalgebra::Vector3;
 
@@ -306,7 +307,8 @@ pub struct Context<'a> {
     /// `σ_p` (docs/position-saturation.md).
     pub position: PositionLaw<'a>,
     /// `Some(V)`: the velocity-limited position feedback with speed limit `V` [m/s] and braking
-    /// [`BRAKING_SHARE`] `× M_p` (`--speed-limit`, docs/velocity-limit.md).
+    /// [`BRAKING_SHARE`] `× M_p` (and of `M_up`, `M_down` vertically with the vertical channel
+    /// apart; `--speed-limit`, docs/velocity-limit.md).
     pub speed_limit: Option<f64>,
 }
 
@@ -448,9 +450,15 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
         g.attitude.k_omega = tilt.omega_gains.x;
         g.tilt_priority = Some(tilt);
     }
+    // With the vertical channel apart, the vertical profile brakes at the same share of each
+    // of its levels (the descent at `M_up`'s, the climb at `M_down`'s).
     g.velocity_limit = ctx.speed_limit.map(|speed| VelocityLimit {
         speed,
         braking: BRAKING_SHARE * mp,
+        vertical: g.position.vertical.map(|v| VerticalBraking {
+            up: BRAKING_SHARE * v.up,
+            down: BRAKING_SHARE * v.down,
+        }),
     });
     g.hysteresis = DELTA;
     g.reset_threshold = ALPHA;

@@ -40,6 +40,8 @@ fn key_of(name: &str) -> &'static str {
         "M_omega_1" | "M_omega_2" | "M_omega_3" => "gains.tilt_priority.omega_levels_Nm",
         "speed_limit" => "gains.velocity_limit.speed_m_s",
         "braking" => "gains.velocity_limit.braking_m_s2",
+        "braking_up" => "gains.velocity_limit.braking_up_m_s2",
+        "braking_down" => "gains.velocity_limit.braking_down_m_s2",
         "M_up" => "gains.vertical.up_m_s2",
         "M_down" => "gains.vertical.down_m_s2",
         "k_f,z" => "gains.vertical.kf",

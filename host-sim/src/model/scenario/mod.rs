@@ -310,6 +310,12 @@ impl Scenario {
         out.velocity_limit = g.velocity_limit.map(|v| VelocityLimit {
             speed: lit(v.speed_m_s),
             braking: lit(v.braking_m_s2),
+            vertical: v
+                .vertical_braking()
+                .map(|(up, down)| controller_core::VerticalBraking {
+                    up: lit(up),
+                    down: lit(down),
+                }),
         });
         out.local = g.local.map(|l| controller_core::LocalGains {
             kp: lit(l.kp),
