@@ -108,6 +108,20 @@ impl<T: Scalar> DesiredFrameBounds<T> {
         }
     }
 
+    /// Bounds on the norms `|ω_d|` [rad/s] and `|ω̇_d|` [rad/s²] from the components: the
+    /// desired frame is orthonormal, so `|ω_d| ≤ √(U_ρ̇² + U_ω3²)` and likewise for `ω̇_d`; each
+    /// capped by Lemma 1's norm bound `lemma1 = (U_ωd, U_ω̇d)`, so never above it. Theorem 2's
+    /// feedforward `J R̃ᵀω̇_d` turned by any `R̃` has at most these norms: the certified torque
+    /// set ([`TorqueSet`], `Bounds::torque_set`) takes them. No errors.
+    /// Source: extension of Lemma 1 (module documentation; docs/torque-set.md).
+    pub fn norm_bounds(&self, lemma1: (T, T)) -> (T, T) {
+        let hypot = |a: T, b: T| (a * a + b * b).sqrt();
+        (
+            hypot(self.tilt_rate, self.yaw_rate).min(lemma1.0),
+            hypot(self.tilt_acceleration, self.yaw_acceleration).min(lemma1.1),
+        )
+    }
+
     /// The feedforward's set with the body frame on the desired frame (`R̃ = I`, no feedback):
     /// [`TorqueSet::aligned`] with these bounds, for the inertia diagonal `inertia` [kg m²].
     pub fn aligned_feedforward(&self, inertia: &Vector3<T>) -> TorqueSet<T> {

@@ -220,25 +220,6 @@ pub fn certify<T: Scalar>(
         Some(t) => t.feedback_levels(a_gains.mrp_saturation, gains.hysteresis),
     };
     let feedback_torque = feedback_torque_axes.max();
-    // The feedback's shapes: one ball for the paper's law; with tilt priority the MRP term's
-    // ball, the trace term's ball and disks and the damping's box.
-    let torque_set = match &gains.tilt_priority {
-        None => TorqueSet::new(
-            inertia,
-            angular_velocity,
-            angular_acceleration,
-            radial_mrp + a_gains.omega_saturation,
-            feedback_torque_axes,
-        ),
-        Some(t) => TorqueSet::tilt_priority(
-            inertia,
-            angular_velocity,
-            angular_acceleration,
-            radial_mrp,
-            t.trace_weights,
-            t.omega_levels,
-        ),
-    };
     let torque_max = feedforward_torque_bound(&inertia, angular_acceleration, angular_velocity)
         + feedback_torque_axes;
     let desired_frame = DesiredFrameBounds::new(
@@ -253,6 +234,29 @@ pub fn certify<T: Scalar>(
         },
         &inertia,
     );
+
+    let set_rates = desired_frame.norm_bounds((angular_velocity, angular_acceleration));
+    // The set's feedforward takes the norms of `ω_d`, `ω̇_d` from their desired-frame
+    // components where that is tighter than Lemma 1's chain (Theorem 2's conditions above keep
+    // the paper's norms). The feedback's shapes: one ball for the paper's law; with tilt
+    // priority the MRP term's ball, the trace term's ball and disks and the damping's box.
+    let torque_set = match &gains.tilt_priority {
+        None => TorqueSet::new(
+            inertia,
+            set_rates.0,
+            set_rates.1,
+            radial_mrp + a_gains.omega_saturation,
+            feedback_torque_axes,
+        ),
+        Some(t) => TorqueSet::tilt_priority(
+            inertia,
+            set_rates.0,
+            set_rates.1,
+            radial_mrp,
+            t.trace_weights,
+            t.omega_levels,
+        ),
+    };
 
     // Assumption 1 (the U* quantities).
     let margin = g - ka3;

@@ -8,6 +8,7 @@ use proptest::prelude::*;
 
 use super::{ChainBounds, DesiredFrameBounds};
 use crate::desired_attitude::desired_attitude;
+use crate::reference::{ReferenceTrajectory, Trajectory};
 use crate::{certify, FilterStart, Gains, Lemma1Form, Limits, TrajectoryConstants, Vehicle};
 
 fn vec3() -> impl Strategy<Value = Vector3<f64>> {
@@ -82,6 +83,13 @@ proptest! {
         for i in 0..3 {
             prop_assert!(gyro[i].abs() <= b.gyroscopic[i] + tol(b.gyroscopic[i]));
         }
+        // The norms the certified torque set takes: at most the components' hypotenuse, and
+        // never above the cap they are given.
+        let (wn, an) = b.norm_bounds((f64::INFINITY, f64::INFINITY));
+        prop_assert!(w.norm() <= wn + tol(wn), "{} vs {}", w.norm(), wn);
+        prop_assert!(a.norm() <= an + tol(an), "{} vs {}", a.norm(), an);
+        let capped = b.norm_bounds((0.5 * wn, 0.5 * an));
+        prop_assert!(capped == (0.5 * wn, 0.5 * an));
     }
 
     /// `ω_d,3 = (s det(ρ, ρ̇, k) + ψ̇ ρ₃)/(1 − s²)` with `k = (ν_d, 0) × e₃`, `s = ρᵀk`: the
@@ -137,4 +145,44 @@ fn at_hover_the_yaw_components_are_the_tilt_coupling() {
     let j = vehicle.inertia;
     assert!((e.z - (j.z * f.yaw_acceleration + f.gyroscopic.z)).abs() < 1e-12);
     assert!((e.x - (j.x * f.tilt_acceleration + f.gyroscopic.x)).abs() < 1e-12);
+}
+
+/// Given slow, norm-saturated position gains (like the x500 preset's) on the paper's helix, when `certify` runs, then the certified
+/// torque set takes the norms of `ω_d`, `ω̇_d` from the desired frame's components where they
+/// are tighter than Lemma 1's chain (here `|ω̇_d|`: the chain's bound adds the heading's terms
+/// on the norm), while Theorem 2's conditions keep Lemma 1's norms.
+#[test]
+fn the_torque_set_takes_the_tighter_norms() {
+    let vehicle = Vehicle::<f64>::paper();
+    let mut gains = Gains::<f64>::paper();
+    gains.position.saturation = 0.5;
+    gains.position.saturation_shape = crate::PositionSaturation::Norm;
+    gains.position.kf = 0.6;
+    gains.position.ks = 1.7;
+    gains.lemma1 = Lemma1Form::Tangential;
+    let helix = ReferenceTrajectory::<f64>::paper_helix().constants();
+    let c = certify(
+        &vehicle,
+        &Limits::paper(),
+        &gains,
+        &helix,
+        FilterStart::Zero,
+    )
+    .unwrap();
+    let (b, f) = (&c.bounds, &c.bounds.desired_frame);
+    let hypot = |x: f64, y: f64| (x * x + y * y).sqrt();
+    let acceleration = hypot(f.tilt_acceleration, f.yaw_acceleration);
+    assert!(
+        acceleration < 0.8 * b.angular_acceleration,
+        "{f:?} {}",
+        b.angular_acceleration
+    );
+    assert_eq!(b.torque_set.angular_acceleration, acceleration);
+    let rate = hypot(f.tilt_rate, f.yaw_rate).min(b.angular_velocity);
+    let j = vehicle.inertia;
+    assert!((b.torque_set.gyroscopic.z - 0.5 * (j.x - j.y).abs() * rate * rate).abs() < 1e-15);
+    // Theorem 2's roll condition: J_11 U_ω̇d + ½|J_22 − J_33| U_ωd² + ι with Lemma 1's norms.
+    let w2 = b.angular_velocity * b.angular_velocity;
+    let theorem2 = j.x * b.angular_acceleration + 0.5 * (j.y - j.z).abs() * w2;
+    assert!((b.torque_max.x - b.feedback_torque_axes.x - theorem2).abs() < 1e-12);
 }

@@ -189,13 +189,17 @@ pub fn envelope(
     )
     .ok()?;
     let b = c.bounds;
+    // The certified set's norms of `ω_d`, `ω̇_d` (`Bounds::torque_set`'s).
+    let (rate, acceleration) = b
+        .desired_frame
+        .norm_bounds((b.angular_velocity, b.angular_acceleration));
     Some(Envelope {
         thrust: (b.thrust_min, b.thrust_max),
         feedforward: b.torque_max - b.feedback_torque_axes,
         feedforward_set: Some(TorqueSet::new(
             vehicle.inertia,
-            b.angular_velocity,
-            b.angular_acceleration,
+            rate,
+            acceleration,
             0.0,
             Vector3::zeros(),
         )),
@@ -294,6 +298,43 @@ pub fn iota_max_by(
     super::bisect::bisect(lower, upper, 60, fits)
 }
 
+/// The largest `ι` [N m] for which Theorem 2's per-axis conditions hold with the feedback
+/// levels `ι d` (`d` \[dimensionless\], body axes: the paper's `(1, 1, 1)`, tilt priority's
+/// `(1, 1, ρ)`): `τ_max,i > J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd² + ι d_i` with Lemma 1's norms, each
+/// axis's capacity `τ_max,i` the one `design` writes as the limit (the rotors' on that axis alone:
+/// with `fit` airmode's shadow, else over `env`'s thrust interval). The certified set takes the
+/// desired frame's tighter norms (docs/torque-set.md), so a set that fits no longer implies these
+/// conditions; the search caps `ι` by this as well. Negative when even `ι = 0` fails.
+/// Source: eq:TorqueMaxConditionsTheorem.
+pub fn theorem2_iota_max(
+    rotors: &RotorSet,
+    env: &Envelope,
+    fit: RotorFit,
+    direction: &Vector3<f64>,
+) -> f64 {
+    let b = &env.bounds;
+    let feedforward = b.torque_max - b.feedback_torque_axes;
+    let capacity = |i: usize| match fit {
+        RotorFit::Airmode => rotors.envelope(0.0).shadow_axis(i),
+        RotorFit::Set => {
+            let along = |t: f64| Vector3::from_fn(|k, _| if k == i { t } else { 0.0 });
+            let fits = |t: f64| box_margin(rotors, env.thrust, &along(t)) >= 0.0;
+            // Beyond the rotor range over the column's largest share, no torque on the axis fits.
+            let share = rotors.mix.column(i + 1).abs().max();
+            let upper = (rotors.range.1 - rotors.range.0) / share.max(1e-12);
+            if !fits(0.0) {
+                return 0.0;
+            }
+            super::bisect::bisect(0.0, upper, 60, fits)
+        }
+    };
+    // Strict conditions, judged again in f32 by the gate: keep a relative hair below.
+    (0..3)
+        .filter(|&i| direction[i] > 0.0)
+        .map(|i| (capacity(i) * (1.0 - 1e-6) - feedforward[i]) / direction[i])
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// [`iota_max`] (`levels` `None`: the paper's radial feedback) or [`iota_max_along`].
 fn iota_max_shaped(
     rotors: &RotorSet,
@@ -372,7 +413,9 @@ pub fn aligned_fits(rotors: &RotorSet, env: &Envelope, margin: f64) -> bool {
         > 0.0
 }
 
-/// `ι_max` for `(M_p, k_f, k_s)`; `-∞` when the bounds are undefined.
+/// `ι_max` for `(M_p, k_f, k_s)` with the paper's feedback: the least of the rotor fit's
+/// ([`iota_max`]) and Theorem 2's per-axis conditions' ([`theorem2_iota_max`]); `-∞` when the
+/// bounds are undefined.
 pub fn iota_max_at(
     vehicle: &Vehicle<f64>,
     constants: &TrajectoryConstants<f64>,
@@ -381,7 +424,14 @@ pub fn iota_max_at(
     (mp, kf, ks): (f64, f64, f64),
 ) -> f64 {
     envelope(vehicle, constants, (mp, kf, ks), PositionLaw::paper())
-        .map(|env| iota_max(rotors, &env, margin))
+        .map(|env| {
+            iota_max(rotors, &env, margin).min(theorem2_iota_max(
+                rotors,
+                &env,
+                RotorFit::Set,
+                &Vector3::repeat(1.0),
+            ))
+        })
         .unwrap_or(f64::NEG_INFINITY)
 }
 
@@ -427,12 +477,15 @@ pub fn saturation_max_with(
     if top <= 0.0 {
         return None;
     }
+    // Some feedback fits the rotors, and Theorem 2's per-axis conditions leave some too.
     let positive = |mp: f64| {
-        envelope_with(bounds, vehicle, constants, (mp, kf, ks), law).is_some_and(|env| match fit {
-            RotorFit::Set => iota_max(rotors, &env, margin) > 0.0,
-            RotorFit::Airmode => {
-                thrust_fits(rotors, &env, margin) && shadow_iota_max(rotors, &env, margin) > 0.0
-            }
+        envelope_with(bounds, vehicle, constants, (mp, kf, ks), law).is_some_and(|env| {
+            (match fit {
+                RotorFit::Set => iota_max(rotors, &env, margin) > 0.0,
+                RotorFit::Airmode => {
+                    thrust_fits(rotors, &env, margin) && shadow_iota_max(rotors, &env, margin) > 0.0
+                }
+            }) && theorem2_iota_max(rotors, &env, fit, &Vector3::repeat(1.0)) > 0.0
         })
     };
     let steps = match bounds {

@@ -25,22 +25,20 @@ fn closed_form_iota_matches_set_fit_bisection() {
     for (mp, kf, ks) in [(0.3, 0.3, 0.6), (0.5, 0.5, 1.5), (1.5, 0.3, 1.0)] {
         let env = envelope(&vehicle, &k, (mp, kf, ks), PositionLaw::paper()).unwrap();
         let b = &env.bounds;
+        // The certified set's norms (the desired-frame components' where tighter).
+        let (rate, acceleration) = b
+            .desired_frame
+            .norm_bounds((b.angular_velocity, b.angular_acceleration));
         let torque_set = |iota: f64, levels: Vector3<f64>| {
-            TorqueSet::new(
-                vehicle.inertia,
-                b.angular_velocity,
-                b.angular_acceleration,
-                iota,
-                levels,
-            )
+            TorqueSet::new(vehicle.inertia, rate, acceleration, iota, levels)
         };
         let closed = iota_max(&set, &env, margin);
         let fits = |iota: f64| {
             let t = torque_set(iota, Vector3::repeat(iota));
             let t32 = TorqueSet::new(
                 t.inertia.map(|x| x as f32),
-                b.angular_velocity as f32,
-                b.angular_acceleration as f32,
+                rate as f32,
+                acceleration as f32,
                 iota as f32,
                 Vector3::repeat(iota as f32),
             );

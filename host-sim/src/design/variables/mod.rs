@@ -47,7 +47,8 @@ use nalgebra::Vector3;
 
 use super::authority::{
     envelope_with, iota_max, iota_max_along, iota_max_by, mrp_factor, probe_gains,
-    saturation_max_with, shadow_iota_max, PositionLaw, RotorFit, RotorSet, ALPHA, DELTA,
+    saturation_max_with, shadow_iota_max, theorem2_iota_max, PositionLaw, RotorFit, RotorSet,
+    ALPHA, DELTA,
 };
 
 mod interval;
@@ -424,6 +425,12 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
             })
         }
     };
+    // Theorem 2's per-axis conditions, with Lemma 1's norms, cap the level too (the set's
+    // tighter norms no longer imply them).
+    let shares = c.tilt.map_or(Vector3::repeat(1.0), |t| {
+        Vector3::new(1.0, 1.0, t.yaw_share)
+    });
+    let i_max = i_max.min(theorem2_iota_max(ctx.rotors, &env, ctx.fit, &shares));
     if i_max <= 0.0 {
         return None;
     }
