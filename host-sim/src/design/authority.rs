@@ -45,6 +45,8 @@ pub struct RotorSet {
     pub mix: Matrix4<f64>,
     /// Per-rotor thrust range `(lo, hi)` \[N\].
     pub range: (f64, f64),
+    /// The firmware's mixer itself, for what `design` must judge exactly as the board does.
+    mixer: Mixer,
 }
 
 impl RotorSet {
@@ -56,7 +58,27 @@ impl RotorSet {
         Ok(Self {
             mix: mixer.mixing().map(f64::from),
             range: (f64::from(lo), f64::from(hi)),
+            mixer,
         })
+    }
+
+    /// The torque capacity [N m] on each body axis alone (the other torques at zero), the
+    /// limits `τ_max,i` `design` writes (`[limits] torque_max_Nm`): with `fit` airmode's, the
+    /// largest `t` with `±t e_i` in the rotors' shadow (at the best thrust for it); else the
+    /// firmware mixer's capacity over the thrust interval `thrust` \[N\] (`Mixer::box_fit`,
+    /// in f32 as the board computes it). No errors.
+    pub fn axis_capacity(&self, fit: RotorFit, thrust: (f64, f64)) -> Vector3<f64> {
+        match fit {
+            RotorFit::Airmode => {
+                let shadow = self.envelope(0.0);
+                Vector3::from_fn(|i, _| shadow.shadow_axis(i))
+            }
+            RotorFit::Set => {
+                let (t_lo, t_hi) = (thrust.0 as f32, thrust.1 as f32);
+                let fit = self.mixer.box_fit(t_lo, t_hi, &Vector3::zeros());
+                Vector3::from(fit.torque_capacity.map(f64::from))
+            }
+        }
     }
 
     /// The range shrunk by `margin` (fraction of the range) at both ends \[N\].
@@ -314,24 +336,11 @@ pub fn theorem2_iota_max(
 ) -> f64 {
     let b = &env.bounds;
     let feedforward = b.torque_max - b.feedback_torque_axes;
-    let capacity = |i: usize| match fit {
-        RotorFit::Airmode => rotors.envelope(0.0).shadow_axis(i),
-        RotorFit::Set => {
-            let along = |t: f64| Vector3::from_fn(|k, _| if k == i { t } else { 0.0 });
-            let fits = |t: f64| box_margin(rotors, env.thrust, &along(t)) >= 0.0;
-            // Beyond the rotor range over the column's largest share, no torque on the axis fits.
-            let share = rotors.mix.column(i + 1).abs().max();
-            let upper = (rotors.range.1 - rotors.range.0) / share.max(1e-12);
-            if !fits(0.0) {
-                return 0.0;
-            }
-            super::bisect::bisect(0.0, upper, 60, fits)
-        }
-    };
+    let capacity = rotors.axis_capacity(fit, env.thrust);
     // Strict conditions, judged again in f32 by the gate: keep a relative hair below.
     (0..3)
         .filter(|&i| direction[i] > 0.0)
-        .map(|i| (capacity(i) * (1.0 - 1e-6) - feedforward[i]) / direction[i])
+        .map(|i| (capacity[i] * (1.0 - 1e-6) - feedforward[i]) / direction[i])
         .fold(f64::INFINITY, f64::min)
 }
 

@@ -162,17 +162,11 @@ pub fn certify_design_with(
     let tau32 = torque_box.map(|x| x as f32);
     let box_fit = mixer.box_fit(t_lo, t_hi, &tau32);
     let paper_set = set_f32(&b.torque_set);
-    // The capacity the per-axis conditions are judged against: axis alone for the set, with
-    // the other axes at their bounds for the tight box.
-    let capacity_fit = match tight_box {
-        None => mixer.box_fit(t_lo, t_hi, &Vector3::zeros()),
-        Some(_) => box_fit,
-    };
-    let capacity = match fit {
-        RotorFit::Set => Vector3::from(capacity_fit.torque_capacity.map(f64::from)),
-        // Airmode realises a torque at the best thrust for it: the capacity on axis i alone is
-        // the largest t with the segment ±t e_i in the rotors' shadow.
-        RotorFit::Airmode => Vector3::from_fn(|i, _| set.envelope(0.0).shadow_axis(i)),
+    // The capacity the per-axis conditions are judged against: each axis alone (airmode's at
+    // the best thrust for it), or with the other axes at their bounds for the tight box.
+    let capacity = match (fit, tight_box) {
+        (RotorFit::Set, Some(_)) => Vector3::from(box_fit.torque_capacity.map(f64::from)),
+        _ => set.axis_capacity(fit, (b.thrust_min, b.thrust_max)),
     };
     // A zero capacity is a limit `certify` refuses; keep it positive and let the condition fail.
     let limits = Limits {
