@@ -66,7 +66,7 @@ pub struct TorqueSet<T: Scalar> {
 
 impl<T: Scalar> TorqueSet<T> {
     /// The box `|τ_i| ≤ half_widths_i` [N m] (body axes) as a torque set: no ellipsoid, ball or
-    /// disk. No errors. Used where only per-axis bounds are known (the tight bounds' box, the
+    /// disk. No errors. Used where only per-axis bounds are known (the thrust alone, the
     /// mixer's box margin).
     pub fn boxed(half_widths: Vector3<T>) -> Self {
         Self {

@@ -13,8 +13,10 @@
 //! (`h_ff` the support function of the feedforward's part): linear in `ι`, hence the largest
 //! `ι` in closed form ([`iota_max`]). Per-axis feedback levels (tilt priority) are proposed
 //! with their box, `Σ_i |c_ki| ι_i` (it contains their set, so the certificate can only find
-//! more room). With the tight bounds (`--bounds tight`) the certified set is the box of their
-//! per-axis bounds, and the fit is the box's (`Σ_i |c_ki| (ff_i + ι_i)`).
+//! more room). With the tight bounds (`--bounds tight`) the set keeps its shape and takes the
+//! least of its norms of `ω_d`, `ω̇_d` and theirs ([`super::tight::tightened_set`]). An
+//! envelope without a feedforward set stands for the box of the per-axis bounds, whose fit is
+//! `Σ_i |c_ki| (ff_i + ι_i)`: kept to measure what the set's shape frees.
 //! This module only *proposes* numbers; the certificate of a design comes from
 //! `controller_core::bounds::certify` and `Mixer::set_margin` ([`super::certificate`]).
 
@@ -129,8 +131,9 @@ pub struct Envelope {
     /// `ff_i = J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd²` [N m].
     pub feedforward: Vector3<f64>,
     /// The feedforward's part of the certified torque set (ellipsoid and gyroscopic box, no
-    /// feedback; [`TorqueSet`]); `None` with the tight bounds, whose certified set is the box
-    /// of [`Envelope::feedforward`] plus the feedback levels.
+    /// feedback; [`TorqueSet`]). `None`: the certified set is the box of
+    /// [`Envelope::feedforward`] plus the feedback levels (no design builds it; the closed
+    /// forms keep it to measure what the set's shape frees).
     pub feedforward_set: Option<TorqueSet<f64>>,
     /// All bounds (with the probe's `ι`, which [`Envelope::feedforward`] removes).
     pub bounds: Bounds<f64>,
@@ -231,7 +234,9 @@ pub fn envelope(
 
 /// [`envelope`] with the feedforward part of the torque bound taken from `bounds`: with
 /// [`super::tight::BoundsKind::Tight`], per axis the least of Lemma 1's and
-/// [`super::tight::tight_feedforward`] at [`super::tight::SEARCH_BOXES`] boxes per search.
+/// [`super::tight::tight_feedforward`], and the feedforward's set with the least norms
+/// ([`super::tight::tightened_set`]), the tight ones at [`super::tight::SEARCH_BOXES`] boxes per
+/// search.
 pub fn envelope_with(
     bounds: super::tight::BoundsKind,
     vehicle: &Vehicle<f64>,
@@ -251,13 +256,15 @@ pub fn envelope_with(
         env.feedforward = env
             .feedforward
             .inf(&super::tight::tight_feedforward(vehicle, rates));
-        env.feedforward_set = None;
+        env.feedforward_set = env
+            .feedforward_set
+            .map(|set| super::tight::tightened_set(&set, rates));
     }
     Some(env)
 }
 
 /// The largest `ι` [N m] for which the certified set of `env` with the paper's feedback (a
-/// ball of radius `ι`; the box `ι` per axis with the tight bounds) fits `rotors` with `margin`
+/// ball of radius `ι`; the box `ι` per axis without a feedforward set) fits `rotors` with `margin`
 /// (fraction of the range at both ends); negative when even `ι = 0` does not fit.
 pub fn iota_max(rotors: &RotorSet, env: &Envelope, margin: f64) -> f64 {
     iota_max_shaped(rotors, env, margin, None)
@@ -282,7 +289,7 @@ pub fn iota_max_along(
 /// to fit, e.g. [`iota_max_along`]'s box, `> 0`) and the first of `2ᵏ lower` that does not fit.
 /// For feedback sets that grow with `ι` (tilt priority's, whose shape changes with `ι` where
 /// the hysteresis band caps `g₃`, so no closed form). `lower` itself when `env` has no
-/// feedforward set (the tight bounds' box).
+/// feedforward set (the box).
 pub fn iota_max_by(
     rotors: &RotorSet,
     env: &Envelope,
@@ -322,11 +329,14 @@ pub fn iota_max_by(
 
 /// The largest `ι` [N m] for which Theorem 2's per-axis conditions hold with the feedback
 /// levels `ι d` (`d` \[dimensionless\], body axes: the paper's `(1, 1, 1)`, tilt priority's
-/// `(1, 1, ρ)`): `τ_max,i > J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd² + ι d_i` with Lemma 1's norms, each
-/// axis's capacity `τ_max,i` the one `design` writes as the limit (the rotors' on that axis alone:
-/// with `fit` airmode's shadow, else over `env`'s thrust interval). The certified set takes the
-/// desired frame's tighter norms (docs/torque-set.md), so a set that fits no longer implies these
-/// conditions; the search caps `ι` by this as well. Negative when even `ι = 0` fails.
+/// `(1, 1, ρ)`): `τ_max,i > ff_i + ι d_i` with `ff` = [`Envelope::feedforward`] (Lemma 1's
+/// norms, `J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd²`; with the tight bounds the least of it and the
+/// tight one, which is what their conditions are judged with), each axis's capacity `τ_max,i`
+/// the one `design` writes as the limit (the rotors' on that axis alone: with `fit` airmode's
+/// shadow, else over `env`'s thrust interval). The certified set takes the desired frame's
+/// tighter norms (docs/torque-set.md), so a set that fits no longer implies these conditions;
+/// the search caps `ι` by this as well. `-∞` when Assumption 1's per-axis conditions
+/// (eq:TorqueMaxCondition) fail against the same capacities; negative when even `ι = 0` fails.
 /// Source: eq:TorqueMaxConditionsTheorem.
 pub fn theorem2_iota_max(
     rotors: &RotorSet,
@@ -334,9 +344,23 @@ pub fn theorem2_iota_max(
     fit: RotorFit,
     direction: &Vector3<f64>,
 ) -> f64 {
-    let b = &env.bounds;
-    let feedforward = b.torque_max - b.feedback_torque_axes;
+    let feedforward = env.feedforward;
     let capacity = rotors.axis_capacity(fit, env.thrust);
+    // Assumption 1's conditions (the reference's feedforward alone, with its starred bounds,
+    // eq:TorqueMaxCondition) leave no room for `ι` but must hold as well: Lemma 1's terms
+    // contain them, the tight ones need not.
+    let a = &env.bounds.assumption;
+    let reference = TorqueSet::new(
+        env.bounds.torque_set.inertia,
+        a.angular_velocity,
+        a.angular_acceleration,
+        0.0,
+        Vector3::zeros(),
+    )
+    .axis_extents();
+    if (0..3).any(|i| capacity[i] * (1.0 - 1e-6) <= reference[i]) {
+        return f64::NEG_INFINITY;
+    }
     // Strict conditions, judged again in f32 by the gate: keep a relative hair below.
     (0..3)
         .filter(|&i| direction[i] > 0.0)
@@ -381,7 +405,7 @@ fn iota_max_shaped(
 /// which every torque of the feedforward's set plus the ball is realised at some thrust on the
 /// range shrunk by `margin` (the shadow fit, [`RotorEnvelope::shadow_margin`]): per ordered pair
 /// of rotors `(k, l)` with `d = w_k c_l − w_l c_k`, `h_ff(d) + ι |d| ≤ w_k hi' − w_l lo'`, linear
-/// in `ι`. Negative when even `ι = 0` does not fit; `-∞` with the tight bounds' box (no set).
+/// in `ι`. Negative when even `ι = 0` does not fit; `-∞` without a feedforward set (the box).
 pub fn shadow_iota_max(rotors: &RotorSet, env: &Envelope, margin: f64) -> f64 {
     let Some(ff) = env.feedforward_set else {
         return f64::NEG_INFINITY;

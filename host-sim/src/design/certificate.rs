@@ -8,8 +8,9 @@
 //! thrust interval (the largest `|τ_i|` realisable at both thrust ends with the other torques at
 //! zero). The certified set contains `±τ_i e_i` for its per-axis bound `τ_i`, so a set that fits
 //! meets Theorem 2's per-axis conditions against these limits. With the tight bounds the
-//! certified set is the box of their per-axis bounds, and `τ_max,i` is the box fit's capacity
-//! with the other torques at their box bounds.
+//! certified set takes the least of its own and their norms of `ω_d`, `ω̇_d`
+//! ([`super::tight::tightened_set`]), and Theorem 2's conditions are judged with their per-axis
+//! bounds against the same limits.
 
 use anyhow::{anyhow, Result};
 use controller_core::{
@@ -19,7 +20,8 @@ use firmware::config::RotorConfig;
 use firmware::mixer::{BoxFit, Mixer};
 use nalgebra::Vector3;
 
-use super::authority::{box_margin, set_margin, RotorFit, RotorSet};
+use super::authority::{set_margin, RotorFit, RotorSet};
+use super::tight::{tightened_set, TightTorque};
 use crate::bounds::certificate::TightCondition;
 
 /// A set-up checked by `certify` and `set_margin`.
@@ -38,8 +40,12 @@ pub struct Certified {
     pub fits_with_margin: bool,
     /// Smallest headroom of the certified set over the rotors, fraction of the rotor range.
     pub margin: f64,
-    /// The certified torque box [N m] (body axes): Theorem 2's bounds, or the tight box.
+    /// The per-axis torque bounds [N m] (body axes) Theorem 2's conditions are judged with:
+    /// Theorem 2's, or the tight ones ([`TightTorque::torque_box`]).
     pub torque_box: Vector3<f64>,
+    /// The certified torque set [N m] (body axes): Theorem 2's terms
+    /// (`Bounds::torque_set`), with the tight norms when certified with the tight bounds.
+    pub set: TorqueSet<f64>,
     /// With the tight bounds: Theorem 2's torque conditions judged with both bounds (they
     /// replace the paper's verdict on those three); `None`: the paper's bounds.
     pub tight: Option<Vec<TightCondition>>,
@@ -131,11 +137,11 @@ pub fn set_f32(s: &TorqueSet<f64>) -> TorqueSet<f32> {
     }
 }
 
-/// [`certify_design`] with the torque box `tight_box` [N m] (body axes; a sound bound on each
-/// `|τ_i|` smaller than Theorem 2's, [`super::tight::tight_torque_box`]) in place of Theorem
-/// 2's torque set: the rotor fit (of that box), the torque capacity over the thrust interval
-/// and Theorem 2's torque conditions use it; the paper's verdicts are kept beside
-/// ([`Certified::tight`]).
+/// [`certify_design`] with the tight bounds `tight` ([`super::tight::tight_torque`]; sound, and
+/// below Lemma 1's and Theorem 2's): the certified set takes their norms of `ω_d`, `ω̇_d` where
+/// they are below its own ([`tightened_set`]; the rotor fit is that set's), and Theorem 2's
+/// torque conditions are judged with their per-axis bounds; the paper's verdicts are kept
+/// beside ([`Certified::tight`]).
 ///
 /// Errors: as [`certify_design`].
 pub fn certify_design_with(
@@ -144,7 +150,7 @@ pub fn certify_design_with(
     gains: &Gains<f64>,
     constants: &TrajectoryConstants<f64>,
     margin: f64,
-    tight_box: Option<Vector3<f64>>,
+    tight: Option<TightTorque>,
     fit: RotorFit,
 ) -> Result<Certified> {
     let mixer = Mixer::new(rotors).map_err(|e| anyhow!("rotor set refused by the mixer: {e:?}"))?;
@@ -158,16 +164,16 @@ pub fn certify_design_with(
         .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))?;
     let b = &first.bounds;
     let (t_lo, t_hi) = (b.thrust_min as f32, b.thrust_max as f32);
-    let torque_box = tight_box.map_or(b.torque_max, |t| t.inf(&b.torque_max));
+    let torque_box = tight.map_or(b.torque_max, |t| t.torque_box.inf(&b.torque_max));
     let tau32 = torque_box.map(|x| x as f32);
     let box_fit = mixer.box_fit(t_lo, t_hi, &tau32);
     let paper_set = set_f32(&b.torque_set);
+    // The set the design is certified with: the paper's, or with the tight norms.
+    let certified_set = tight.map_or(b.torque_set, |t| tightened_set(&b.torque_set, t.rates));
+    let certified_set32 = set_f32(&certified_set);
     // The capacity the per-axis conditions are judged against: each axis alone (airmode's at
-    // the best thrust for it), or with the other axes at their bounds for the tight box.
-    let capacity = match (fit, tight_box) {
-        (RotorFit::Set, Some(_)) => Vector3::from(box_fit.torque_capacity.map(f64::from)),
-        _ => set.axis_capacity(fit, (b.thrust_min, b.thrust_max)),
-    };
+    // the best thrust for it); the set contains `±τ_i e_i` up to its per-axis extent.
+    let capacity = set.axis_capacity(fit, (b.thrust_min, b.thrust_max));
     // A zero capacity is a limit `certify` refuses; keep it positive and let the condition fail.
     let limits = Limits {
         thrust_max: set.thrust_total_max(),
@@ -182,12 +188,12 @@ pub fn certify_design_with(
         set.envelope(0.0)
             .set_margin(b.thrust_min, b.thrust_max, &b.aligned_feedforward)
     });
-    let paper_fits_with_margin = match fit {
-        RotorFit::Set => shrunk.set_margin(t_lo, t_hi, &paper_set) >= 0.0,
-        // What the gate measures in f32: the shadow on the shrunk range, and the thrust interval
-        // alone inside it.
+    // What the gate measures in f32 on the range shrunk by the margin: the thrust interval
+    // times the set, or with airmode the shadow and the thrust interval alone.
+    let fits_shrunk = |s: &TorqueSet<f32>| match fit {
+        RotorFit::Set => shrunk.set_margin(t_lo, t_hi, s) >= 0.0,
         RotorFit::Airmode => shrunk.envelope().is_some_and(|e| {
-            e.shadow_margin(&paper_set) >= 0.0
+            e.shadow_margin(s) >= 0.0
                 && e.set_margin(t_lo, t_hi, &TorqueSet::boxed(Vector3::zeros())) >= 0.0
         }),
     };
@@ -202,24 +208,20 @@ pub fn certify_design_with(
                 .is_some_and(|e| e.shadow_margin(&s) >= 0.0),
         }
     });
-    let paper_fits_with_margin = paper_fits_with_margin && local_fits_with_margin;
-    let (fits, fits_with_margin) = match (tight_box, fit) {
-        (None, RotorFit::Set) => (
-            mixer.set_margin(t_lo, t_hi, &paper_set) >= 0.0,
-            paper_fits_with_margin,
-        ),
-        (None, RotorFit::Airmode) => (
-            set.envelope(0.0).shadow_margin(&b.torque_set) >= 0.0
+    let paper_fits_with_margin = fits_shrunk(&paper_set) && local_fits_with_margin;
+    let fits_with_margin = fits_shrunk(&certified_set32) && local_fits_with_margin;
+    let fits = match fit {
+        RotorFit::Set => mixer.set_margin(t_lo, t_hi, &certified_set32) >= 0.0,
+        RotorFit::Airmode => {
+            set.envelope(0.0).shadow_margin(&certified_set) >= 0.0
                 && set.envelope(0.0).set_margin(
                     b.thrust_min,
                     b.thrust_max,
                     &TorqueSet::boxed(Vector3::zeros()),
-                ) >= 0.0,
-            paper_fits_with_margin,
-        ),
-        (Some(_), _) => (box_fit.fits, shrunk.box_fit(t_lo, t_hi, &tau32).fits),
+                ) >= 0.0
+        }
     };
-    let tight = tight_box.map(|_| {
+    let tight = tight.map(|_| {
         certificate
             .conditions
             .iter()
@@ -242,12 +244,12 @@ pub fn certify_design_with(
         box_fit,
         fits,
         fits_with_margin,
-        margin: match (tight_box, fit) {
-            (None, RotorFit::Set) => set_margin(&set, thrust, &b.torque_set),
-            (None, RotorFit::Airmode) => set.envelope(0.0).shadow_margin(&b.torque_set),
-            (Some(_), _) => box_margin(&set, thrust, &torque_box),
+        margin: match fit {
+            RotorFit::Set => set_margin(&set, thrust, &certified_set),
+            RotorFit::Airmode => set.envelope(0.0).shadow_margin(&certified_set),
         },
         torque_box,
+        set: certified_set,
         tight,
         paper_fits_with_margin,
         fit,

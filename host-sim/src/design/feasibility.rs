@@ -6,7 +6,7 @@ use super::authority::{PositionLaw, RotorFit, RotorSet};
 use super::certificate::{certify_design_with, Certified};
 use super::integral::IntegralSpec;
 use super::reference::Reference;
-use super::tight::{tight_torque_box, BoundsKind, SEARCH_BOXES};
+use super::tight::{tight_torque, BoundsKind, SEARCH_BOXES};
 use super::variables::{map, AttitudeLaw, Choices, Context, Mapped};
 use super::vehicle::DesignVehicle;
 use anyhow::{bail, Result};
@@ -233,7 +233,7 @@ pub(crate) fn certify_mapped(
 ) -> Result<Certified> {
     let tight = match kind {
         BoundsKind::Paper => None,
-        BoundsKind::Tight => Some(tight_torque_box(
+        BoundsKind::Tight => Some(tight_torque(
             &vehicle.body,
             &mapped.gains,
             constants,

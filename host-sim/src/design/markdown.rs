@@ -46,10 +46,9 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
     }
     let _ = writeln!(
         s,
-        "## Certificate\n\nEvery condition holds: **{}**. Rotor fit of the certified {} (docs/torque-set.md): **{}** (with the {:.0} % margin: **{}**; \
+        "## Certificate\n\nEvery condition holds: **{}**. Rotor fit of the certified torque set (docs/torque-set.md): **{}** (with the {:.0} % margin: **{}**; \
          smallest headroom {:.2} % of the rotor range; the box of the per-axis bounds, every corner at once, fits: {}).\n",
         r.certificate.all_hold,
-        if r.rotor_fit.shape == "set" { "torque set" } else { "box" },
         r.rotor_fit.fits,
         100.0 * r.rotor_fit.requested_margin,
         r.rotor_fit.fits_with_margin,
@@ -113,7 +112,8 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
         let _ = writeln!(
             s,
             "Certified with the **tight** a-priori bounds (`--bounds tight`, docs/tight-bounds.md): \
-             Theorem 2's torque conditions and the rotor fit (of their box) use them; the paper's bound is beside. \
+             Theorem 2's torque conditions use them and the certified torque set takes their norms of `ω_d`, `ω̇_d` \
+             where they are below its own; the paper's bound is beside. \
              With the paper's bounds every condition holds and the torque set fits with the margin (the \
              firmware's gate): **{}**{}.\n",
             r.certificate.paper_certified,

@@ -59,7 +59,8 @@ pub struct CertificateEntry {
 #[allow(non_snake_case)]
 pub struct RotorFitEntry {
     /// The shape of the certified torque set: `"set"` (Theorem 2's terms,
-    /// `controller_core::TorqueSet`) or `"box"` (the tight bounds' per-axis box).
+    /// `controller_core::TorqueSet`; with the tight bounds too, which take its shape with their
+    /// norms, where they once certified the box of their per-axis bounds).
     pub shape: &'static str,
     /// The certified set fits the rotor range.
     pub fits: bool,
@@ -79,7 +80,7 @@ pub struct RotorFitEntry {
     /// Certified per-axis torque bounds [N m].
     pub torque_needed_Nm: [f32; 3],
     /// Per-axis torque capacity over the certified thrust interval [N m]: the `τ_max` limits
-    /// (each axis alone for the set; with the other axes at their bounds for the tight box).
+    /// (each axis alone).
     pub torque_capacity_Nm: [f32; 3],
     /// How the set was fitted (`--airmode`): `set` (the thrust interval times the torque set)
     /// or `airmode` (every torque at some thrust: `margin` is then the shadow fit's headroom,
@@ -335,7 +336,7 @@ impl Report {
                 conditions,
             },
             rotor_fit: RotorFitEntry {
-                shape: if c.tight.is_some() { "box" } else { "set" },
+                shape: "set",
                 fits: c.fits,
                 box_fits: c.box_fit.fits,
                 fits_with_margin: c.fits_with_margin,

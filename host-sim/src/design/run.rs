@@ -160,8 +160,8 @@ fn thrust_of(
             aligned_acceleration: d.aligned_acceleration.sup(&f.aligned_acceleration),
         }
     } else {
-        let boxed = certified.torque_box.map(|x| x as f32);
-        TorqueSet::boxed(boxed)
+        // Only the tight bounds' set fits (`--bounds tight`): the floor keeps that set inside.
+        super::certificate::set_f32(&certified.set)
     };
     let mut thrust =
         ThrustDesign::new(kind, &b, &mixer, &gate_set, margin).map_err(anyhow::Error::msg)?;

@@ -158,12 +158,13 @@ fn tilt_priority_design_certifies_per_axis_levels() {
 }
 
 /// `--bounds tight` on the x500, whose helix the paper's bounds certify only slowed down: the
-/// tight bounds certify a faster one. The written scenario is re-checked with tight bounds
-/// computed again at the full budget (Theorem 2 per axis against the rotors' capacity, and the
-/// firmware mixer's box fit with the margin), and the firmware file is written only when the
+/// tight bounds certify one at least as fast, with Theorem 2's bounds below the paper's. The
+/// written scenario is re-checked with tight bounds computed again at the full budget
+/// (Theorem 2 per axis against the rotors' capacity, and the firmware mixer's fit of the set
+/// with the tight norms, with the margin), and the firmware file is written only when the
 /// paper's certificate, which the firmware re-checks on board, holds too.
 #[test]
-fn tight_bounds_certify_a_faster_reference_than_the_papers() {
+fn tight_bounds_certify_a_reference_no_slower_than_the_papers() {
     use host_sim::design::tight::{tight_feedforward, BoundsKind};
     // Both with Lemma 1 as the paper states it: this compares the tight bounds with the paper's.
     let paper_out = out_dir("x500-paper");
@@ -177,8 +178,13 @@ fn tight_bounds_certify_a_faster_reference_than_the_papers() {
     let tight = run_design(&o).unwrap();
     let r = &tight.report;
     assert!(r.certificate.all_hold && r.rotor_fit.fits && r.rotor_fit.fits_with_margin);
+    // Not slower than with the paper's bounds (the tight set takes the least norms, and
+    // Theorem 2 is judged with the lesser bound). Here the same authority share binds both: the
+    // certified set's desired-frame norms are below the branch and bound's at `M_p → 0`, and
+    // the tight bounds lower the hover reference's a little, which raises the share's hover
+    // value (by parts per billion of the scale; it cost 3-5 % when the tight set was a box).
     assert!(
-        r.reference.scale > paper.report.reference.scale,
+        r.reference.scale >= paper.report.reference.scale * (1.0 - 1e-6),
         "tight {} vs paper {}",
         r.reference.scale,
         paper.report.reference.scale
@@ -215,20 +221,24 @@ fn tight_bounds_certify_a_faster_reference_than_the_papers() {
             s.limits.torque_max_Nm
         );
     }
+    // The certified set: the core's, with the tight norms where they are below its own, fits
+    // the rotors shrunk by the margin, judged in f32 by the firmware's mixer.
     let mut rotors = rotors_of(&s);
     let span = rotors.thrust_max - rotors.thrust_min;
     rotors.thrust_min += 0.05 * span;
     rotors.thrust_max -= 0.05 * span;
     let b = &core.bounds;
+    let set = host_sim::design::tight::tightened_set(
+        &b.torque_set,
+        (t.angular_velocity, t.angular_acceleration),
+    );
+    assert!(set.angular_acceleration <= b.torque_set.angular_acceleration);
     assert!(
-        Mixer::new(&rotors)
-            .unwrap()
-            .box_fit(
-                b.thrust_min as f32,
-                b.thrust_max as f32,
-                &torque.map(|x| x as f32)
-            )
-            .fits
+        Mixer::new(&rotors).unwrap().set_margin(
+            b.thrust_min as f32,
+            b.thrust_max as f32,
+            &f32_set(&set)
+        ) >= 0.0
     );
     let _ = std::fs::remove_dir_all(&out);
     let _ = std::fs::remove_dir_all(&paper_out);

@@ -127,12 +127,13 @@ fn every_point_of_the_box_is_certified() {
 }
 
 /// Certified by construction with the tight bounds too: random points of the unit box, both
-/// laws, mapped with the tight feedforward, pass `certify_design_with` on the tight torque
-/// box (Theorem 2's torque conditions judged with it, the box fit with the margin).
+/// laws, mapped with the tight feedforward, pass `certify_design_with` with the tight bounds
+/// (Theorem 2's torque conditions judged with their per-axis bounds, the set with their norms
+/// fitted with the margin).
 #[test]
 fn every_point_is_certified_with_the_tight_bounds() {
     use crate::design::certificate::certify_design_with;
-    use crate::design::tight::{tight_torque_box, BoundsKind, SEARCH_BOXES};
+    use crate::design::tight::{tight_torque, BoundsKind, SEARCH_BOXES};
     let (v, set, constants) = crazyflie_on_the_paper_helix();
     let ctx = Context {
         vehicle: &v.body,
@@ -159,7 +160,7 @@ fn every_point_is_certified_with_the_tight_bounds() {
                 ),
             )
             .expect("usable on the Crazyflie");
-            let tight = tight_torque_box(&v.body, &m.gains, &constants, SEARCH_BOXES).unwrap();
+            let tight = tight_torque(&v.body, &m.gains, &constants, SEARCH_BOXES).unwrap();
             let c = certify_design_with(
                 &v.body,
                 &v.rotors,
