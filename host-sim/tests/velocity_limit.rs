@@ -87,12 +87,19 @@ fn a_bad_velocity_limit_is_refused_by_key() {
             .join("\n");
         Scenario::parse(&t, "test").map(|_| ())
     };
-    assert!(with("20.0", "0.5").is_ok());
-    let e = with("20.0", "5.0").unwrap_err().to_string();
+    // Braking levels relative to the design's own `M_p`: half of it is valid, `M_p` itself not.
+    let mp: f64 = text
+        .lines()
+        .find_map(|l| l.strip_prefix("M_p = "))
+        .and_then(|v| v.trim().parse().ok())
+        .expect("the design's [gains] M_p");
+    let (half, at) = ((0.5 * mp).to_string(), mp.to_string());
+    assert!(with("20.0", &half).is_ok());
+    let e = with("20.0", &at).unwrap_err().to_string();
     assert!(e.contains("gains.velocity_limit.braking_m_s2"), "{e}");
-    let e = with("0.0", "0.5").unwrap_err().to_string();
+    let e = with("0.0", &half).unwrap_err().to_string();
     assert!(e.contains("gains.velocity_limit.speed_m_s"), "{e}");
-    let e = with("nan", "0.5").unwrap_err().to_string();
+    let e = with("nan", &half).unwrap_err().to_string();
     assert!(e.contains("gains.velocity_limit.speed_m_s"), "{e}");
 
     // The design flies the vertical channel apart: its profile's braking above the reference
