@@ -345,7 +345,8 @@ pub fn theorem2_iota_max(
     direction: &Vector3<f64>,
 ) -> f64 {
     let feedforward = env.feedforward;
-    let capacity = rotors.axis_capacity(fit, env.thrust);
+    // Strict conditions, judged again in f32 by the gate: keep a relative hair below.
+    let capacity = rotors.axis_capacity(fit, env.thrust) * (1.0 - 1e-6);
     // Assumption 1's conditions (the reference's feedforward alone, with its starred bounds,
     // eq:TorqueMaxCondition) leave no room for `ι` but must hold as well: Lemma 1's terms
     // contain them, the tight ones need not.
@@ -358,13 +359,12 @@ pub fn theorem2_iota_max(
         Vector3::zeros(),
     )
     .axis_extents();
-    if (0..3).any(|i| capacity[i] * (1.0 - 1e-6) <= reference[i]) {
+    if (0..3).any(|i| capacity[i] <= reference[i]) {
         return f64::NEG_INFINITY;
     }
-    // Strict conditions, judged again in f32 by the gate: keep a relative hair below.
     (0..3)
         .filter(|&i| direction[i] > 0.0)
-        .map(|i| (capacity[i] * (1.0 - 1e-6) - feedforward[i]) / direction[i])
+        .map(|i| (capacity[i] - feedforward[i]) / direction[i])
         .fold(f64::INFINITY, f64::min)
 }
 

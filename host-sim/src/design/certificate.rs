@@ -199,15 +199,10 @@ pub fn certify_design_with(
     };
     // The local regime's set, as the firmware's gate fits it (`rotor_fit.local`,
     // `rotor_fit.local_shadow`) on the range shrunk by the margin.
-    let local_fits_with_margin = certificate.local.as_ref().is_none_or(|l| {
-        let s = set_f32(&l.torque_set);
-        match fit {
-            RotorFit::Set => shrunk.set_margin(t_lo, t_hi, &s) >= 0.0,
-            RotorFit::Airmode => shrunk
-                .envelope()
-                .is_some_and(|e| e.shadow_margin(&s) >= 0.0),
-        }
-    });
+    let local_fits_with_margin = certificate
+        .local
+        .as_ref()
+        .is_none_or(|l| fits_shrunk(&set_f32(&l.torque_set)));
     let paper_fits_with_margin = fits_shrunk(&paper_set) && local_fits_with_margin;
     let fits_with_margin = fits_shrunk(&certified_set32) && local_fits_with_margin;
     let fits = match fit {

@@ -425,8 +425,9 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
             })
         }
     };
-    // Theorem 2's per-axis conditions, with Lemma 1's norms, cap the level too (the set's
-    // tighter norms no longer imply them).
+    // Theorem 2's per-axis conditions, with the feedforward they are judged with (Lemma 1's
+    // norms, or the tight bounds'), cap the level too (the set's tighter norms no longer imply
+    // them).
     let shares = c.tilt.map_or(Vector3::repeat(1.0), |t| {
         Vector3::new(1.0, 1.0, t.yaw_share)
     });
