@@ -119,8 +119,10 @@ cargo fw-qemu
 # Two at a time: the emulated clock is tied to the instructions run (QEMU -icount), so a flight's
 # telemetry, its overrun count and its checks do not depend on what else the host runs; the
 # determinism test loads every core on purpose.
+# `--workspace`: the same feature set as the host tests, so their build is reused (`-p tests`
+# alone resolves other features and rebuilds the dependencies: about 2 minutes).
 PIL_FIRMWARE_ELF="$elf_mps2" PIL_FIRMWARE_ELF_1KHZ="$target_dir/pil-1khz/firmware-mps2-an386" \
-  cargo test -p tests --test pil_qemu -- --ignored --nocapture --test-threads 2
+  cargo test --workspace --test pil_qemu -- --ignored --nocapture --test-threads 2
 
 step "a real MAVLink client: pymavlink (pinned, own virtual environment) as ground station and mocap bridge against the firmware on QEMU; a stranger's SETUP_SIGNING refused on the default (untrusted) link, signing set up over a trusted one; missions uploaded (refused naming the condition, accepted), downloaded, cleared, flown to each item reached"
 bash tests/mavlink-client/run.sh "$elf_mps2" "$target_dir/pil-trusted/firmware-mps2-an386"
