@@ -62,6 +62,11 @@ pub struct TorqueSet<T: Scalar> {
     /// frame's per-axis bounds of `ω̇_d` give ([`crate::desired_frame_bounds`]); zero in the
     /// certified set of Theorem 2, whose attitude error is any.
     pub aligned_acceleration: Vector2<T>,
+    /// `θ` \[rad\], in `[0, π]`: the largest rotation angle of `R̃` the cylinder
+    /// `aligned_acceleration` is turned by, the feedforward `J R̃ᵀv` with `v` in the cylinder
+    /// (the envelope design's local regime, whose attitude error is bounded:
+    /// `crate::bounds::local_torque_set`). Zero: the cylinder itself.
+    pub aligned_turn: T,
 }
 
 impl<T: Scalar> TorqueSet<T> {
@@ -77,6 +82,7 @@ impl<T: Scalar> TorqueSet<T> {
             feedback_box: half_widths,
             feedback_disks: Vector3::zeros(),
             aligned_acceleration: Vector2::zeros(),
+            aligned_turn: T::zero(),
         }
     }
 
@@ -94,6 +100,7 @@ impl<T: Scalar> TorqueSet<T> {
             feedback_box: Vector3::zeros(),
             feedback_disks: Vector3::zeros(),
             aligned_acceleration: Vector2::new(tilt, yaw),
+            aligned_turn: T::zero(),
         }
     }
 
@@ -157,12 +164,14 @@ impl<T: Scalar> TorqueSet<T> {
             }),
             feedback_disks: Vector3::zeros(),
             aligned_acceleration: Vector2::zeros(),
+            aligned_turn: T::zero(),
         }
     }
 
     /// The support function `h(c) = sup_{τ ∈ S} cᵀτ` for a direction `c` (any length; units of
     /// `c` times N m): `U_ω̇d |J c| + Σ_i |c_i| (gyroscopic_i + feedback_box_i) + r |c|
-    /// + Σ_k d_k |c − c_k e_k|` (plus `a |(J₁₁c₁, J₂₂c₂)| + b J₃₃|c₃|` for the aligned cylinder).
+    /// + Σ_k d_k |c − c_k e_k|` (plus `a |(J₁₁c₁, J₂₂c₂)| + b J₃₃|c₃|` for the aligned cylinder,
+    /// or [`TorqueSet::turned_cylinder_support`] of `J c` when it is turned).
     /// `S` is symmetric, so `inf_{τ ∈ S} cᵀτ = −h(c)`. Exact for the
     /// Minkowski sum (the support function of a sum is the sum of the summands' support
     /// functions; a disk's is its radius times the length of `c` projected on its plane).
@@ -171,10 +180,42 @@ impl<T: Scalar> TorqueSet<T> {
         let [a, b] = [self.aligned_acceleration.x, self.aligned_acceleration.y];
         if a > T::zero() || b > T::zero() {
             let jc = self.inertia.component_mul(c);
-            base + a * jc.xy().norm() + b * jc.z.abs()
+            if self.aligned_turn > T::zero() {
+                base + self.turned_cylinder_support(&jc)
+            } else {
+                base + a * jc.xy().norm() + b * jc.z.abs()
+            }
         } else {
             // Not `+ 0`: the sets of Theorem 2 keep their support function bit for bit.
             base
+        }
+    }
+
+    /// The support function at `y` (`= J c`, [kg m² · units of `c`]) of the union of the
+    /// cylinder `{v : |(v₁, v₂)| ≤ a, |v₃| ≤ b}` turned by every rotation of angle at most
+    /// `θ = aligned_turn`: `sup cᵀJR̃ᵀv = sup (R̃ y)ᵀv`, and `R̃ y` ranges over the vectors of
+    /// length `|y|` within the angle `θ` of `y`. With `β` a vector's angle from the body z axis,
+    /// the cylinder's support is `|y| f(β)`, `f(β) = a sin β + b |cos β|`, and a rotation by at
+    /// most `θ` moves `β` by at most `θ` (the angle between two directions is a metric on the
+    /// sphere). `f` is symmetric about `π/2` and concave on `[0, π/2]` with its maximum
+    /// `√(a² + b²)` at `β* = atan2(a, b)`, so the supremum over the reachable `β`, folded into
+    /// `[lo, hi] = [max(0, β_y − θ), min(π/2, β_y + θ)]`, is `√(a² + b²)` when `β*` is in it and
+    /// `f` at the nearer end otherwise. Exact (every such `β` is reached), and at most the
+    /// cylinder plus the ball `2 sin(θ/2) √(a² + b²)` it replaces (`|R̃ᵀv − v| ≤ 2 sin(θ/2)|v|`).
+    /// No errors. Source: extension of Theorem 2 (docs/envelope-design.md).
+    pub fn turned_cylinder_support(&self, y: &Vector3<T>) -> T {
+        let [a, b] = [self.aligned_acceleration.x, self.aligned_acceleration.y];
+        let (radial, axial) = (y.xy().norm(), y.z.abs());
+        let length = (radial * radial + axial * axial).sqrt();
+        let beta = radial.atan2(axial);
+        let lo = (beta - self.aligned_turn).max(T::zero());
+        let hi = (beta + self.aligned_turn).min(T::frac_pi_2());
+        let peak = a.atan2(b);
+        if lo <= peak && peak <= hi {
+            length * (a * a + b * b).sqrt()
+        } else {
+            let at = if peak < lo { lo } else { hi };
+            length * (a * at.sin() + b * at.cos())
         }
     }
 
@@ -196,16 +237,25 @@ impl<T: Scalar> TorqueSet<T> {
     }
 
     /// The extent along each body axis `h(e_i)` [N m]: Theorem 2's per-axis bound
-    /// `J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd² + ι_i`.
+    /// `J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd² + ι_i` (plus the aligned cylinder's, turned or not).
     pub fn axis_extents(&self) -> Vector3<T> {
         let d = &self.feedback_disks;
         let a = &self.aligned_acceleration;
+        let aligned = if self.aligned_turn > T::zero() {
+            Vector3::from_fn(|i, _| {
+                let mut e = Vector3::zeros();
+                e[i] = self.inertia[i];
+                self.turned_cylinder_support(&e)
+            })
+        } else {
+            self.inertia.component_mul(&Vector3::new(a.x, a.x, a.y))
+        };
         self.inertia * self.angular_acceleration
             + self.gyroscopic
             + self.feedback_box
             + Vector3::repeat(self.feedback_radius)
             + Vector3::new(d.y + d.z, d.z + d.x, d.x + d.y)
-            + self.inertia.component_mul(&Vector3::new(a.x, a.x, a.y))
+            + aligned
     }
 }
 

@@ -93,14 +93,17 @@ pub(super) fn local_certificate<T: Scalar>(
 /// gains' `bounds` (Lemma 1 and its desired-frame components) and the inertia `inertia`:
 ///
 /// - the feedforward `−J R̃ᵀω̇_d`: `ω̇_d` in the desired frame's cylinder `(a, b)`
-///   (`Bounds::desired_frame`), turned by `R̃` of angle at most `θ`, which moves it by at most
-///   `2 sin(θ/2)` of its norm: the cylinder plus the ellipsoid of radius
-///   `2 sin(θ/2) √(a² + b²)`;
+///   (`Bounds::desired_frame`), turned by every `R̃` of angle at most `θ`
+///   ([`TorqueSet::turned_cylinder_support`], exact; it replaces the cylinder plus the ball of
+///   radius `2 sin(θ/2) √(a² + b²)`, which it never exceeds);
 /// - the gyroscopic term with `|ω_i|` at most its desired-frame bound plus `2 sin(θ/2)|ω_d|`;
 /// - the radial MRP term at `|ϑ̃| ≤ ϑ_c`: `(1 + ϑ_c²)/4 · M_ϑ k_ϑ ϑ_c/√(M_ϑ² + k_ϑ²ϑ_c²)`;
-/// - the paper's damping at `|ω̃| ≤ ω_c`: `M_ω k_ω ω_c/√(M_ω² + k_ω²ω_c²)` (a ball); tilt
-///   priority's per axis (a box) and its trace term, at most
-///   `½(sin θ' max_i(tr G − g_i) + (1 − cos θ)(g_max − g_min)/2)` (`θ' = min(θ, π/2)`; a ball).
+/// - the paper's damping at `|ω̃| ≤ ω_c`: `M_ω k_ω ω_c/√(M_ω² + k_ω²ω_c²)`, the two in one ball
+///   whose radius is their largest sum over the ways the energy splits between the MRP
+///   potential and the kinetic energy ([`joint_feedback_radius`]); tilt priority's damping per
+///   axis (a box) and its trace term, at most
+///   `½(sin θ' max_i(tr G − g_i) + (1 − cos θ)(g_max − g_min)/2)` (`θ' = min(θ, π/2)`; a ball),
+///   each at the whole energy.
 ///
 /// No errors. Source: extension of Theorem 2 (docs/envelope-design.md).
 pub fn local_torque_set<T: Scalar>(
@@ -122,21 +125,11 @@ pub fn local_torque_set<T: Scalar>(
         ((j.z - j.x).abs() * bt * by).min(global.y),
         (half * (j.x - j.y).abs() * bt * bt).min(global.z),
     );
-    let at = &gains.attitude;
-    let mrp = energy.mrp;
-    let radial = (T::one() + mrp * mrp)
-        * lit(0.25)
-        * (at.mrp_saturation * at.k_mrp * mrp
-            / (at.mrp_saturation * at.mrp_saturation + at.k_mrp * at.k_mrp * mrp * mrp).sqrt());
-    let damp = |m: T, k: T, w: T| m * k * w / (m * m + k * k * w * w).sqrt();
     let (ball, feedback_box) = match &gains.tilt_priority {
-        None => {
-            let w_max = energy.omega_error.max();
-            (
-                radial + damp(at.omega_saturation, at.k_omega, w_max),
-                Vector3::zeros(),
-            )
-        }
+        None => (
+            joint_feedback_radius(gains, inertia, energy.energy),
+            Vector3::zeros(),
+        ),
         Some(t) => {
             let g = &t.trace_weights;
             let trace = g.x + g.y + g.z;
@@ -146,7 +139,7 @@ pub fn local_torque_set<T: Scalar>(
                 * (quarter.sin() * across
                     + (T::one() - energy.angle.cos()) * half * (g.max() - g.min()));
             (
-                radial + trace_ball,
+                radial_mrp_torque(gains, energy.mrp) + trace_ball,
                 Vector3::from_fn(|i, _| {
                     damp(t.omega_levels[i], t.omega_gains[i], energy.omega_error[i])
                 }),
@@ -155,13 +148,55 @@ pub fn local_torque_set<T: Scalar>(
     };
     TorqueSet {
         inertia: *inertia,
-        angular_acceleration: eps * (a * a + b * b).sqrt(),
+        angular_acceleration: T::zero(),
         gyroscopic,
         feedback_radius: ball,
         feedback_box,
         feedback_disks: Vector3::zeros(),
         aligned_acceleration: Vector2::new(a, b),
+        aligned_turn: energy.angle,
     }
+}
+
+/// The radial MRP term's norm `(1 + ϑ²)/4 · M_ϑ k_ϑ ϑ/√(M_ϑ² + k_ϑ²ϑ²)` [N m] at `|ϑ̃| = mrp`
+/// (increasing in `mrp`). No errors. Source: Theorem 2's feedback term.
+fn radial_mrp_torque<T: Scalar>(gains: &Gains<T>, mrp: T) -> T {
+    let at = &gains.attitude;
+    (T::one() + mrp * mrp)
+        * lit(0.25)
+        * (at.mrp_saturation * at.k_mrp * mrp
+            / (at.mrp_saturation * at.mrp_saturation + at.k_mrp * at.k_mrp * mrp * mrp).sqrt())
+}
+
+/// The saturated damping's norm `M k w/√(M² + k²w²)` [N m] at `|ω̃| = w` (increasing in `w`).
+fn damp<T: Scalar>(m: T, k: T, w: T) -> T {
+    m * k * w / (m * m + k * k * w * w).sqrt()
+}
+
+/// Intervals of the energy split [`joint_feedback_radius`] takes the worst of.
+pub const ENERGY_SPLITS: usize = 32;
+
+/// The paper's feedback norm `|(1 + |ϑ̃|²)/4 s_ϑ + s_ω|` [N m] inside `{E ≤ energy}` (`energy`
+/// \[J\]) for `gains` and `inertia` [kg m²]: both terms cannot reach their largest values at
+/// once, since the MRP potential `Ψ(ϑ̃)` and the kinetic energy `½ω̃ᵀJω̃` share `energy`. With
+/// `Ψ = s · energy` for some `s ∈ [0, 1]`, `|ϑ̃| ≤ ϑ(s · energy)` and `|ω̃| ≤ ω((1 − s) energy)`
+/// ([`energy_limits`]); the radial term increases with `s` and the damping decreases, so on
+/// each of [`ENERGY_SPLITS`] intervals `[s_i, s_{i+1}]` the norm is at most
+/// `radial(s_{i+1}) + damping(s_i)`, and the radius is the largest of these (at most the sum of
+/// the two terms' largest values, which it replaces). No errors. Source: extension of Theorem 2
+/// (docs/envelope-design.md).
+pub fn joint_feedback_radius<T: Scalar>(gains: &Gains<T>, inertia: &Vector3<T>, energy: T) -> T {
+    let at = &gains.attitude;
+    let n = lit::<T>(ENERGY_SPLITS as f64);
+    let share = |i: usize| lit::<T>(i as f64) / n;
+    (0..ENERGY_SPLITS).fold(T::zero(), |worst, i| {
+        let potential = energy_limits(gains, inertia, energy * share(i + 1));
+        let kinetic = energy_limits(gains, inertia, energy * (T::one() - share(i)));
+        let w = kinetic.omega_error.max();
+        let bound =
+            radial_mrp_torque(gains, potential.mrp) + damp(at.omega_saturation, at.k_omega, w);
+        worst.max(bound)
+    })
 }
 
 #[cfg(test)]

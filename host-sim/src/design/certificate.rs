@@ -134,6 +134,7 @@ pub fn set_f32(s: &TorqueSet<f64>) -> TorqueSet<f32> {
         feedback_box: s.feedback_box.map(|x| x as f32),
         feedback_disks: s.feedback_disks.map(|x| x as f32),
         aligned_acceleration: s.aligned_acceleration.map(|x| x as f32),
+        aligned_turn: s.aligned_turn as f32,
     }
 }
 

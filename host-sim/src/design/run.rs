@@ -158,6 +158,7 @@ fn thrust_of(
             feedback_box: d.feedback_box.sup(&f.feedback_box),
             feedback_disks: d.feedback_disks.sup(&f.feedback_disks),
             aligned_acceleration: d.aligned_acceleration.sup(&f.aligned_acceleration),
+            aligned_turn: d.aligned_turn.max(f.aligned_turn),
         }
     } else {
         // Only the tight bounds' set fits (`--bounds tight`): the floor keeps that set inside.

@@ -142,3 +142,55 @@ fn a_wider_local_level_widens_the_certified_thrust_interval() {
     assert!(!failed.holds && failed.lhs == between, "{failed:?}");
     assert!(named(&c, "local_regime.saturation_margin").holds);
 }
+
+/// Given the paper's law and energy levels from small to past the MRP's cap, the joint feedback
+/// radius is at least the feedback norm's largest value over a dense scan of the energy's split
+/// between the MRP potential and the kinetic energy (computed here from the two terms'
+/// formulas), at most that plus one interval's rise of each term, and at most the sum of the
+/// two terms' largest values it replaces.
+#[test]
+fn the_joint_feedback_radius_bounds_every_split() {
+    let g = gains(false);
+    let j = Vehicle::<f64>::paper().inertia;
+    let at = &g.attitude;
+    let (m, k) = (at.mrp_saturation, at.k_mrp);
+    let radial = |c: f64| {
+        let q = energy_limits(&g, &j, c).mrp;
+        (1.0 + q * q) / 4.0 * m * k * q / (m * m + k * k * q * q).sqrt()
+    };
+    let damping = |c: f64| {
+        let w = energy_limits(&g, &j, c).omega_error.max();
+        let (mw, kw) = (at.omega_saturation, at.k_omega);
+        mw * kw * w / (mw * mw + kw * kw * w * w).sqrt()
+    };
+    for c in [1e-5, 1e-3, 0.02, 0.2, 5.0] {
+        let r = super::joint_feedback_radius(&g, &j, c);
+        let n = 20_000;
+        let dense = (0..=n)
+            .map(|i| {
+                let s = f64::from(i) / f64::from(n);
+                radial(s * c) + damping((1.0 - s) * c)
+            })
+            .fold(0.0, f64::max);
+        let splits = super::ENERGY_SPLITS;
+        let step = |f: &dyn Fn(f64) -> f64| {
+            (0..splits)
+                .map(|i| {
+                    let s = |i: usize| i as f64 / splits as f64;
+                    (f(s(i + 1) * c) - f(s(i) * c)).abs()
+                })
+                .fold(0.0, f64::max)
+        };
+        let rise = step(&|x| radial(x)) + step(&|x| damping(x));
+        assert!(r >= dense * (1.0 - 1e-12), "c {c}: {r} < {dense}");
+        assert!(
+            r <= dense + rise * (1.0 + 1e-9),
+            "c {c}: {r} > {dense} + {rise}"
+        );
+        assert!(r <= radial(c) + damping(c), "c {c}");
+        if c < 0.1 {
+            // Below the MRP's cap both terms grow with the energy: the split saves.
+            assert!(r < 0.95 * (radial(c) + damping(c)), "c {c}: {r}");
+        }
+    }
+}
