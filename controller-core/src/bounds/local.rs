@@ -100,7 +100,7 @@ pub(super) fn local_certificate<T: Scalar>(
 /// - the radial MRP term at `|ϑ̃| ≤ ϑ_c`: `(1 + ϑ_c²)/4 · M_ϑ k_ϑ ϑ_c/√(M_ϑ² + k_ϑ²ϑ_c²)`;
 /// - the paper's damping at `|ω̃| ≤ ω_c`: `M_ω k_ω ω_c/√(M_ω² + k_ω²ω_c²)`, the two in one ball
 ///   whose radius is their largest sum over the ways the energy splits between the MRP
-///   potential and the kinetic energy ([`joint_feedback_radius`]); tilt priority's damping per
+///   potential and the kinetic energy (`joint_feedback_radius` in this module); tilt priority's damping per
 ///   axis (a box) and its trace term, at most
 ///   `½(sin θ' max_i(tr G − g_i) + (1 − cos θ)(g_max − g_min)/2)` (`θ' = min(θ, π/2)`; a ball),
 ///   each at the whole energy.
