@@ -205,9 +205,8 @@ impl<T: Scalar> TorqueSet<T> {
     /// No errors. Source: extension of Theorem 2 (docs/envelope-design.md).
     pub fn turned_cylinder_support(&self, y: &Vector3<T>) -> T {
         let [a, b] = [self.aligned_acceleration.x, self.aligned_acceleration.y];
-        let (radial, axial) = (y.xy().norm(), y.z.abs());
-        let length = (radial * radial + axial * axial).sqrt();
-        let beta = radial.atan2(axial);
+        let beta = y.xy().norm().atan2(y.z.abs());
+        let length = y.norm();
         let lo = (beta - self.aligned_turn).max(T::zero());
         let hi = (beta + self.aligned_turn).min(T::frac_pi_2());
         let peak = a.atan2(b);
