@@ -5,7 +5,7 @@ use serde::Serialize;
 
 use super::evaluate::{
     Trial, ALTITUDE_WEIGHT_S_PER_M, DISTURBANCE_LOSS_WEIGHT_S_PER_M, DOUBLED_LAG_WEIGHT,
-    NOMINAL_TASK_WEIGHT, TAIL_ATTITUDE_DEG, TAIL_S, UNSETTLED_TASK_S,
+    NOMINAL_TASK_WEIGHT, TAIL_ATTITUDE_DEG, TAIL_S, TURNED_START_ANGLES_DEG, UNSETTLED_TASK_S,
 };
 use super::flight::{gains_config, limits_config};
 use super::options::{DesignOptions, Scored};
@@ -187,7 +187,8 @@ pub struct MarginsEntry {
     pub motor_time_constant_s: f64,
     /// Largest motor time constant with which the seven 180° starts still converge \[s\].
     pub motor_time_constant_max_converging_s: Option<f64>,
-    /// All seven 180° starts converge with the motor time constant doubled (no limit cycle).
+    /// All seven 180° starts and the turned starts ([`super::evaluate::turned_starts`])
+    /// converge with the motor time constant doubled (no limit cycle).
     pub doubled_lag_converges: bool,
     /// Settling per 180° start with the motor time constant doubled \[s\].
     pub doubled_lag_settling_180_s: Vec<(String, Option<f64>)>,
@@ -316,6 +317,7 @@ impl Report {
         let e = &best.evaluation;
         let b = &c.certificate.bounds;
         let g = &best.mapped.gains;
+        let turned = TURNED_START_ANGLES_DEG.map(|d| format!("{d:.0}")).join("/");
         Self {
             vehicle: vehicle.name.clone(),
             vehicle_source: vehicle.source.clone(),
@@ -378,8 +380,10 @@ impl Report {
                      with the integral action), on the scenario's plant \
                      with the vehicle's motor time constant and the controller's sample-and-hold; \
                      settled: |p - p_d| < 5 cm and attitude error < 2 deg until the end; constraint: \
-                     every run (also with the motor time constant doubled) settles by the end - {TAIL_S} s \
-                     with the attitude error < {TAIL_ATTITUDE_DEG} deg over the last {TAIL_S} s"
+                     every run (also with the motor time constant doubled, and then the starts at rest \
+                     turned {turned} deg from R_d(0) about the same seven axes, with it doubled too) settles \
+                     by the end - {TAIL_S} s with the attitude error < {TAIL_ATTITUDE_DEG} deg over the \
+                     last {TAIL_S} s"
                 ),
                 value: e.cost,
                 altitude_loss_upside_down_m: e.altitude_loss_upside_down_m,
@@ -409,7 +413,8 @@ impl Report {
                 motor_time_constant_s: vehicle.motor_time_constant_s,
                 motor_time_constant_max_converging_s: lag_max,
                 doubled_lag_converges: !e.doubled_lag.is_empty()
-                    && e.doubled_lag.iter().all(|t| t.converged),
+                    && !e.doubled_lag_turned.is_empty()
+                    && e.doubled_lag.iter().chain(&e.doubled_lag_turned).all(|t| t.converged),
                 doubled_lag_settling_180_s: settling(&e.doubled_lag),
             },
             reference: ReferenceEntry {

@@ -10,3 +10,4 @@ mod certification;
 mod cli;
 mod flight;
 mod support;
+mod turned_starts;
