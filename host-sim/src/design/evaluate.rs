@@ -7,8 +7,8 @@
 //! - recovery from upside down at hover: a hover at `p_d(0)` with heading `ψ_d(0)`, started
 //!   rotated 180° about body x with zero velocity; the altitude lost is `z(0) − min z`;
 //! - robustness: the seven starts again with the motor time constant doubled, and then the
-//!   turned starts ([`turned_starts`]: at rest at `p_d(0)`, turned 120° from `R_d(0)` about
-//!   the same seven axes) with it doubled too. The turned starts catch an
+//!   turned starts ([`turned_starts`]: at `p_d(0)` with the reference velocity, not rotating,
+//!   turned 120° from `R_d(0)` about the same seven axes) with it doubled too. The turned starts catch an
 //!   attitude limit cycle that the lag feeds from mid-size errors, which the 180° starts miss
 //!   (docs/results.md, "The local regime's set, exact");
 //! - with the integral action (`design` (unless `--no-integral`)): the disturbance it covers, at hover from
