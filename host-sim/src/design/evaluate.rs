@@ -62,7 +62,7 @@ pub const DISTURBANCE_LOSS_WEIGHT_S_PER_M: f64 = 30.0;
 pub const TURNED_START_ANGLES_DEG: [f64; 1] = [120.0];
 /// No offsets: the starts are at the reference's position and velocity, with zero angular
 /// velocity.
-const AT_REFERENCE: SamplerRadii = SamplerRadii {
+pub const AT_REFERENCE: SamplerRadii = SamplerRadii {
     position_m: 0.0,
     velocity_m_s: 0.0,
     angular_velocity_rad_s: 0.0,

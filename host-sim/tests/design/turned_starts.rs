@@ -4,10 +4,12 @@
 
 use std::path::{Path, PathBuf};
 
-use host_sim::design::evaluate::{turned_start_states, turned_starts, TURNED_START_ANGLES_DEG};
+use host_sim::design::evaluate::{
+    turned_start_states, turned_starts, AT_REFERENCE, TURNED_START_ANGLES_DEG,
+};
 use host_sim::design::flight::with_motor_lag;
 use host_sim::model::scenario::Scenario;
-use host_sim::runs::sampler::{Sampler, SamplerRadii, HALF_TURN_AXES};
+use host_sim::runs::sampler::{Sampler, HALF_TURN_AXES};
 use nalgebra::{Rotation3, Vector3};
 
 fn scenario(relative: &str) -> Scenario {
@@ -27,12 +29,7 @@ fn committed_crazyflie() -> Scenario {
 #[test]
 fn turned_starts_are_the_stated_rotations_from_the_desired_attitude() {
     let s = committed_crazyflie();
-    let zero = SamplerRadii {
-        position_m: 0.0,
-        velocity_m_s: 0.0,
-        angular_velocity_rad_s: 0.0,
-    };
-    let sampler = Sampler::new(&s, zero).unwrap();
+    let sampler = Sampler::new(&s, AT_REFERENCE).unwrap();
     let rd = Rotation3::from_matrix_unchecked(sampler.desired_rotation0());
     let half_turn = sampler.sample(0, 0, true).state;
     let starts = turned_start_states(&s).unwrap();
