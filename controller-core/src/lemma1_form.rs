@@ -1,9 +1,11 @@
-//! Which chain of inequalities bounds `|ω̇_d|`: the paper's Lemma 1, or the same chain keeping
+//! Which chain of inequalities bounds `|ω̇_d|`: the paper's Lemma 1, the same chain keeping
 //! only the parts of `ρ̈` and `ϋ` that eq:DesiredAngularAcceleration uses (an extension;
-//! docs/tangential-lemma1.md).
+//! docs/tangential-lemma1.md), or that chain per component of the desired frame for Theorem 2's
+//! per-axis conditions (an extension; docs/torque-set.md).
 //!
-//! The law is the same either way; only the certificate's `U_ω̇d` (and `U*_ω̇d` of Assumption 1)
-//! differ. Both are proven bounds; the tangential one is never larger.
+//! The law is the same every way; only the certificate's `U_ω̇d` (and `U*_ω̇d` of Assumption 1)
+//! differ. All are proven bounds; the tangential one is never larger than the paper's, and the
+//! desired frame's never larger than the tangential one.
 //!
 //! **The argument.** With `r = |u̇|/|u|`, `a = ρᵀu̇/|u|` and `b = |ρ̇|`, so `a² + b² = r²`,
 //! the paper's expression `ρ̈ = P_ρ ü/|u| − 2a ρ̇ − b² ρ` (`P_ρ = I − ρρᵀ`) splits into a part
@@ -38,6 +40,12 @@ pub enum Lemma1Form {
     /// docs/tangential-lemma1.md): `U_ρ̈,⊥ = m U_ü/T_min + U_ρ̇²` bounds `|P_ρ ρ̈|`, and
     /// `U_ϋ,⊥ = (U_ρ̈,⊥ + 2U_ρ̇K_ν̇ + K_ν̈)/L_ϖ + U_υ̇²` bounds `|P_υ ϋ|`; both enter `U_ω̇d`.
     Tangential,
+    /// The tangential chain, and Theorem 2's per-axis conditions (eq:TorqueMaxConditionsTheorem)
+    /// judged with the norms of `ω_d`, `ω̇_d` that the desired frame's components give where they
+    /// are tighter than the chain's (`crate::DesiredFrameBounds::norm_bounds`, the norms the
+    /// certified torque set already takes): each condition is then the set's extent along its
+    /// axis (extension, docs/torque-set.md#the-norms-the-set-takes).
+    DesiredFrame,
 }
 
 /// The quadratic coefficients of one form's chain (dimensionless).
@@ -60,19 +68,27 @@ impl Lemma1Form {
                 whole: lit(3.0),
                 projected: lit(3.0),
             },
-            Self::Tangential => QuadraticCoefficients {
+            Self::Tangential | Self::DesiredFrame => QuadraticCoefficients {
                 whole: lit::<T>(2.0) / lit::<T>(3.0).sqrt(),
                 projected: T::one(),
             },
         }
     }
 
-    /// The name used in flight files, scenario files and reports: `"paper"` or `"tangential"`.
+    /// The name used in flight files, scenario files and reports: `"paper"`, `"tangential"` or
+    /// `"desired_frame"`.
     pub fn name(self) -> &'static str {
         match self {
             Self::Paper => "paper",
             Self::Tangential => "tangential",
+            Self::DesiredFrame => "desired_frame",
         }
+    }
+
+    /// Whether Theorem 2's per-axis conditions take the desired frame's norms
+    /// ([`Self::DesiredFrame`]) rather than the chain's.
+    pub fn per_axis_from_desired_frame(self) -> bool {
+        self == Self::DesiredFrame
     }
 }
 

@@ -100,10 +100,13 @@ pub struct Bounds<T: Scalar> {
     /// Per-axis feedback bound `ι_i` [N m], body axes: `ι` on every axis for the paper's law,
     /// [`crate::TiltPriorityGains::feedback_levels`] with tilt priority.
     pub feedback_torque_axes: Vector3<T>,
-    /// Per-axis torque bound `J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd² + ι_i` [N m] (Theorem 2).
+    /// Per-axis torque bound `J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd² + ι_i` [N m] (Theorem 2), with
+    /// Lemma 1's norms, or with [`crate::Lemma1Form::DesiredFrame`] the torque set's norms (then
+    /// it is the set's extent along each axis).
     pub torque_max: Vector3<T>,
     /// The set the torque stays in, with its shape (ellipsoid, boxes and ball; extension of
-    /// Theorem 2, [`crate::torque_set`]); its per-axis extents are [`Bounds::torque_max`].
+    /// Theorem 2, [`crate::torque_set`]); its per-axis extents are at most [`Bounds::torque_max`]
+    /// (equal with [`crate::Lemma1Form::DesiredFrame`]).
     pub torque_set: TorqueSet<T>,
     /// The `U*` bounds of Assumption 1.
     pub assumption: AssumptionBounds<T>,

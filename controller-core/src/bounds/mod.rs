@@ -220,8 +220,6 @@ pub fn certify<T: Scalar>(
         Some(t) => t.feedback_levels(a_gains.mrp_saturation, gains.hysteresis),
     };
     let feedback_torque = feedback_torque_axes.max();
-    let torque_max = feedforward_torque_bound(&inertia, angular_acceleration, angular_velocity)
-        + feedback_torque_axes;
     let desired_frame = DesiredFrameBounds::new(
         &ChainBounds {
             thrust_direction_rate: rho_d,
@@ -236,9 +234,19 @@ pub fn certify<T: Scalar>(
     );
 
     let set_rates = desired_frame.norm_bounds((angular_velocity, angular_acceleration));
+    // Theorem 2's per-axis bounds: Lemma 1's norms as the paper writes them, or with the desired
+    // frame's form the set's norms below (a rotation keeps norms, so any bound on them serves;
+    // the bound along each axis is then the set's extent, docs/torque-set.md).
+    let per_axis_rates = if gains.lemma1.per_axis_from_desired_frame() {
+        set_rates
+    } else {
+        (angular_velocity, angular_acceleration)
+    };
+    let torque_max = feedforward_torque_bound(&inertia, per_axis_rates.1, per_axis_rates.0)
+        + feedback_torque_axes;
     // The set's feedforward takes the norms of `ω_d`, `ω̇_d` from their desired-frame
     // components where that is tighter than Lemma 1's chain (Theorem 2's conditions above keep
-    // the paper's norms). The feedback's shapes: one ball for the paper's law; with tilt
+    // the chain's norms unless the form is the desired frame's). The feedback's shapes: one ball for the paper's law; with tilt
     // priority the MRP term's ball, the trace term's ball and disks and the damping's box.
     let torque_set = match &gains.tilt_priority {
         None => TorqueSet::new(
@@ -285,6 +293,13 @@ pub fn certify<T: Scalar>(
     );
 
     let strict = Condition::strict;
+    let theorem2_statement = |paper: &'static str, desired_frame: &'static str| {
+        if gains.lemma1.per_axis_from_desired_frame() {
+            desired_frame
+        } else {
+            paper
+        }
+    };
     let tau = &limits.torque_max;
     let conditions = [
         strict(
@@ -352,19 +367,28 @@ pub fn certify<T: Scalar>(
         },
         strict(
             "theorem2.torque_max_roll",
-            "tau_max_1 > J_11 U_wd_dot + |J_22 - J_33| U_wd^2 / 2 + iota (eq:TorqueMaxConditionsTheorem)",
+            theorem2_statement(
+                "tau_max_1 > J_11 U_wd_dot + |J_22 - J_33| U_wd^2 / 2 + iota (eq:TorqueMaxConditionsTheorem)",
+                "tau_max_1 > J_11 U_wd_dot + |J_22 - J_33| U_wd^2 / 2 + iota, U the desired frame's norms (eq:TorqueMaxConditionsTheorem; docs/torque-set.md)",
+            ),
             tau[0],
             torque_max[0],
         ),
         strict(
             "theorem2.torque_max_pitch",
-            "tau_max_2 > J_22 U_wd_dot + |J_33 - J_11| U_wd^2 / 2 + iota (eq:TorqueMaxConditionsTheorem)",
+            theorem2_statement(
+                "tau_max_2 > J_22 U_wd_dot + |J_33 - J_11| U_wd^2 / 2 + iota (eq:TorqueMaxConditionsTheorem)",
+                "tau_max_2 > J_22 U_wd_dot + |J_33 - J_11| U_wd^2 / 2 + iota, U the desired frame's norms (eq:TorqueMaxConditionsTheorem; docs/torque-set.md)",
+            ),
             tau[1],
             torque_max[1],
         ),
         strict(
             "theorem2.torque_max_yaw",
-            "tau_max_3 > J_33 U_wd_dot + |J_11 - J_22| U_wd^2 / 2 + iota (eq:TorqueMaxConditionsTheorem)",
+            theorem2_statement(
+                "tau_max_3 > J_33 U_wd_dot + |J_11 - J_22| U_wd^2 / 2 + iota (eq:TorqueMaxConditionsTheorem)",
+                "tau_max_3 > J_33 U_wd_dot + |J_11 - J_22| U_wd^2 / 2 + iota, U the desired frame's norms (eq:TorqueMaxConditionsTheorem; docs/torque-set.md)",
+            ),
             tau[2],
             torque_max[2],
         ),

@@ -186,3 +186,57 @@ fn the_torque_set_takes_the_tighter_norms() {
     let theorem2 = j.x * b.angular_acceleration + 0.5 * (j.y - j.z).abs() * w2;
     assert!((b.torque_max.x - b.feedback_torque_axes.x - theorem2).abs() < 1e-12);
 }
+
+/// Given the set-up above (slow, norm-saturated gains on the paper's helix), when `certify` runs
+/// with the desired frame's form of Lemma 1 instead of the tangential one, then the chain is the
+/// same (same `U_ωd`, `U_ω̇d`, same torque set), Theorem 2's per-axis bound on each axis is the
+/// certified set's extent there, below the tangential form's on every axis, and the yaw
+/// condition names the desired frame's norms.
+#[test]
+fn the_desired_frame_form_judges_theorem2_on_the_sets_norms() {
+    let vehicle = Vehicle::<f64>::paper();
+    let mut gains = Gains::<f64>::paper();
+    gains.position.saturation = 0.5;
+    gains.position.saturation_shape = crate::PositionSaturation::Norm;
+    gains.position.kf = 0.6;
+    gains.position.ks = 1.7;
+    let helix = ReferenceTrajectory::<f64>::paper_helix().constants();
+    let certify_with = |form: Lemma1Form| {
+        let mut g = gains;
+        g.lemma1 = form;
+        certify(&vehicle, &Limits::paper(), &g, &helix, FilterStart::Zero).unwrap()
+    };
+    let tangential = certify_with(Lemma1Form::Tangential);
+    let desired_frame = certify_with(Lemma1Form::DesiredFrame);
+    let (t, d) = (&tangential.bounds, &desired_frame.bounds);
+    assert_eq!(t.angular_velocity, d.angular_velocity);
+    assert_eq!(t.angular_acceleration, d.angular_acceleration);
+    assert_eq!(t.torque_set, d.torque_set);
+    let extents = d.torque_set.axis_extents();
+    for i in 0..3 {
+        assert!(
+            (d.torque_max[i] - extents[i]).abs() <= 1e-12 * extents[i],
+            "axis {i}: {} vs the set's {}",
+            d.torque_max[i],
+            extents[i]
+        );
+        assert!(d.torque_max[i] < t.torque_max[i], "axis {i}");
+    }
+    // The tighter norms of the set: |ω̇_d| from the components, not the chain's.
+    let f = &d.desired_frame;
+    let acceleration = (f.tilt_acceleration.powi(2) + f.yaw_acceleration.powi(2)).sqrt();
+    let feedforward_yaw = d.torque_max.z - d.feedback_torque_axes.z;
+    let j = vehicle.inertia;
+    let rate = (f.tilt_rate.powi(2) + f.yaw_rate.powi(2))
+        .sqrt()
+        .min(d.angular_velocity);
+    let expected = j.z * acceleration + 0.5 * (j.x - j.y).abs() * rate * rate;
+    assert!((feedforward_yaw - expected).abs() < 1e-12);
+    let yaw = desired_frame
+        .conditions
+        .iter()
+        .find(|c| c.name == "theorem2.torque_max_yaw")
+        .unwrap();
+    assert!(yaw.statement.contains("desired frame's norms"));
+    assert_eq!(yaw.rhs, d.torque_max.z);
+}

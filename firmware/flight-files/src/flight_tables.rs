@@ -152,6 +152,9 @@ pub enum Lemma1Table {
     Paper,
     /// Only the parts of `ρ̈`, `ϋ` that `ω̇_d` reads (extension, docs/tangential-lemma1.md).
     Tangential,
+    /// The tangential chain, with Theorem 2's per-axis conditions judged on the desired frame's
+    /// norms of `ω_d`, `ω̇_d` (extension, docs/torque-set.md).
+    DesiredFrame,
 }
 
 impl Lemma1Table {

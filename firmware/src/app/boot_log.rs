@@ -249,6 +249,10 @@ pub fn log_identity(config: &crate::config::FlightConfig) {
             "flight: Lemma 1: tangential form (U_wd_dot from the parts of rho'' and ups'' that \
              w_d' reads; docs/tangential-lemma1.md)"
         ),
+        controller_core::Lemma1Form::DesiredFrame => info!(
+            "flight: Lemma 1: tangential form, Theorem 2's per-axis conditions on the desired \
+             frame's norms of w_d, w_d' (docs/torque-set.md)"
+        ),
     }
     if config.allow_uncertified {
         error!(

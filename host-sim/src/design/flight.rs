@@ -36,6 +36,9 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
             controller_core::Lemma1Form::Tangential => {
                 firmware::flight_tables::Lemma1Table::Tangential
             }
+            controller_core::Lemma1Form::DesiredFrame => {
+                firmware::flight_tables::Lemma1Table::DesiredFrame
+            }
         },
         M_theta: g.attitude.mrp_saturation,
         M_omega: g.attitude.omega_saturation,

@@ -102,10 +102,10 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
         s,
         "Lemma 1's bound on `|ω̇_d|`: the {} chain{}.\n",
         r.certificate.lemma1,
-        if r.certificate.lemma1 == "tangential" {
-            " (only the parts of `ρ̈` and `ϋ` that `ω̇_d` reads, docs/tangential-lemma1.md; the flight file carries `lemma1 = \"tangential\"` and the firmware's gate certifies with it)"
-        } else {
-            " (as the paper states it)"
+        match r.certificate.lemma1 {
+            "tangential" => " (only the parts of `ρ̈` and `ϋ` that `ω̇_d` reads, docs/tangential-lemma1.md; the flight file carries `lemma1 = \"tangential\"` and the firmware's gate certifies with it)",
+            "desired_frame" => " (the tangential chain, docs/tangential-lemma1.md, and Theorem 2's per-axis conditions judged on the desired frame's norms of `ω_d`, `ω̇_d`, the certified torque set's, docs/torque-set.md; the flight file carries `lemma1 = \"desired_frame\"` and the firmware's gate certifies with it)",
+            _ => " (as the paper states it)",
         }
     );
     if r.certificate.bounds == super::tight::BoundsKind::Tight {

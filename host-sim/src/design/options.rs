@@ -90,7 +90,8 @@ pub struct DesignOptions {
     /// (`--position-saturation`, docs/position-saturation.md).
     pub position_saturation: PositionSaturation,
     /// The chain the certificate bounds `|ω̇_d|` with (`--lemma1`, docs/tangential-lemma1.md):
-    /// the tangential form by default; the law is the same.
+    /// by default the desired frame's form (the tangential chain, Theorem 2's per-axis
+    /// conditions on the desired frame's norms, docs/torque-set.md); the law is the same.
     pub lemma1: Lemma1Form,
     /// `Some(V)`: the design flies the velocity-limited position feedback with speed limit `V`
     /// [m/s] (`--speed-limit`, docs/velocity-limit.md); `None`: the paper's.

@@ -41,8 +41,10 @@ pub struct ConditionEntry {
 pub struct CertificateEntry {
     /// The bounds Theorem 2's torque conditions and the rotor fit are judged with.
     pub bounds: super::tight::BoundsKind,
-    /// The chain Lemma 1's `U_ω̇d` comes from: `"paper"` or `"tangential"`
-    /// (docs/tangential-lemma1.md); the flight file carries the same.
+    /// The chain Lemma 1's `U_ω̇d` comes from: `"paper"`, `"tangential"`
+    /// (docs/tangential-lemma1.md) or `"desired_frame"` (the tangential chain, Theorem 2's
+    /// per-axis conditions on the desired frame's norms, docs/torque-set.md); the flight file
+    /// carries the same.
     pub lemma1: &'static str,
     /// Every condition holds.
     pub all_hold: bool,

@@ -51,23 +51,34 @@ fn design_certifies_and_the_written_scenario_recertifies() {
     assert_eq!(json["certificate"]["all_hold"], true);
     assert_eq!(json["rotor_fit"]["fits"], true);
     assert_eq!(json["rotor_fit"]["shape"], "set");
-    // Certified with the tangential Lemma 1 (the default), and so is what is read back.
-    assert_eq!(json["certificate"]["lemma1"], "tangential");
+    // Certified with the desired frame's form of the tangential Lemma 1 (the default), and so
+    // is what is read back: the paper's chain is larger, and the per-axis bounds are the set's
+    // extents, at most the tangential form's.
+    assert_eq!(json["certificate"]["lemma1"], "desired_frame");
     assert_eq!(
         s.gains::<f64>().lemma1,
-        controller_core::Lemma1Form::Tangential
+        controller_core::Lemma1Form::DesiredFrame
     );
-    let mut paper_gains = s.gains::<f64>();
-    paper_gains.lemma1 = controller_core::Lemma1Form::Paper;
-    let paper = certify(
-        &s.vehicle::<f64>(),
-        &s.limits::<f64>(),
-        &paper_gains,
-        &s.trajectory::<f64>().constants(),
-        FilterStart::Zero,
-    )
-    .unwrap();
+    let certify_as = |form| {
+        let mut g = s.gains::<f64>();
+        g.lemma1 = form;
+        certify(
+            &s.vehicle::<f64>(),
+            &s.limits::<f64>(),
+            &g,
+            &s.trajectory::<f64>().constants(),
+            FilterStart::Zero,
+        )
+        .unwrap()
+    };
+    let paper = certify_as(controller_core::Lemma1Form::Paper);
+    let tangential = certify_as(controller_core::Lemma1Form::Tangential);
     assert!(b.angular_acceleration < paper.bounds.angular_acceleration);
+    let extents = b.torque_set.axis_extents();
+    for i in 0..3 {
+        assert!((b.torque_max[i] - extents[i]).abs() <= 1e-12 * extents[i]);
+        assert!(b.torque_max[i] <= tangential.bounds.torque_max[i]);
+    }
     assert_eq!(
         json["certificate"]["conditions"].as_array().unwrap().len(),
         10
@@ -78,7 +89,7 @@ fn design_certifies_and_the_written_scenario_recertifies() {
     }
     // The flight file carries the vehicle file's tables: the firmware's parser reads them.
     let flight = std::fs::read_to_string(out.join("firmware.toml")).unwrap();
-    assert!(flight.contains("lemma1 = \"tangential\""), "{flight}");
+    assert!(flight.contains("lemma1 = \"desired_frame\""), "{flight}");
     VehicleFile::parse_embedded(
         &flight,
         "firmware.toml",

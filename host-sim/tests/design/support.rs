@@ -40,7 +40,7 @@ pub fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOpti
         integral: None,
         thrust: host_sim::model::scenario::ThrustKind::Norm,
         position_saturation: Default::default(),
-        lemma1: controller_core::Lemma1Form::Tangential,
+        lemma1: controller_core::Lemma1Form::DesiredFrame,
         speed_limit: None,
         fallback: host_sim::design::options::Fallback::Off,
         out,

@@ -84,32 +84,32 @@ fn failing_certificate_refuses_to_arm() {
     assert!(rhs > iota, "{rhs} vs iota {iota}");
 }
 
-/// The board certifies with the chain the flight file names: a yaw limit between the tangential
-/// Lemma 1's Theorem 2 bound and the paper's arms with `lemma1 = "tangential"` and is refused with
-/// `lemma1 = "paper"`, naming `theorem2.torque_max_yaw` and the paper's bound.
-#[test]
-#[cfg(not(feature = "uncertified-paper"))] // the default flight file's x500
-fn the_tangential_certificate_is_what_the_board_checks() {
-    let yaw_bound = |form| {
+/// The board's Theorem 2 yaw bound (`theorem2.torque_max_yaw`'s right-hand side) for the default
+/// flight file certified with `form`.
+fn board_yaw_bound(form: controller_core::Lemma1Form) -> f32 {
+    let mut c = FlightConfig::built();
+    c.gains.lemma1 = form;
+    let cert = FlightPipeline::new(&c).unwrap().boot_report().certificate;
+    let k = cert.conditions.iter();
+    k.clone()
+        .find(|k| k.name == "theorem2.torque_max_yaw")
+        .unwrap()
+        .rhs
+}
+
+/// With a yaw limit between the `tighter` form's Theorem 2 bound and the `looser` one's, the board
+/// arms with `lemma1 = tighter` and refuses with `lemma1 = looser`, naming
+/// `theorem2.torque_max_yaw` and the looser bound.
+fn the_board_certifies_with_the_named_form(
+    tighter: controller_core::Lemma1Form,
+    looser: controller_core::Lemma1Form,
+) {
+    let (tight, loose) = (board_yaw_bound(tighter), board_yaw_bound(looser));
+    assert!(tight < loose, "{tight} vs {loose}");
+    for (form, arms) in [(tighter, true), (looser, false)] {
         let mut c = FlightConfig::built();
         c.gains.lemma1 = form;
-        let cert = FlightPipeline::new(&c).unwrap().boot_report().certificate;
-        let k = cert.conditions.iter();
-        k.clone()
-            .find(|k| k.name == "theorem2.torque_max_yaw")
-            .unwrap()
-            .rhs
-    };
-    let tangential = yaw_bound(controller_core::Lemma1Form::Tangential);
-    let paper = yaw_bound(controller_core::Lemma1Form::Paper);
-    assert!(tangential < paper, "{tangential} vs {paper}");
-    for (form, arms) in [
-        (controller_core::Lemma1Form::Tangential, true),
-        (controller_core::Lemma1Form::Paper, false),
-    ] {
-        let mut c = FlightConfig::built();
-        c.gains.lemma1 = form;
-        c.limits.torque_max.z = 0.5 * (tangential + paper);
+        c.limits.torque_max.z = 0.5 * (tight + loose);
         let (mut p, _) = arm_attempt(c);
         let events = drain_events(&mut p);
         if arms {
@@ -122,9 +122,34 @@ fn the_tangential_certificate_is_what_the_board_checks() {
             assert_eq!(p.status().state, crate::safety::FlightState::Disarmed);
             let (condition, lhs, rhs) = arm_refusal(&events);
             assert_eq!(condition, "theorem2.torque_max_yaw");
-            assert_eq!((lhs, rhs), (c.limits.torque_max.z, paper));
+            assert_eq!((lhs, rhs), (c.limits.torque_max.z, loose));
         }
     }
+}
+
+/// The board certifies with the chain the flight file names: a yaw limit between the tangential
+/// Lemma 1's Theorem 2 bound and the paper's arms with `lemma1 = "tangential"` and is refused with
+/// `lemma1 = "paper"`, naming `theorem2.torque_max_yaw` and the paper's bound.
+#[test]
+#[cfg(not(feature = "uncertified-paper"))] // the default flight file's x500
+fn the_tangential_certificate_is_what_the_board_checks() {
+    the_board_certifies_with_the_named_form(
+        controller_core::Lemma1Form::Tangential,
+        controller_core::Lemma1Form::Paper,
+    );
+}
+
+/// Likewise one step further: with `lemma1 = "desired_frame"` the board judges Theorem 2's
+/// per-axis conditions on the desired frame's norms (the certified set's), and a yaw limit
+/// between that bound and the tangential one arms with it and is refused with the tangential
+/// form.
+#[test]
+#[cfg(not(feature = "uncertified-paper"))] // the default flight file's x500
+fn the_desired_frame_certificate_is_what_the_board_checks() {
+    the_board_certifies_with_the_named_form(
+        controller_core::Lemma1Form::DesiredFrame,
+        controller_core::Lemma1Form::Tangential,
+    );
 }
 
 /// A configuration whose certified set does not fit its rotors refuses to arm, and so does one

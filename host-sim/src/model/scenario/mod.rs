@@ -295,6 +295,7 @@ impl Scenario {
         out.lemma1 = match g.lemma1 {
             Lemma1Config::Paper => Lemma1Form::Paper,
             Lemma1Config::Tangential => Lemma1Form::Tangential,
+            Lemma1Config::DesiredFrame => Lemma1Form::DesiredFrame,
         };
         out.attitude.k_mrp = lit(g.k_theta);
         out.attitude.k_omega = lit(g.k_omega);

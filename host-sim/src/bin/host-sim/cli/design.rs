@@ -63,6 +63,9 @@ pub enum DesignLemma1 {
     Paper,
     /// Only the parts of `ρ̈`, `ϋ` that `ω̇_d` reads (docs/tangential-lemma1.md).
     Tangential,
+    /// The tangential chain, and Theorem 2's per-axis conditions on the desired frame's norms
+    /// of `ω_d`, `ω̇_d`, the ones the certified torque set takes (docs/torque-set.md).
+    DesiredFrame,
 }
 
 /// Whether the design flies airmode (the library's [`RotorFit`], named on the command line).
@@ -148,11 +151,13 @@ pub struct DesignArgs {
     /// docs/position-saturation.md; the default, as on every preset).
     #[arg(long, value_enum, default_value_t = DesignPositionSaturation::Norm)]
     pub position_saturation: DesignPositionSaturation,
-    /// The chain the certificate bounds `|ω̇_d|` with: `tangential` (only the parts of `ρ̈` and
-    /// `ϋ` that `ω̇_d` reads; a proven, smaller bound: docs/tangential-lemma1.md) or `paper`
-    /// (Lemma 1 as stated). The law flown is the same; the flight file carries the choice and
-    /// the firmware's gate certifies with it.
-    #[arg(long, value_enum, default_value_t = DesignLemma1::Tangential)]
+    /// The chain the certificate bounds `|ω̇_d|` with: `desired-frame` (the tangential chain,
+    /// with Theorem 2's per-axis conditions on the desired frame's norms, which the certified
+    /// torque set takes: docs/torque-set.md), `tangential` (only the parts of `ρ̈` and `ϋ` that
+    /// `ω̇_d` reads; a proven, smaller bound: docs/tangential-lemma1.md) or `paper` (Lemma 1 as
+    /// stated). The law flown is the same; the flight file carries the choice and the firmware's
+    /// gate certifies with it.
+    #[arg(long, value_enum, default_value_t = DesignLemma1::DesiredFrame)]
     pub lemma1: DesignLemma1,
     /// Fly the velocity-limited position feedback (docs/velocity-limit.md) with this speed limit
     /// [m/s] and braking at 0.7 of `M_p`: the same law near the reference, a braking profile
@@ -234,6 +239,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         lemma1: match args.lemma1 {
             DesignLemma1::Paper => Lemma1Form::Paper,
             DesignLemma1::Tangential => Lemma1Form::Tangential,
+            DesignLemma1::DesiredFrame => Lemma1Form::DesiredFrame,
         },
         speed_limit: args.speed_limit,
         fallback: if args.duration_s.is_none() && args.speed_limit.is_none() {
