@@ -329,13 +329,14 @@ pub fn iota_max_by(
 
 /// The largest `ι` [N m] for which Theorem 2's per-axis conditions hold with the feedback
 /// levels `ι d` (`d` \[dimensionless\], body axes: the paper's `(1, 1, 1)`, tilt priority's
-/// `(1, 1, ρ)`): `τ_max,i > ff_i + ι d_i` with `ff` = [`Envelope::feedforward`] (Lemma 1's
-/// norms, `J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd²`; with the tight bounds the least of it and the
-/// tight one, which is what their conditions are judged with), each axis's capacity `τ_max,i`
-/// the one `design` writes as the limit (the rotors' on that axis alone: with `fit` airmode's
-/// shadow, else over `env`'s thrust interval). The certified set takes the desired frame's
-/// tighter norms (docs/torque-set.md), so a set that fits no longer implies these conditions;
-/// the search caps `ι` by this as well. `-∞` when Assumption 1's per-axis conditions
+/// `(1, 1, ρ)`): `τ_max,i > ff_i + ι d_i` with `ff` = [`Envelope::feedforward`]
+/// (`J_ii U_ω̇d + ½|J_jj − J_kk| U_ωd²` with the norms of the envelope's Lemma 1 form: the
+/// chain's, or with [`Lemma1Form::DesiredFrame`] the certified set's; with the tight bounds the
+/// least of it and the tight one, which is what their conditions are judged with), each axis's
+/// capacity `τ_max,i` the one `design` writes as the limit (the rotors' on that axis alone: with
+/// `fit` airmode's shadow, else over `env`'s thrust interval). Unless the form is the desired
+/// frame's, the certified set takes tighter norms than these conditions (docs/torque-set.md), so
+/// a set that fits does not imply them; the search caps `ι` by this as well. `-∞` when Assumption 1's per-axis conditions
 /// (eq:TorqueMaxCondition) fail against the same capacities; negative when even `ι = 0` fails.
 /// Source: eq:TorqueMaxConditionsTheorem.
 pub fn theorem2_iota_max(
