@@ -10,12 +10,11 @@
 # (its campaigns are re-run, the design time is the one design.json recorded): to check the
 # committed designs, `REUSE_DESIGNS=1 bash host-sim/designs/check-designs.sh host-sim/designs`.
 # (default OUT_DIR out/designs, presets crazyflie-2.1 hummingbird x500). Every preset is designed
-# with `design`'s defaults (both attitude laws searched, the norm-saturated position feedback,
-# airmode, the vertical channel apart and the envelope design's local regime, 30 s runs): one to
-# two minutes of design and a few seconds of campaigns per preset on 2 cores, after the release
-# build. Where no design converges on 30 s runs (the x500 so far), `design` falls back to the
-# velocity-limited feedback at 20 m/s on 300 s runs (docs/velocity-limit.md) and says so: about
-# 5 minutes more.
+# with `design`'s defaults (both attitude laws searched, the norm-saturated, velocity-limited
+# position feedback, airmode, the vertical channel apart and the envelope design's local regime,
+# 30 s runs): one to two minutes of design and a few seconds of campaigns per preset on 2 cores,
+# after the release build. Where no design converges on 30 s runs (no preset now), `design`
+# designs again on 300 s runs (docs/design.md) and says so: about 5 minutes more.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 out="${1:-out/designs}"

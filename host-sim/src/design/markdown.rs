@@ -323,7 +323,7 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             s,
             "**NO DESIGN WITHIN THE BUDGET MET THE CONVERGENCE CONSTRAINTS** (every 180 degree start and \
              the upside-down start settled by {:.0} s, also with the motor time constant doubled, and \
-             the turned starts with it doubled). The \
+             the turned and random starts with it doubled). The \
              certificate holds, but the certified authority is small: {interval}, {acceleration}. The \
              design below is the best found on the graded penalty.\n",
             r.duration_s - super::evaluate::TAIL_S,
@@ -435,7 +435,7 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
     let _ = writeln!(
         s,
         "\n## Margins\n\n- rotor fit: {:.2} % of the rotor range (requested {:.0} %)\n- motor time constant: {} s; \
-         doubled converges (180 degree and turned starts): {}; largest that still converges (seven 180 degree starts, bisection): {}\n",
+         doubled converges (180 degree, turned and random starts): {}; largest that still converges (seven 180 degree starts, bisection): {}\n",
         100.0 * m.rotor_fit,
         100.0 * r.rotor_fit.requested_margin,
         m.motor_time_constant_s,

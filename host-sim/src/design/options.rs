@@ -18,8 +18,10 @@ pub const DEFAULT_DURATION_S: f64 = 30.0;
 /// Shortest `--duration-s` \[s\]: twice the limit-cycle window.
 pub const MIN_DURATION_S: f64 = 2.0 * super::evaluate::TAIL_S;
 
-/// Speed limit [m/s] of the fallback design ([`Fallback::VelocityLimited`]).
-pub const FALLBACK_SPEED_LIMIT_M_S: f64 = 20.0;
+/// Speed limit [m/s] of the velocity-limited position feedback `design` flies by default
+/// (`--speed-limit`, docs/velocity-limit.md), and of the fallback design
+/// ([`Fallback::VelocityLimited`]) when the first attempt flew the paper's feedback.
+pub const DEFAULT_SPEED_LIMIT_M_S: f64 = 20.0;
 
 /// Run length \[s\] of the fallback design ([`Fallback::VelocityLimited`]).
 pub const FALLBACK_DURATION_S: f64 = 300.0;
@@ -29,11 +31,11 @@ pub const FALLBACK_DURATION_S: f64 = 300.0;
 pub enum Fallback {
     /// Nothing: the best design is written and reported as not converging.
     Off,
-    /// Design again, with the velocity-limited position feedback
-    /// ([`FALLBACK_SPEED_LIMIT_M_S`], docs/velocity-limit.md) on runs of
-    /// [`FALLBACK_DURATION_S`], and write that design (the CLI's default when neither
-    /// `--duration-s` nor `--speed-limit` is given): a certified design with a small `M_p`
-    /// overshoots a long fall with the paper's feedback and needs minutes to climb back.
+    /// Design again, with the velocity-limited position feedback (the first attempt's speed
+    /// limit, or [`DEFAULT_SPEED_LIMIT_M_S`] if it flew the paper's feedback;
+    /// docs/velocity-limit.md) on runs of [`FALLBACK_DURATION_S`], and write that design (the
+    /// CLI's default when `--duration-s` is not given): a certified design with a small `M_p`
+    /// needs minutes to brake a long fall and climb back.
     VelocityLimited,
     /// This design is that second attempt: why the first was set aside, and its wall time \[s\].
     Taken {

@@ -5,7 +5,8 @@ use serde::Serialize;
 
 use super::evaluate::{
     Trial, ALTITUDE_WEIGHT_S_PER_M, DISTURBANCE_LOSS_WEIGHT_S_PER_M, DOUBLED_LAG_WEIGHT,
-    NOMINAL_TASK_WEIGHT, TAIL_ATTITUDE_DEG, TAIL_S, TURNED_START_ANGLES_DEG, UNSETTLED_TASK_S,
+    NOMINAL_TASK_WEIGHT, RANDOM_STARTS, RANDOM_STARTS_MARGIN_S, RANDOM_STARTS_SEED,
+    TAIL_ATTITUDE_DEG, TAIL_S, TURNED_START_ANGLES_DEG, UNSETTLED_TASK_S,
 };
 use super::flight::{gains_config, limits_config};
 use super::options::{DesignOptions, Scored};
@@ -189,8 +190,9 @@ pub struct MarginsEntry {
     pub motor_time_constant_s: f64,
     /// Largest motor time constant with which the seven 180° starts still converge \[s\].
     pub motor_time_constant_max_converging_s: Option<f64>,
-    /// All seven 180° starts and the turned starts ([`super::evaluate::turned_starts`])
-    /// converge with the motor time constant doubled (no limit cycle).
+    /// All seven 180° starts, the turned starts ([`super::evaluate::turned_starts`]) and the
+    /// random starts ([`super::evaluate::random_starts`]) converge with the motor time constant
+    /// doubled (no limit cycle).
     pub doubled_lag_converges: bool,
     /// Settling per 180° start with the motor time constant doubled \[s\].
     pub doubled_lag_settling_180_s: Vec<(String, Option<f64>)>,
@@ -383,7 +385,9 @@ impl Report {
                      with the vehicle's motor time constant and the controller's sample-and-hold; \
                      settled: |p - p_d| < 5 cm and attitude error < 2 deg until the end; constraint: \
                      every run (also with the motor time constant doubled, and then the starts at rest \
-                     turned {turned} deg from R_d(0) about the same seven axes, with it doubled too) settles \
+                     turned {turned} deg from R_d(0) about the same seven axes and {RANDOM_STARTS} of the \
+                     campaign's random starts, seed {RANDOM_STARTS_SEED}, with it doubled too, these \
+                     {RANDOM_STARTS_MARGIN_S} s earlier) settles \
                      by the end - {TAIL_S} s with the attitude error < {TAIL_ATTITUDE_DEG} deg over the \
                      last {TAIL_S} s"
                 ),
@@ -416,7 +420,12 @@ impl Report {
                 motor_time_constant_max_converging_s: lag_max,
                 doubled_lag_converges: !e.doubled_lag.is_empty()
                     && !e.doubled_lag_turned.is_empty()
-                    && e.doubled_lag.iter().chain(&e.doubled_lag_turned).all(|t| t.converged),
+                    && !e.doubled_lag_random.is_empty()
+                    && e.doubled_lag
+                        .iter()
+                        .chain(&e.doubled_lag_turned)
+                        .chain(&e.doubled_lag_random)
+                        .all(|t| t.converged),
                 doubled_lag_settling_180_s: settling(&e.doubled_lag),
             },
             reference: ReferenceEntry {

@@ -204,20 +204,25 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         .ok_or_else(|| anyhow::anyhow!("no attitude law to search (bug)"))?;
     if !chosen.best.evaluation.feasible && o.fallback == Fallback::VelocityLimited {
         let e = &chosen.best.evaluation;
+        let feedback = match o.speed_limit {
+            Some(v) => format!("the velocity-limited position feedback ({v} m/s)"),
+            None => "the paper's position feedback".to_owned(),
+        };
         let why = format!(
-            "with the paper's position feedback on {} s runs no design met the convergence \
+            "with {feedback} on {} s runs no design met the convergence \
              constraints (the best: worst settling from 180 degrees {}, {:.1} m lost upside down)",
             o.duration_s,
             e.worst_settling_180_s
                 .map_or("not settled".to_owned(), |t| format!("{t:.1} s")),
             e.altitude_loss_upside_down_m
         );
+        let speed_limit = o.speed_limit.unwrap_or(DEFAULT_SPEED_LIMIT_M_S);
         eprintln!(
             "design: {why}; designing again with the velocity-limited position feedback \
-             ({FALLBACK_SPEED_LIMIT_M_S} m/s) on {FALLBACK_DURATION_S} s runs"
+             ({speed_limit} m/s) on {FALLBACK_DURATION_S} s runs"
         );
         let again = DesignOptions {
-            speed_limit: Some(FALLBACK_SPEED_LIMIT_M_S),
+            speed_limit: Some(speed_limit),
             duration_s: FALLBACK_DURATION_S,
             fallback: Fallback::Taken {
                 why,

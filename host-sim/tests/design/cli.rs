@@ -90,7 +90,7 @@ fn speed_limit_is_written_and_bad_ones_are_refused() {
 /// is.
 #[test]
 fn unconverged_design_falls_back_to_the_velocity_limit() {
-    use host_sim::design::options::{Fallback, FALLBACK_DURATION_S, FALLBACK_SPEED_LIMIT_M_S};
+    use host_sim::design::options::{Fallback, DEFAULT_SPEED_LIMIT_M_S, FALLBACK_DURATION_S};
     let out = out_dir("fallback");
     let mut o = options(preset_path("x500"), out.clone(), 1);
     o.fallback = Fallback::VelocityLimited;
@@ -104,7 +104,7 @@ fn unconverged_design_falls_back_to_the_velocity_limit() {
         .gains
         .velocity_limit
         .expect("the fallback flies the velocity limit");
-    assert_eq!(v.speed_m_s, FALLBACK_SPEED_LIMIT_M_S);
+    assert_eq!(v.speed_m_s, DEFAULT_SPEED_LIMIT_M_S);
     assert!(
         r.gains.vertical.is_some() && v.vertical_braking().is_some(),
         "{v:?}"

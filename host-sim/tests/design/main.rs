@@ -9,5 +9,6 @@
 mod certification;
 mod cli;
 mod flight;
+mod random_starts;
 mod support;
 mod turned_starts;

@@ -8,7 +8,9 @@ use controller_core::{Lemma1Form, PositionSaturation};
 use host_sim::design::{
     authority::RotorFit,
     integral::IntegralSpec,
-    options::{Fallback, LawSearch, DEFAULT_DURATION_S, DEFAULT_EVALUATIONS},
+    options::{
+        Fallback, LawSearch, DEFAULT_DURATION_S, DEFAULT_EVALUATIONS, DEFAULT_SPEED_LIMIT_M_S,
+    },
     run_design,
     tight::BoundsKind,
     variables::AttitudeLaw,
@@ -159,12 +161,17 @@ pub struct DesignArgs {
     /// gate certifies with it.
     #[arg(long, value_enum, default_value_t = DesignLemma1::DesiredFrame)]
     pub lemma1: DesignLemma1,
-    /// Fly the velocity-limited position feedback (docs/velocity-limit.md) with this speed limit
-    /// [m/s] and braking at 0.7 of `M_p`: the same law near the reference, a braking profile
-    /// instead of the paper's overshoot far from it (the certificate is unchanged). Absent: the
-    /// paper's position feedback.
-    #[arg(long, value_name = "M_S")]
-    pub speed_limit: Option<f64>,
+    /// Speed limit [m/s] of the velocity-limited position feedback the design flies
+    /// (docs/velocity-limit.md), braking at 0.7 of `M_p` (and of each vertical level): the same
+    /// law near the reference, a braking profile instead of the paper's overshoot far from it;
+    /// the certificate is unchanged. The default since fast gains near the reference no longer
+    /// cost the starts far from it (docs/design.md).
+    #[arg(long, value_name = "M_S", default_value_t = DEFAULT_SPEED_LIMIT_M_S, conflicts_with = "no_speed_limit")]
+    pub speed_limit: f64,
+    /// Fly the paper's position feedback (one saturation of `k_p z₁ + k_v z₂`) instead of the
+    /// velocity-limited one.
+    #[arg(long)]
+    pub no_speed_limit: bool,
     /// Airmode (docs/airmode.md): `on` moves the thrust, by as little as possible, to where the
     /// rotors realise the law's torque, so the certified torque set need only fit the rotors at
     /// some thrust (the shadow fit) and the feedforward at zero attitude error over the thrust
@@ -241,8 +248,8 @@ pub fn run(args: &DesignArgs) -> Result<()> {
             DesignLemma1::Tangential => Lemma1Form::Tangential,
             DesignLemma1::DesiredFrame => Lemma1Form::DesiredFrame,
         },
-        speed_limit: args.speed_limit,
-        fallback: if args.duration_s.is_none() && args.speed_limit.is_none() {
+        speed_limit: (!args.no_speed_limit).then_some(args.speed_limit),
+        fallback: if args.duration_s.is_none() {
             Fallback::VelocityLimited
         } else {
             Fallback::Off
