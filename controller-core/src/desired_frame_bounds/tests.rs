@@ -147,6 +147,26 @@ fn at_hover_the_yaw_components_are_the_tilt_coupling() {
     assert!((e.x - (j.x * f.tilt_acceleration + f.gyroscopic.x)).abs() < 1e-12);
 }
 
+/// The paper's vehicle with slow, norm-saturated position gains (like the x500 preset's:
+/// `M_p` = 0.5 m/s², `k_f` = 0.6, `k_s` = 1.7 1/s) on the paper's helix, certified with `form`.
+fn slow_gains_on_the_helix(form: Lemma1Form) -> crate::Certificate<f64> {
+    let mut gains = Gains::<f64>::paper();
+    gains.position.saturation = 0.5;
+    gains.position.saturation_shape = crate::PositionSaturation::Norm;
+    gains.position.kf = 0.6;
+    gains.position.ks = 1.7;
+    gains.lemma1 = form;
+    let helix = ReferenceTrajectory::<f64>::paper_helix().constants();
+    certify(
+        &Vehicle::paper(),
+        &Limits::paper(),
+        &gains,
+        &helix,
+        FilterStart::Zero,
+    )
+    .unwrap()
+}
+
 /// Given slow, norm-saturated position gains (like the x500 preset's) on the paper's helix, when `certify` runs, then the certified
 /// torque set takes the norms of `ω_d`, `ω̇_d` from the desired frame's components where they
 /// are tighter than Lemma 1's chain (here `|ω̇_d|`: the chain's bound adds the heading's terms
@@ -154,21 +174,7 @@ fn at_hover_the_yaw_components_are_the_tilt_coupling() {
 #[test]
 fn the_torque_set_takes_the_tighter_norms() {
     let vehicle = Vehicle::<f64>::paper();
-    let mut gains = Gains::<f64>::paper();
-    gains.position.saturation = 0.5;
-    gains.position.saturation_shape = crate::PositionSaturation::Norm;
-    gains.position.kf = 0.6;
-    gains.position.ks = 1.7;
-    gains.lemma1 = Lemma1Form::Tangential;
-    let helix = ReferenceTrajectory::<f64>::paper_helix().constants();
-    let c = certify(
-        &vehicle,
-        &Limits::paper(),
-        &gains,
-        &helix,
-        FilterStart::Zero,
-    )
-    .unwrap();
+    let c = slow_gains_on_the_helix(Lemma1Form::Tangential);
     let (b, f) = (&c.bounds, &c.bounds.desired_frame);
     let hypot = |x: f64, y: f64| (x * x + y * y).sqrt();
     let acceleration = hypot(f.tilt_acceleration, f.yaw_acceleration);
@@ -195,19 +201,8 @@ fn the_torque_set_takes_the_tighter_norms() {
 #[test]
 fn the_desired_frame_form_judges_theorem2_on_the_sets_norms() {
     let vehicle = Vehicle::<f64>::paper();
-    let mut gains = Gains::<f64>::paper();
-    gains.position.saturation = 0.5;
-    gains.position.saturation_shape = crate::PositionSaturation::Norm;
-    gains.position.kf = 0.6;
-    gains.position.ks = 1.7;
-    let helix = ReferenceTrajectory::<f64>::paper_helix().constants();
-    let certify_with = |form: Lemma1Form| {
-        let mut g = gains;
-        g.lemma1 = form;
-        certify(&vehicle, &Limits::paper(), &g, &helix, FilterStart::Zero).unwrap()
-    };
-    let tangential = certify_with(Lemma1Form::Tangential);
-    let desired_frame = certify_with(Lemma1Form::DesiredFrame);
+    let tangential = slow_gains_on_the_helix(Lemma1Form::Tangential);
+    let desired_frame = slow_gains_on_the_helix(Lemma1Form::DesiredFrame);
     let (t, d) = (&tangential.bounds, &desired_frame.bounds);
     assert_eq!(t.angular_velocity, d.angular_velocity);
     assert_eq!(t.angular_acceleration, d.angular_acceleration);

@@ -1,24 +1,12 @@
 //! The campaign's random starts in `design`'s constraint (`evaluate::random_starts`): what they
 //! are, and that they tell a design too slow for the campaigns' offsets from one that is not.
 
-use std::path::{Path, PathBuf};
-
 use host_sim::design::evaluate::{
     random_start_states, random_starts, RANDOM_STARTS, RANDOM_STARTS_SEED,
 };
-use host_sim::design::flight::with_motor_lag;
-use host_sim::model::scenario::Scenario;
 use host_sim::runs::sampler::{run_seed, Sampler, SamplerRadii, HALF_TURN_AXES};
 
-fn scenario(relative: &str) -> Scenario {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(relative);
-    Scenario::load(Path::new(&path)).unwrap()
-}
-
-fn doubled(s: &Scenario) -> Scenario {
-    let tau = s.rotors.as_ref().unwrap().motor_time_constant_s;
-    with_motor_lag(s, 2.0 * tau, tau)
-}
+use crate::support::{crate_scenario as scenario, doubled_lag as doubled};
 
 /// Given the committed Crazyflie design, when the random starts are built, then there are
 /// `RANDOM_STARTS` of them, labelled by their campaign run (after the seven 180° starts), each

@@ -93,3 +93,15 @@ pub fn certified_read_back(s: &Scenario) -> controller_core::Certificate<f64> {
     );
     cert
 }
+
+/// A scenario file of this crate, by its path relative to the crate's root.
+pub fn crate_scenario(relative: &str) -> Scenario {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(relative);
+    Scenario::load(&path).unwrap()
+}
+
+/// `s` with its motor time constant doubled (the constraint's doubled-lag runs).
+pub fn doubled_lag(s: &Scenario) -> Scenario {
+    let tau = s.rotors.as_ref().unwrap().motor_time_constant_s;
+    host_sim::design::flight::with_motor_lag(s, 2.0 * tau, tau)
+}

@@ -2,20 +2,14 @@
 //! they start, and that they tell a design that limit-cycles with the motor time constant
 //! doubled from one that does not.
 
-use std::path::{Path, PathBuf};
-
 use host_sim::design::evaluate::{
     turned_start_states, turned_starts, AT_REFERENCE, TURNED_START_ANGLES_DEG,
 };
-use host_sim::design::flight::with_motor_lag;
 use host_sim::model::scenario::Scenario;
 use host_sim::runs::sampler::{Sampler, HALF_TURN_AXES};
 use nalgebra::{Rotation3, Vector3};
 
-fn scenario(relative: &str) -> Scenario {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(relative);
-    Scenario::load(Path::new(&path)).unwrap()
-}
+use crate::support::{crate_scenario as scenario, doubled_lag as doubled};
 
 /// The committed Crazyflie design.
 fn committed_crazyflie() -> Scenario {
@@ -70,10 +64,6 @@ fn turned_starts_are_the_stated_rotations_from_the_desired_attitude() {
 /// design converges from all of them.
 #[test]
 fn turned_starts_catch_the_doubled_lag_limit_cycle() {
-    let doubled = |s: &Scenario| {
-        let tau = s.rotors.as_ref().unwrap().motor_time_constant_s;
-        with_motor_lag(s, 2.0 * tau, tau)
-    };
     let cycling = doubled(&scenario(
         "tests/design/fixtures/crazyflie-tilt-priority-doubled-lag-limit-cycle.toml",
     ));
