@@ -6,7 +6,7 @@ use host_sim::design::evaluate::{
 };
 use host_sim::runs::sampler::{run_seed, Sampler, SamplerRadii, HALF_TURN_AXES};
 
-use crate::support::{crate_scenario as scenario, doubled_lag as doubled};
+use crate::support::{crate_scenario as scenario, starts_catch_the_fixture};
 
 /// Given the committed Crazyflie design, when the random starts are built, then there are
 /// `RANDOM_STARTS` of them, labelled by their campaign run (after the seven 180° starts), each
@@ -52,30 +52,9 @@ fn random_starts_are_campaign_draws_with_their_own_seed() {
 /// them.
 #[test]
 fn random_starts_catch_a_design_too_slow_for_the_campaigns() {
-    let slow = doubled(&scenario(
+    starts_catch_the_fixture(
         "tests/design/fixtures/x500-velocity-limited-30s-runs.toml",
-    ));
-    let half_turns = host_sim::design::evaluate::half_turns(&slow, false).unwrap();
-    assert!(
-        half_turns.iter().all(|t| t.converged),
-        "the fixture passes the doubled-lag half turns, which is why it was called feasible"
+        random_starts,
+        "random starts",
     );
-    let failed = random_starts(&slow, false)
-        .unwrap()
-        .into_iter()
-        .filter(|t| !t.converged)
-        .count();
-    assert!(failed > 0, "the random starts miss the slow design");
-
-    let committed = random_starts(
-        &doubled(&scenario("designs/crazyflie-2.1/scenario.toml")),
-        false,
-    )
-    .unwrap();
-    let failed: Vec<&str> = committed
-        .iter()
-        .filter(|t| !t.converged)
-        .map(|t| t.start.as_str())
-        .collect();
-    assert!(failed.is_empty(), "committed design fails {failed:?}");
 }

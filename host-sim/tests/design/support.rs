@@ -105,3 +105,35 @@ pub fn doubled_lag(s: &Scenario) -> Scenario {
     let tau = s.rotors.as_ref().unwrap().motor_time_constant_s;
     host_sim::design::flight::with_motor_lag(s, 2.0 * tau, tau)
 }
+
+/// The constraint's check of a set of starts (`starts`, flown with the motor lag doubled):
+/// the design in the fixture `fixture` passes the seven 180° starts with the lag doubled, which
+/// is why the search called it feasible, yet fails some of `starts` (`what` names them in the
+/// message); the committed Crazyflie design passes all of them.
+pub fn starts_catch_the_fixture(
+    fixture: &str,
+    starts: fn(&Scenario, bool) -> anyhow::Result<Vec<host_sim::design::evaluate::Trial>>,
+    what: &str,
+) {
+    let caught = doubled_lag(&crate_scenario(fixture));
+    let half_turns = host_sim::design::evaluate::half_turns(&caught, false).unwrap();
+    assert!(
+        half_turns.iter().all(|t| t.converged),
+        "the fixture passes the doubled-lag half turns, which is why it was called feasible"
+    );
+    let failed = starts(&caught, false)
+        .unwrap()
+        .into_iter()
+        .filter(|t| !t.converged)
+        .count();
+    assert!(failed > 0, "the {what} miss the fixture's design");
+
+    let committed = doubled_lag(&crate_scenario("designs/crazyflie-2.1/scenario.toml"));
+    let failed: Vec<String> = starts(&committed, false)
+        .unwrap()
+        .into_iter()
+        .filter(|t| !t.converged)
+        .map(|t| t.start)
+        .collect();
+    assert!(failed.is_empty(), "committed design fails {failed:?}");
+}

@@ -9,7 +9,7 @@ use host_sim::model::scenario::Scenario;
 use host_sim::runs::sampler::{Sampler, HALF_TURN_AXES};
 use nalgebra::{Rotation3, Vector3};
 
-use crate::support::{crate_scenario as scenario, doubled_lag as doubled};
+use crate::support::{crate_scenario as scenario, starts_catch_the_fixture};
 
 /// The committed Crazyflie design.
 fn committed_crazyflie() -> Scenario {
@@ -64,27 +64,9 @@ fn turned_starts_are_the_stated_rotations_from_the_desired_attitude() {
 /// design converges from all of them.
 #[test]
 fn turned_starts_catch_the_doubled_lag_limit_cycle() {
-    let cycling = doubled(&scenario(
+    starts_catch_the_fixture(
         "tests/design/fixtures/crazyflie-tilt-priority-doubled-lag-limit-cycle.toml",
-    ));
-    let half_turns = host_sim::design::evaluate::half_turns(&cycling, false).unwrap();
-    assert!(
-        half_turns.iter().all(|t| t.converged),
-        "the fixture passes the half turns, which is why it was called feasible"
+        turned_starts,
+        "turned starts",
     );
-    let failed: Vec<String> = turned_starts(&cycling, false)
-        .unwrap()
-        .into_iter()
-        .filter(|t| !t.converged)
-        .map(|t| t.start)
-        .collect();
-    assert!(!failed.is_empty(), "the turned starts miss the limit cycle");
-
-    let committed = turned_starts(&doubled(&committed_crazyflie()), false).unwrap();
-    let failed: Vec<&str> = committed
-        .iter()
-        .filter(|t| !t.converged)
-        .map(|t| t.start.as_str())
-        .collect();
-    assert!(failed.is_empty(), "committed design fails {failed:?}");
 }
