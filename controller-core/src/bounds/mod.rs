@@ -246,8 +246,9 @@ pub fn certify<T: Scalar>(
         + feedback_torque_axes;
     // The set's feedforward takes the norms of `ω_d`, `ω̇_d` from their desired-frame
     // components where that is tighter than Lemma 1's chain (Theorem 2's conditions above keep
-    // the chain's norms unless the form is the desired frame's). The feedback's shapes: one ball for the paper's law; with tilt
-    // priority the MRP term's ball, the trace term's ball and disks and the damping's box.
+    // the chain's norms unless the form is the desired frame's). The feedback's shapes: one ball
+    // for the paper's law; with tilt priority the MRP term's ball, the trace term's ball and
+    // disks and the damping's box.
     let torque_set = match &gains.tilt_priority {
         None => TorqueSet::new(
             inertia,
