@@ -85,10 +85,20 @@ impl<T: Scalar> RotorEnvelope<T> {
     /// The same rotors with their range shrunk by `margin` (fraction of `hi − lo`) at both ends.
     /// No errors; a `margin` of 0.5 or more leaves an empty range (nothing fits it).
     pub fn shrunk(&self, margin: T) -> Self {
+        self.shrunk_ends(margin, margin)
+    }
+
+    /// The same rotors with their range shrunk by `low` above its least thrust and by `high`
+    /// below its greatest (fractions of `hi − lo`). Airmode flies the range with a smaller `low`
+    /// than the fits were checked with: every range it contains holds what those fits certify,
+    /// so the set still fits, and the thrust can fall closer to the rotors' idle while the
+    /// no-dive thrust cuts it (docs/airmode.md). No errors; `low + high ≥ 1` leaves an empty
+    /// range (nothing fits it).
+    pub fn shrunk_ends(&self, low: T, high: T) -> Self {
         let (lo, hi) = self.range;
-        let m = margin * (hi - lo);
+        let span = hi - lo;
         Self {
-            range: (lo + m, hi - m),
+            range: (lo + low * span, hi - high * span),
             ..*self
         }
     }

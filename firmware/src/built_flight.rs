@@ -127,6 +127,7 @@ impl FlightConfig {
             gains: generated::gains(),
             thrust: generated::THRUST,
             airmode: generated::AIRMODE,
+            airmode_low_margin: generated::AIRMODE_LOW_MARGIN,
             control_rate: generated::CONTROL_RATE,
             reference: ReferenceConfig {
                 smoothing_rate: generated::SMOOTHING_RATE,

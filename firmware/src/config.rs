@@ -213,6 +213,13 @@ pub struct FlightConfig {
     /// realise every certified torque at *some* thrust (the shadow fit) instead of at every
     /// thrust of the interval ([`crate::pipeline::gate_check`]).
     pub airmode: bool,
+    /// With [`FlightConfig::airmode`], the headroom airmode keeps free above the rotors' least
+    /// thrust, a fraction of the range in `[0, box_margin]` (the flight file's `[controller]
+    /// airmode_low_margin`, else [`FlightConfig::box_margin`]). The gate's fits are checked with
+    /// `box_margin` at both ends, so every range airmode flies holds the certified set; a smaller
+    /// one lets the thrust fall towards the rotors' idle while the no-dive thrust cuts it
+    /// (docs/airmode.md).
+    pub airmode_low_margin: f32,
     /// Rotor geometry and model.
     pub rotors: RotorConfig,
     /// Safety timings.
@@ -298,6 +305,7 @@ impl FlightConfig {
             allow_uncertified: false,
             thrust: ThrustChoice::Norm,
             airmode: false,
+            airmode_low_margin: 0.05,
             vehicle: airframe.vehicle,
             limits: Limits::paper(),
             gains: Gains::paper(),

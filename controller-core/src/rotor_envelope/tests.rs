@@ -129,6 +129,42 @@ fn the_shadow_margin_is_exact() {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(3_000))]
 
+    /// Given a set that passes the shadow fit with the margin at both ends, airmode flown on the
+    /// range kept free only at the top (any smaller margin above the rotors' least thrust) still
+    /// realises every torque of it: each rotor's thrust is in `[lo + low (hi − lo), hi − m (hi −
+    /// lo)]`, and the thrust is never above the one airmode gives with the margin at both ends
+    /// where the law's thrust is below that range.
+    #[test]
+    fn airmode_with_a_smaller_low_margin_realises_every_torque(
+        p0 in ball(), p1 in ball(), p2 in ball(), p3 in ball(), p4 in ball(),
+        scale in 0.0..1.0f64,
+        low in 0.0..0.05f64,
+        t in -5.0..60.0f64,
+    ) {
+        let (_, full) = quad(0.12, 0.0244, 0.0, 12.5);
+        let both = full.shrunk(0.05);
+        let flown = full.shrunk_ends(low, 0.05);
+        let s = set(scale * largest_passing_scale(&both));
+        prop_assert!(both.shadow_margin(&s) >= 0.0);
+        prop_assert!(flown.shadow_margin(&s) >= both.shadow_margin(&s));
+        let tau = point(&s, [p0, p1, p2, p3, p4]);
+        let applied = flown.airmode_thrust(t, &tau);
+        let f = rotors(&flown, applied, &tau);
+        let (lo, hi) = flown.range;
+        prop_assert!((lo - low * 12.5).abs() < 1e-12 && (hi - 0.95 * 12.5).abs() < 1e-12);
+        for k in 0..4 {
+            prop_assert!(f[k] >= lo - 1e-9 && f[k] <= hi + 1e-9, "rotor {k}: {}", f[k]);
+        }
+        let with_both = both.airmode_thrust(t, &tau);
+        if t <= with_both {
+            prop_assert!(applied <= with_both + 1e-9, "{applied} > {with_both}");
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(3_000))]
+
     /// Given a set that passes the shadow fit on the shrunk range, for any torque of it and any
     /// law thrust: every rotor's airmode thrust lies in the shrunk range (so nothing is given
     /// up), the thrust is the law's whenever the law's `(T, τ)` already fits, and it lies in

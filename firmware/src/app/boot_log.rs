@@ -128,10 +128,11 @@ pub fn log_boot_report(r: &BootReport) {
     }
     if r.airmode {
         info!(
-            "airmode: on, keeps {=f32} of each rotor's range free: the thrust moves to where the \
-             rotors realise the law's torque; the gate fits the thrust interval at zero torque \
-             and each certified torque at some thrust (its shadow; docs/airmode.md)",
-            r.required_margin
+            "airmode: on, keeps {=f32} of each rotor's range free below its top and {=f32} above \
+             its bottom: the thrust moves to where the rotors realise the law's torque; the gate \
+             fits the thrust interval at zero torque and each certified torque at some thrust \
+             (its shadow; docs/airmode.md)",
+            r.required_margin, r.airmode_low_margin
         );
     } else {
         info!("airmode: off: the gate fits the certified set over the whole thrust interval");

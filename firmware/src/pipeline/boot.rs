@@ -59,6 +59,9 @@ pub struct BootReport {
     pub gate: Result<f32, GateFailure>,
     /// Whether airmode flies ([`FlightConfig::airmode`]).
     pub airmode: bool,
+    /// With airmode, the headroom it keeps above the rotors' least thrust
+    /// ([`FlightConfig::airmode_low_margin`]; the top keeps [`BootReport::required_margin`]).
+    pub airmode_low_margin: f32,
     /// With airmode: the headroom of the feedforward at zero attitude error over Theorem 1's
     /// interval, a fraction of the rotor range ([`gate::aligned_margin`]; at least
     /// [`BootReport::required_margin`]: airmode's convergence is proven, else shown by
@@ -106,6 +109,7 @@ pub(super) fn certify_setup(
         required_margin: cfg.box_margin,
         gate: gate::check(&certificate, cfg, mixer),
         airmode: cfg.airmode,
+        airmode_low_margin: cfg.airmode_low_margin,
         aligned_margin: gate::aligned_margin(&certificate, cfg, mixer),
         thrust_capacity: 4.0 * cfg.rotors.thrust_max,
         thrust: cfg.thrust,

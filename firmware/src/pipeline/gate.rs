@@ -222,11 +222,14 @@ pub fn check(
 }
 
 /// The rotor envelope airmode flies for `cfg` on the rotors of `mixer`: the rotors' range shrunk
-/// by [`FlightConfig::box_margin`] at both ends (where the gate's shadow fits were checked), or
-/// `None` when airmode is off (or a rotor cannot carry collective, which the gate refuses).
+/// by [`FlightConfig::box_margin`] below its top and by [`FlightConfig::airmode_low_margin`]
+/// (at most `box_margin`) above its bottom, so it contains the range where the gate's shadow
+/// fits were checked; or `None` when airmode is off (or a rotor cannot carry collective, which
+/// the gate refuses).
 pub fn airmode_envelope(cfg: &FlightConfig, mixer: &Mixer) -> Option<RotorEnvelope<f32>> {
     if cfg.airmode {
-        mixer.envelope().map(|e| e.shrunk(cfg.box_margin))
+        let low = cfg.airmode_low_margin.clamp(0.0, cfg.box_margin);
+        mixer.envelope().map(|e| e.shrunk_ends(low, cfg.box_margin))
     } else {
         None
     }

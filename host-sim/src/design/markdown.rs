@@ -72,6 +72,34 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
                 "below the margin, so convergence is shown by the simulations below only"
             }
         );
+        let _ = writeln!(
+            s,
+            "{}\n",
+            match r.thrust.airmode_low_margin {
+                Some(low) => format!(
+                    "Airmode keeps the margin free below the rotors' top and {:.1} % above their \
+                     least thrust (`[controller] airmode_low_margin`): flown that way the design \
+                     scored lower, so where the no-dive thrust cuts the thrust (upside down) the \
+                     rotors may fall to their idle. The fits above are checked with the margin \
+                     at both ends, so the certificate is the same.",
+                    100.0 * low
+                ),
+                None => match r.thrust.airmode_idle_trial {
+                    Some((cost, feasible)) => format!(
+                        "Airmode keeps the margin free at both ends of the rotors' range: flown \
+                         with almost none above their least thrust the design {} (objective {cost:.3}), \
+                         so it keeps it (a rotor at idle spins up through its motor lag).",
+                        if feasible {
+                            "scored no better"
+                        } else {
+                            "missed a constraint"
+                        }
+                    ),
+                    None => "Airmode keeps the margin free at both ends of the rotors' range."
+                        .to_string(),
+                },
+            }
+        );
     }
     if r.law_search.len() > 1 {
         let listed: Vec<String> = r

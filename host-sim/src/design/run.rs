@@ -60,6 +60,15 @@ fn score(
     if !certified.ok() {
         return Err(10.0 * PENALTY);
     }
+    // Airmode's low margin goes with the thrust below, which turns airmode on.
+    let low_margin = settings.controller.airmode_low_margin;
+    let settings = FlightSettings {
+        controller: ControllerConfig {
+            airmode_low_margin: None,
+            ..settings.controller
+        },
+        ..settings
+    };
     let (mut scenario, mut hover) = scenarios(
         vehicle,
         &certified.limits,
@@ -80,8 +89,8 @@ fn score(
         super::authority::RotorFit::Airmode => ThrustDesign::airmode(
             settings.controller.thrust,
             &certified.certificate.bounds,
-            &ctx.rotors.envelope(ctx.margin),
-            ctx.margin,
+            ctx.rotors,
+            (ctx.margin, low_margin),
         )
         .map_err(anyhow::Error::msg),
     }
@@ -374,15 +383,29 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
     let optimum = minimise(&cost, &guess, o.evaluations, o.seed)?;
     // The final design's tight bounds with the default budget: never looser than the search's.
     let final_boxes = crate::bounds::tight::TightOptions::default().max_boxes;
-    let best = score(
-        &vehicle,
-        (&ctx, layout),
-        &reference,
-        (settings, final_boxes),
-        &optimum.x,
-        true,
-    )
-    .map_err(|_| anyhow::anyhow!("the best design found could not be certified and flown (bug)"))?;
+    // The optimum flown for the report (traced), with airmode's margin above the rotors' least
+    // thrust `low` (`None`: the design margin).
+    let final_score = |low: Option<f64>| {
+        let settings = FlightSettings {
+            controller: ControllerConfig {
+                airmode_low_margin: low,
+                ..settings.controller
+            },
+            ..settings
+        };
+        score(
+            &vehicle,
+            (&ctx, layout),
+            &reference,
+            (settings, final_boxes),
+            &optimum.x,
+            true,
+        )
+    };
+    let best = final_score(None).map_err(|_| {
+        anyhow::anyhow!("the best design found could not be certified and flown (bug)")
+    })?;
+    let best = with_idle_airmode(best, |low| final_score(Some(low)).ok());
     let (scenario, _) = scenarios(
         &vehicle,
         &best.certified.limits,
@@ -417,6 +440,36 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
         reference,
         period,
     })
+}
+
+/// The margin above the rotors' least thrust [`with_idle_airmode`] tries (fraction of the
+/// range): the least a flight file takes, so the rotors come down to their idle but never sit
+/// exactly on it, where the f32 mixer's rounding would clip a rotor.
+pub const IDLE_LOW_MARGIN: f64 = flight_files::flight_file::AIRMODE_LEAST_LOW_MARGIN;
+
+/// Airmode's margin above the rotors' least thrust: the design found flown again with
+/// [`IDLE_LOW_MARGIN`] (`rescore`, the rotors down to their idle; the fits stay checked with
+/// the margin at both ends, so the certificate is the same) and kept that way when it still
+/// meets every constraint and scores lower. A rotor that idles spins up through its motor lag when the thrust comes back,
+/// so slow motors may do better with the margin; the objective decides per vehicle
+/// (docs/airmode.md). Without airmode or with the paper's thrust the design is returned as is.
+fn with_idle_airmode(best: Scored, rescore: impl FnOnce(f64) -> Option<Scored>) -> Scored {
+    if best.thrust.airmode_margin.is_none()
+        || best.thrust.mode != ThrustKind::VerticalPriority.name()
+    {
+        return best;
+    }
+    let Some(idle) = rescore(IDLE_LOW_MARGIN) else {
+        return best;
+    };
+    let trial = Some((idle.evaluation.cost, idle.evaluation.feasible));
+    let mut kept = if idle.evaluation.feasible && idle.evaluation.cost < best.evaluation.cost {
+        idle
+    } else {
+        best
+    };
+    kept.thrust.airmode_idle_trial = trial;
+    kept
 }
 
 /// What `design` produced.

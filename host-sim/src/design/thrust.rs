@@ -63,6 +63,14 @@ pub struct ThrustDesign {
     /// (docs/airmode.md); the floor is then 0, since airmode raises the thrust wherever the torque
     /// needs it, and the interval is airmode's.
     pub airmode_margin: Option<f64>,
+    /// With airmode, `Some(low)`: the smaller margin (fraction) airmode keeps free above the
+    /// rotors' least thrust (`[controller] airmode_low_margin`); `None`: `airmode_margin` at both
+    /// ends. The fits are checked with `airmode_margin` at both ends either way.
+    pub airmode_low_margin: Option<f64>,
+    /// With airmode and vertical priority, the design's objective flown with no margin above
+    /// the rotors' least thrust, and whether it met every constraint (`design` keeps that way
+    /// when it does and scores lower); `None` when not tried.
+    pub airmode_idle_trial: Option<(f64, bool)>,
 }
 
 impl ThrustDesign {
@@ -86,6 +94,8 @@ impl ThrustDesign {
                 interval_N: [t_min, t_max],
                 ramp: 0.0,
                 airmode_margin: None,
+                airmode_low_margin: None,
+                airmode_idle_trial: None,
             }),
             ThrustKind::VerticalPriority => {
                 let floor = lowest_floor(
@@ -105,22 +115,28 @@ impl ThrustDesign {
                     interval_N: [floor, t_max],
                     ramp: ControllerConfig::default().thrust_ramp,
                     airmode_margin: None,
+                    airmode_low_margin: None,
+                    airmode_idle_trial: None,
                 })
             }
             other => Err(not_flown(other)),
         }
     }
 
-    /// The thrust of a design that flies airmode (docs/airmode.md) with `kind` on `envelope` (the
-    /// rotors with the range shrunk by `margin`): vertical priority with no floor (airmode raises
-    /// the thrust wherever the torque needs it), and the interval airmode keeps the thrust in for
-    /// the certificate's `bounds`. Errors: a thrust the firmware does not fly.
+    /// The thrust of a design that flies airmode (docs/airmode.md) with `kind` on `rotors`,
+    /// keeping `margin` (fraction of the range) free below their top and `low_margin` (`None`:
+    /// `margin`) above their bottom: vertical priority with no floor (airmode raises the thrust
+    /// wherever the torque needs it), and the interval airmode keeps the thrust in for the
+    /// certificate's `bounds` on that range. Errors: a thrust the firmware does not fly.
     pub fn airmode(
         kind: ThrustKind,
         bounds: &Bounds<f64>,
-        envelope: &controller_core::RotorEnvelope<f64>,
-        margin: f64,
+        rotors: &super::authority::RotorSet,
+        (margin, low_margin): (f64, Option<f64>),
     ) -> Result<Self, String> {
+        let envelope = rotors
+            .envelope(0.0)
+            .shrunk_ends(low_margin.unwrap_or(margin), margin);
         Self::check_flown(kind)?;
         let floor = 0.0;
         let low = if kind == ThrustKind::Norm {
@@ -139,6 +155,8 @@ impl ThrustDesign {
                 ControllerConfig::default().thrust_ramp
             },
             airmode_margin: Some(margin),
+            airmode_low_margin: low_margin,
+            airmode_idle_trial: None,
         })
     }
 
@@ -158,6 +176,7 @@ impl ThrustDesign {
             airmode_margin: self
                 .airmode_margin
                 .unwrap_or(ControllerConfig::default().airmode_margin),
+            airmode_low_margin: self.airmode_low_margin,
             ..ControllerConfig::default()
         };
         if self.mode == ThrustKind::VerticalPriority.name() {

@@ -9,6 +9,7 @@
 mod certification;
 mod cli;
 mod flight;
+mod idle_airmode;
 mod random_starts;
 mod support;
 mod turned_starts;

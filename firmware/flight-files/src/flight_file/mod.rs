@@ -27,6 +27,12 @@ use crate::vehicle_file::VehicleFile;
 mod source;
 use source::*;
 
+/// The least `[controller] airmode_low_margin` a flight or scenario file may give (fraction of
+/// each rotor's thrust range): a thousandth, so airmode brings a rotor down to its idle but
+/// never exactly onto it, where the f32 mixer's rounding (about 10⁻⁶ of the range) would clip
+/// it and give a trace of the torque up.
+pub const AIRMODE_LEAST_LOW_MARGIN: f64 = 1e-3;
+
 /// The environment variable naming the flight file.
 const ENV: &str = "FIRMWARE_FLIGHT_FILE";
 
@@ -67,6 +73,10 @@ struct ControllerTable {
     /// `[controller]` table reads here as in its scenario).
     #[serde(default)]
     airmode_margin: Option<f64>,
+    /// The margin airmode keeps free above the rotors' least thrust, in `[0, [design] margin]`
+    /// (absent: `[design] margin`, the same at both ends; docs/airmode.md).
+    #[serde(default)]
+    airmode_low_margin: Option<f64>,
 }
 
 /// Vertical priority's ramp `b₀` when `[controller]` gives none (the scenario files' default).
@@ -384,6 +394,16 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         "/// `[controller] airmode`: airmode on, keeping `MARGIN` of each rotor's range free.\n\
          pub(crate) const AIRMODE: bool = {};",
         airmode_source(file, tables.controller.as_ref(), margin)
+    ));
+    put(format!(
+        "/// `[controller] airmode_low_margin`: the margin airmode keeps free above the rotors' \
+         least thrust (`MARGIN` when absent).\n\
+         pub(crate) const AIRMODE_LOW_MARGIN: f32 = {};",
+        lit(airmode_low_margin_source(
+            file,
+            tables.controller.as_ref(),
+            margin
+        ))
     ));
     put(format!(
         "/// The other `[design]` fields, in key order.\n\

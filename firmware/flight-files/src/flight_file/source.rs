@@ -79,6 +79,38 @@ pub(super) fn airmode_source(file: &str, c: Option<&ControllerTable>, margin: f6
     }
 }
 
+/// `[controller] airmode_low_margin`: the margin airmode keeps free above the rotors' least
+/// thrust, in `[AIRMODE_LEAST_LOW_MARGIN, margin]` (`margin` = `[design] margin`, what the
+/// gate's fits are checked with at both ends; absent: `margin`). Only with `airmode = true`;
+/// anything else stops the build naming the key.
+pub(super) fn airmode_low_margin_source(
+    file: &str,
+    c: Option<&ControllerTable>,
+    margin: f64,
+) -> f64 {
+    let Some(low) = c.and_then(|c| c.airmode_low_margin) else {
+        return margin;
+    };
+    if !c.and_then(|c| c.airmode).unwrap_or(false) {
+        fail(
+            file,
+            "controller.airmode_low_margin",
+            "only used with airmode = true",
+        );
+    }
+    if !(low.is_finite() && (super::AIRMODE_LEAST_LOW_MARGIN..=margin).contains(&low)) {
+        fail(
+            file,
+            "controller.airmode_low_margin",
+            format!(
+                "{low} is not in [{}, [design] margin = {margin}]",
+                super::AIRMODE_LEAST_LOW_MARGIN
+            ),
+        );
+    }
+    low
+}
+
 pub(super) fn fail(file: &str, key: &str, reason: impl std::fmt::Display) -> ! {
     panic!("flight file {file}: {key}: {reason}")
 }
@@ -248,6 +280,46 @@ mod tests {
     #[should_panic(expected = "controller.airmode_margin: only used with airmode = true")]
     fn airmode_margin_without_airmode_is_refused() {
         airmode_source("f.toml", Some(&table("airmode_margin = 0.05")), 0.05);
+    }
+
+    /// Given an `airmode_low_margin` in `[0.001, [design] margin]` with airmode, when it is read,
+    /// then it is the margin flown above the rotors' least thrust; absent, the design margin.
+    #[test]
+    fn airmode_low_margin_within_the_design_margin_is_taken() {
+        let c = table("airmode = true\nairmode_low_margin = 0.001");
+        assert_eq!(airmode_low_margin_source("f.toml", Some(&c), 0.05), 0.001);
+        let c = table("airmode = true");
+        assert_eq!(airmode_low_margin_source("f.toml", Some(&c), 0.05), 0.05);
+        assert_eq!(airmode_low_margin_source("f.toml", None, 0.05), 0.05);
+    }
+
+    /// Given an `airmode_low_margin` above `[design] margin`, when it is read, then the build
+    /// stops naming the key and both ends of the range.
+    #[test]
+    #[should_panic(
+        expected = "controller.airmode_low_margin: 0.06 is not in [0.001, [design] margin = 0.05]"
+    )]
+    fn airmode_low_margin_above_the_design_margin_is_refused() {
+        let c = table("airmode = true\nairmode_low_margin = 0.06");
+        airmode_low_margin_source("f.toml", Some(&c), 0.05);
+    }
+
+    /// Given an `airmode_low_margin` of 0 (a rotor exactly at its least thrust, which the f32
+    /// mixer's rounding clips), when it is read, then the build stops.
+    #[test]
+    #[should_panic(
+        expected = "controller.airmode_low_margin: 0 is not in [0.001, [design] margin = 0.05]"
+    )]
+    fn airmode_low_margin_of_zero_is_refused() {
+        let c = table("airmode = true\nairmode_low_margin = 0.0");
+        airmode_low_margin_source("f.toml", Some(&c), 0.05);
+    }
+
+    /// Given an `airmode_low_margin` without airmode, when it is read, then the build stops.
+    #[test]
+    #[should_panic(expected = "controller.airmode_low_margin: only used with airmode = true")]
+    fn airmode_low_margin_without_airmode_is_refused() {
+        airmode_low_margin_source("f.toml", Some(&table("airmode_low_margin = 0.0")), 0.05);
     }
 
     /// Unknown `[controller]` keys stay refused.

@@ -82,6 +82,30 @@ fn support_point(set: &TorqueSet<f32>, c: Vector3<f32>) -> Vector3<f32> {
     tau
 }
 
+/// Given a flight with airmode and `airmode_low_margin` below the design margin, when the
+/// envelope airmode flies is built, then its range keeps the design margin below the rotors'
+/// top and only the low margin above their bottom, so it contains the range the gate's fits were
+/// checked on; without the key (the design margin) it is that range.
+#[test]
+#[cfg(not(feature = "uncertified-paper"))] // the default flight file's x500
+fn airmode_flies_its_low_margin_above_the_rotors_idle() {
+    let c = flight(0.5, true);
+    let mixer = Mixer::new(&c.rotors).unwrap();
+    let full = mixer.envelope().unwrap();
+    let (lo, hi) = full.range;
+    let span = hi - lo;
+    let checked = full.shrunk(c.box_margin).range;
+    assert_eq!(gate::airmode_envelope(&c, &mixer).unwrap().range, checked);
+    let low = FlightConfig {
+        airmode_low_margin: 0.001,
+        ..c
+    };
+    let (a, b) = gate::airmode_envelope(&low, &mixer).unwrap().range;
+    assert!((a - (lo + 0.001 * span)).abs() <= 1e-6 * span, "{a}");
+    assert_eq!(b, checked.1);
+    assert!(a < checked.0);
+}
+
 /// Given the x500 flight with half its rotors' yaw torque per newton, so that its certified set
 /// does not fit the rotors over the whole thrust interval (some torque at some end of it leaves
 /// the rotor range) but every torque fits at some thrust; when it arms without airmode, then it
@@ -348,23 +372,29 @@ mod airmode_properties {
         #![proptest_config(ProptestConfig::with_cases(3000))]
 
         /// Given the flight of [`airmode_arms_where_only_the_shadow_fits`] (its set does not fit
-        /// the rotors over the thrust interval, its shadow does) and the envelope its armed
-        /// controller flies ([`gate::airmode_envelope`]); when a law output with its thrust
-        /// anywhere in the certified interval and its torque anywhere in the certified set is
-        /// moved by airmode, then the mixer gives nothing up and realises the thrust and the
-        /// torque.
+        /// the rotors over the thrust interval, its shadow does), airmode's margin above the
+        /// rotors' least thrust anywhere from the least a flight file takes to the design margin
+        /// (`airmode_low_margin`), and the envelope its armed controller flies
+        /// ([`gate::airmode_envelope`]); when a law output with its thrust anywhere in the
+        /// certified interval (or below it, as the no-dive thrust cuts it) and its torque
+        /// anywhere in the certified set is moved by airmode, then the mixer gives nothing up
+        /// and realises the thrust and the torque.
         #[test]
         fn airmode_then_the_mixer_never_gives_anything_up(
             parts in [part(), part(), part(), part()],
-            at in 0.0..=1.0f32,
+            at in -0.2..=1.0f32,
+            low in prop_oneof![Just(1e-3f32), Just(0.05f32), 1e-3..=0.05f32],
         ) {
-            let c = flight(0.5, true);
+            let c = FlightConfig {
+                airmode_low_margin: low,
+                ..flight(0.5, true)
+            };
             let r = FlightPipeline::new(&c).unwrap().boot_report();
             let mixer = Mixer::new(&c.rotors).unwrap();
             let envelope = gate::airmode_envelope(&c, &mixer).unwrap();
             let (t_lo, t_hi) = gate::thrust_interval(&r.certificate, &c.thrust).unwrap();
             let tau = point_of(&r.certificate.bounds.torque_set, parts);
-            let thrust = t_lo + at * (t_hi - t_lo);
+            let thrust = (t_lo + at * (t_hi - t_lo)).max(0.0);
             let moved = envelope.airmode_thrust(thrust, &tau);
             let out = mixer.mix(moved, &tau);
             prop_assert!(!out.saturated(), "{thrust} N moved to {moved} N, {tau:?}: {out:?}");

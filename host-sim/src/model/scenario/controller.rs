@@ -42,6 +42,14 @@ pub struct ControllerConfig {
         skip_serializing_if = "is_default_airmode_margin"
     )]
     pub airmode_margin: f64,
+    /// The fraction of each rotor's thrust range airmode keeps free above the rotors' least
+    /// thrust, in `[0.001, airmode_margin]` (the least: `flight_files`'
+    /// `AIRMODE_LEAST_LOW_MARGIN`); absent: `airmode_margin` (the same at both ends). A
+    /// smaller one lets the thrust fall closer to the rotors' idle while the no-dive thrust cuts
+    /// it (upside down), and the certified fits still hold (they are checked with the margin at
+    /// both ends; docs/airmode.md). Only with `airmode = true`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub airmode_low_margin: Option<f64>,
 }
 
 fn is_false(x: &bool) -> bool {
@@ -111,6 +119,7 @@ impl Default for ControllerConfig {
             thrust_ramp: default_ramp(),
             airmode: false,
             airmode_margin: default_airmode_margin(),
+            airmode_low_margin: None,
         }
     }
 }
@@ -171,6 +180,19 @@ impl Scenario {
                 "controller.airmode_margin: must lie in [0, 0.5), got {}",
                 c.airmode_margin
             ));
+        }
+        if let Some(low) = c.airmode_low_margin {
+            if !c.airmode {
+                return Err("controller.airmode_low_margin: only used with airmode = true".into());
+            }
+            let least = flight_files::flight_file::AIRMODE_LEAST_LOW_MARGIN;
+            if !(low.is_finite() && (least..=c.airmode_margin).contains(&low)) {
+                return Err(format!(
+                    "controller.airmode_low_margin: must lie in [{least}, airmode_margin = {}], \
+                     got {low}",
+                    c.airmode_margin
+                ));
+            }
         }
         if c.airmode && self.rotors.is_none() {
             return Err(
@@ -253,7 +275,8 @@ impl Scenario {
     }
 
     /// Airmode's rotor envelope in scalar `T` (the firmware mixer's rows, the range shrunk by
-    /// `airmode_margin`), or `None` when airmode is off.
+    /// `airmode_margin` below its top and `airmode_low_margin` above its bottom), or `None` when
+    /// airmode is off.
     /// Errors: no `[rotors]` table, or the mixer refuses the rotors (named by key).
     pub fn airmode_envelope<T: Scalar>(
         &self,
@@ -271,7 +294,11 @@ impl Scenario {
         let (lo, hi) = mixer.thrust_range();
         let rows = [0, 1, 2, 3].map(|k| [0, 1, 2, 3].map(|j| lit::<T>(f64::from(m[(k, j)]))));
         controller_core::RotorEnvelope::new(rows, lit(f64::from(lo)), lit(f64::from(hi)))
-            .map(|e| Some(e.shrunk(lit(self.controller.airmode_margin))))
+            .map(|e| {
+                let c = &self.controller;
+                let top = c.airmode_margin;
+                Some(e.shrunk_ends(lit(c.airmode_low_margin.unwrap_or(top)), lit(top)))
+            })
             .map_err(|e| format!("[rotors]: {}", describe(&e)))
     }
 }
@@ -336,5 +363,43 @@ mod tests {
         // The paper's scenario written back has no [controller] table.
         let written = toml::to_string(&Scenario::paper()).unwrap();
         assert!(!written.contains("[controller]"), "{written}");
+    }
+
+    /// Given the committed Hummingbird design's scenario (airmode on, `airmode_low_margin =
+    /// 0.001`), when the low margin is read, then airmode flies the rotors' range shrunk by it
+    /// at the bottom and by `airmode_margin` at the top; a low margin of 0, above
+    /// `airmode_margin`, or without airmode is refused naming the key.
+    #[test]
+    fn airmode_low_margin_is_checked_by_name_and_flown_at_the_bottom_only() {
+        let text = include_str!("../../../designs/hummingbird/scenario.toml");
+        let s = Scenario::parse(text, "hummingbird.toml").unwrap();
+        assert_eq!(s.controller.airmode_low_margin, Some(0.001));
+        let (lo, hi) = (0.0, s.rotors.as_ref().unwrap().thrust_max_N);
+        let (a, b) = s.airmode_envelope::<f64>().unwrap().unwrap().range;
+        let span = hi - lo;
+        assert!((a - (lo + 0.001 * span)).abs() < 1e-5 * span, "{a}");
+        assert!((b - (hi - 0.05 * span)).abs() < 1e-5 * span, "{b}");
+        let with = |line: &str| text.replace("airmode_low_margin = 0.001", line);
+        for (line, says) in [
+            (
+                "airmode_low_margin = 0.0",
+                "must lie in [0.001, airmode_margin = 0.05]",
+            ),
+            ("airmode_low_margin = 0.06", "got 0.06"),
+        ] {
+            let e = Scenario::parse(&with(line), "f.toml")
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("controller.airmode_low_margin") && e.contains(says),
+                "{e}"
+            );
+        }
+        let off = with("airmode_low_margin = 0.001").replace("airmode = true", "airmode = false");
+        let e = Scenario::parse(&off, "g.toml").unwrap_err().to_string();
+        assert!(
+            e.contains("controller.airmode_low_margin: only used with airmode = true"),
+            "{e}"
+        );
     }
 }
