@@ -442,7 +442,7 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
     })
 }
 
-/// The margin above the rotors' least thrust [`with_idle_airmode`] tries (fraction of the
+/// The margin above the rotors' least thrust `with_idle_airmode` tries (fraction of the
 /// range): the least a flight file takes, so the rotors come down to their idle but never sit
 /// exactly on it, where the f32 mixer's rounding would clip a rotor.
 pub const IDLE_LOW_MARGIN: f64 = flight_files::flight_file::AIRMODE_LEAST_LOW_MARGIN;
