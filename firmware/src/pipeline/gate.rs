@@ -228,7 +228,8 @@ pub fn check(
 /// the gate refuses).
 pub fn airmode_envelope(cfg: &FlightConfig, mixer: &Mixer) -> Option<RotorEnvelope<f32>> {
     if cfg.airmode {
-        let low = cfg.airmode_low_margin.clamp(0.0, cfg.box_margin);
+        // `min`/`max`, not `clamp`: no panic whatever the configured margins are.
+        let low = cfg.airmode_low_margin.max(0.0).min(cfg.box_margin);
         mixer.envelope().map(|e| e.shrunk_ends(low, cfg.box_margin))
     } else {
         None
