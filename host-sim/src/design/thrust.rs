@@ -67,7 +67,7 @@ pub struct ThrustDesign {
     /// rotors' least thrust (`[controller] airmode_low_margin`); `None`: `airmode_margin` at both
     /// ends. The fits are checked with `airmode_margin` at both ends either way.
     pub airmode_low_margin: Option<f64>,
-    /// With airmode and vertical priority, the design's objective flown with no margin above
+    /// With airmode and vertical priority, the design's objective flown with 0.1 % above
     /// the rotors' least thrust, and whether it met every constraint (`design` keeps that way
     /// when it does and scores lower); `None` when not tried.
     pub airmode_idle_trial: Option<(f64, bool)>,
