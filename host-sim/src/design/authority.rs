@@ -345,28 +345,48 @@ pub fn theorem2_iota_max(
     fit: RotorFit,
     direction: &Vector3<f64>,
 ) -> f64 {
+    theorem2_iota_max_axes(rotors, env, fit, direction).min()
+}
+
+/// [`theorem2_iota_max`] axis by axis: the largest `ι` [N m] each body axis's condition leaves
+/// (`+∞` on an axis where `direction` is 0; `-∞` on an axis where Assumption 1's condition
+/// fails), so the least one names the binding axis ([`super::binding`]). No errors.
+/// Source: eq:TorqueMaxConditionsTheorem, eq:TorqueMaxCondition.
+pub fn theorem2_iota_max_axes(
+    rotors: &RotorSet,
+    env: &Envelope,
+    fit: RotorFit,
+    direction: &Vector3<f64>,
+) -> Vector3<f64> {
     let feedforward = env.feedforward;
     // Strict conditions, judged again in f32 by the gate: keep a relative hair below.
     let capacity = rotors.axis_capacity(fit, env.thrust) * (1.0 - 1e-6);
-    // Assumption 1's conditions (the reference's feedforward alone, with its starred bounds,
-    // eq:TorqueMaxCondition) leave no room for `ι` but must hold as well: Lemma 1's terms
-    // contain them, the tight ones need not.
+    // Assumption 1's conditions (the reference's feedforward alone) leave no room for `ι` but
+    // must hold as well: Lemma 1's terms contain them, the tight ones need not.
+    let reference = reference_torque_extents(env);
+    Vector3::from_fn(|i, _| {
+        if capacity[i] <= reference[i] {
+            f64::NEG_INFINITY
+        } else if direction[i] > 0.0 {
+            (capacity[i] - feedforward[i]) / direction[i]
+        } else {
+            f64::INFINITY
+        }
+    })
+}
+
+/// The torque [N m] per body axis the reference's feedforward alone needs, with Assumption 1's
+/// starred bounds on its angular velocity and acceleration (eq:TorqueMaxCondition). No errors.
+pub fn reference_torque_extents(env: &Envelope) -> Vector3<f64> {
     let a = &env.bounds.assumption;
-    let reference = TorqueSet::new(
+    TorqueSet::new(
         env.bounds.torque_set.inertia,
         a.angular_velocity,
         a.angular_acceleration,
         0.0,
         Vector3::zeros(),
     )
-    .axis_extents();
-    if (0..3).any(|i| capacity[i] <= reference[i]) {
-        return f64::NEG_INFINITY;
-    }
-    (0..3)
-        .filter(|&i| direction[i] > 0.0)
-        .map(|i| (capacity[i] - feedforward[i]) / direction[i])
-        .fold(f64::INFINITY, f64::min)
+    .axis_extents()
 }
 
 /// [`iota_max`] (`levels` `None`: the paper's radial feedback) or [`iota_max_along`].
@@ -490,6 +510,21 @@ pub fn saturation_max(
     )
 }
 
+/// The end of `M_p`'s range [m/s²]: Theorem 1's thrust floor `T_min = m(g − K_a3 − M_p)` (with
+/// the integral action `− M_i,z`; with the vertical channel apart `M_down = down M_p` in place of
+/// `M_p`) reaches 0 there (`theorem1.saturation_margin`). Not positive when the reference's
+/// vertical acceleration and the integral's level leave no room. No errors.
+pub fn saturation_top(
+    vehicle: &Vehicle<f64>,
+    constants: &TrajectoryConstants<f64>,
+    law: PositionLaw<'_>,
+) -> f64 {
+    (vehicle.gravity
+        - constants.vertical_acceleration
+        - law.integral.map_or(0.0, |i| i.level_m_s2[2]))
+        / law.vertical.map_or(1.0, |(_, down, _, _)| down)
+}
+
 /// [`saturation_max`] with the feedforward of `bounds` ([`envelope_with`]). With the tight
 /// bounds each step is a branch and bound, so the bisection stops after 12 steps (the bracket
 /// at `2⁻¹²` of `g − K_a3`) instead of 60; the value returned is always one where `ι_max > 0`
@@ -502,25 +537,21 @@ pub fn saturation_max_with(
     (kf, ks): (f64, f64),
     law: PositionLaw<'_>,
 ) -> Option<f64> {
-    // With the integral action the extended `T_min = m(g − K_a3 − M_p − M_i,z) > 0` caps `M_p`;
-    // with the vertical channel apart it caps `M_down = down M_p` instead.
-    let top = (vehicle.gravity
-        - constants.vertical_acceleration
-        - law.integral.map_or(0.0, |i| i.level_m_s2[2]))
-        / law.vertical.map_or(1.0, |(_, down, _, _)| down);
+    let top = saturation_top(vehicle, constants, law);
     if top <= 0.0 {
         return None;
     }
     // Some feedback fits the rotors, and Theorem 2's per-axis conditions leave some too.
     let positive = |mp: f64| {
-        envelope_with(bounds, vehicle, constants, (mp, kf, ks), law).is_some_and(|env| {
-            (match fit {
-                RotorFit::Set => iota_max(rotors, &env, margin) > 0.0,
-                RotorFit::Airmode => {
-                    thrust_fits(rotors, &env, margin) && shadow_iota_max(rotors, &env, margin) > 0.0
-                }
-            }) && theorem2_iota_max(rotors, &env, fit, &Vector3::repeat(1.0)) > 0.0
-        })
+        super::binding::saturation_blocked(
+            bounds,
+            vehicle,
+            constants,
+            (rotors, margin, fit),
+            (mp, kf, ks),
+            law,
+        )
+        .is_none()
     };
     let steps = match bounds {
         super::tight::BoundsKind::Paper => 60,

@@ -11,9 +11,11 @@
 //! certified; [`report`] writes `design.json`, `design.md`, the plots, `scenario.toml` and
 //! `firmware.toml`. [`vehicle`] reads the vehicle file, [`flight`] builds the scenarios;
 //! [`integral`] sizes the bounded integral action of `design` (unless `--no-integral`); [`thrust`] puts the
-//! no-dive thrust of `design --thrust vertical-priority` inside the certified box.
+//! no-dive thrust of `design --thrust vertical-priority` inside the certified box; [`binding`]
+//! names what caps the design's levels.
 
 pub mod authority;
+pub mod binding;
 pub mod bisect;
 pub mod certificate;
 pub mod evaluate;

@@ -268,6 +268,9 @@ pub struct Report {
     pub margins: MarginsEntry,
     /// The reference.
     pub reference: ReferenceEntry,
+    /// What caps `M_p` and `ι` (docs/design.md, "What binds"); `None` until [`super::run`]
+    /// fills it in.
+    pub what_binds: Option<super::binding::WhatBinds>,
 }
 
 fn settling(trials: &[Trial]) -> Vec<(String, Option<f64>)> {
@@ -435,6 +438,7 @@ impl Report {
                 scale,
                 binding: binding.map(str::to_owned),
             },
+            what_binds: None,
         }
     }
 }

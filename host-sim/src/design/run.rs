@@ -432,6 +432,19 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
     if let Some(own) = report.objective.nominal_tasks.first_mut() {
         own.helix_tracking_error_m = Some(helix);
     }
+    let choices = Choices::from_unit(&optimum.x, layout);
+    report.what_binds = Some(super::binding::WhatBinds {
+        saturation: super::binding::saturation_cap(
+            ctx.bounds,
+            ctx.vehicle,
+            ctx.constants,
+            (ctx.rotors, ctx.margin, ctx.fit),
+            (best.mapped.saturation_max, choices.kf, choices.ks),
+            super::variables::position_law(&ctx, &choices),
+        ),
+        iota: best.mapped.iota_cap,
+        range_ends: choices.range_ends(super::binding::RANGE_END),
+    });
     Ok(Designed {
         law,
         report,

@@ -51,6 +51,19 @@ fn design_certifies_and_the_written_scenario_recertifies() {
     assert_eq!(json["certificate"]["all_hold"], true);
     assert_eq!(json["rotor_fit"]["fits"], true);
     assert_eq!(json["rotor_fit"]["shape"], "set");
+    // What binds: `ι_max` is the least of the rotor fit's level and Theorem 2's per axis, and
+    // the cap on `M_p` is named (design.md's "What binds").
+    let binds = r.what_binds.as_ref().expect("design reports what binds");
+    let least = binds
+        .iota
+        .theorem2_Nm
+        .iter()
+        .fold(binds.iota.rotor_fit_Nm, |a, &b| a.min(b));
+    assert_eq!(least, r.feedback_torque_Nm.0);
+    assert!(json["what_binds"]["saturation"]["condition"].is_string());
+    assert!(std::fs::read_to_string(out.join("design.md"))
+        .unwrap()
+        .contains("## What binds"));
     // Certified with the desired frame's form of the tangential Lemma 1 (the default), and so
     // is what is read back: the paper's chain is larger, and the per-axis bounds are the set's
     // extents, at most the tangential form's.

@@ -20,13 +20,23 @@ use crate::design::authority::RotorFit;
 /// | 4 | the tilt error `θ_out` whose MRP potential is `E_out` | 2 to 60 degrees (log) |
 /// | 5 | `M_p,L / M_p` | 0.25 to 4 (log): above 1, more authority near the reference than the
 /// global level's worst-case torque allows |
-const LOCAL_RANGES: [Interval; LOCAL_DIMENSION] = [
+pub(super) const LOCAL_RANGES: [Interval; LOCAL_DIMENSION] = [
     (1.0, 30.0, true),
     (1.5, 12.0, true),
     (0.5, 8.0, true),
     (0.6, 1.5, false),
     (2.0, 60.0, true),
     (0.25, 4.0, true),
+];
+
+/// The names of [`LOCAL_RANGES`]' variables, as reports print them.
+pub(super) const LOCAL_NAMES: [&str; LOCAL_DIMENSION] = [
+    "k_f,L / k_f",
+    "k_s,L / k_f,L",
+    "local position natural frequency [rad/s]",
+    "local position damping",
+    "theta_out [deg]",
+    "M_p,L / M_p",
 ];
 
 /// The envelope design's local regime, before it becomes gains (docs/envelope-design.md).

@@ -47,9 +47,10 @@ use nalgebra::Vector3;
 
 use super::authority::{
     envelope_with, iota_max, iota_max_along, iota_max_by, mrp_factor, probe_gains,
-    saturation_max_with, shadow_iota_max, theorem2_iota_max, PositionLaw, RotorFit, RotorSet,
-    ALPHA, DELTA,
+    saturation_max_with, shadow_iota_max, theorem2_iota_max, theorem2_iota_max_axes, PositionLaw,
+    RotorFit, RotorSet, ALPHA, DELTA,
 };
+use super::binding::IotaCap;
 
 mod interval;
 mod local;
@@ -139,6 +140,72 @@ const RANGES: [Interval; TILT_DIMENSION] = [
     (0.2, 0.9, false),
     (0.2, 0.9, false),
 ];
+
+/// The names of [`RANGES`]' variables, as reports print them (module table).
+const NAMES: [&str; TILT_DIMENSION] = [
+    "k_f [1/s]",
+    "k_s / k_f",
+    "M_p / M_p,max",
+    "iota / iota_max",
+    "MRP share of iota",
+    "attitude natural frequency [rad/s]",
+    "attitude damping",
+    "position natural frequency [rad/s]",
+    "position damping",
+    "yaw share iota_3 / iota_1",
+    "radial share of iota_3",
+    "trace share of iota_1",
+];
+
+/// The index of the MRP share of `ι` (module table), which tilt priority does not read.
+const MRP_SHARE: usize = 4;
+
+/// A decision variable that the design found at an end of its search range.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct RangeEnd {
+    /// Its name (module table).
+    pub variable: &'static str,
+    /// Its value (units in the name, else dimensionless).
+    pub value: f64,
+    /// Its search range `[low, high]`.
+    pub range: [f64; 2],
+}
+
+impl Choices {
+    /// The variables within `within` (a fraction of the unit interval, e.g. 0.01) of an end of
+    /// their search range, in the module table's order: where a wider range might find a better
+    /// design, or where the design takes all of a certified level it may (`M_p / M_p,max`,
+    /// `ι / ι_max` at 0.95). Tilt priority's gains do not read the MRP share (variable 4; its
+    /// own three spend `ι`), so it is never reported with it. No errors.
+    pub fn range_ends(&self, within: f64) -> Vec<RangeEnd> {
+        let tilt = self.tilt.map_or(0, |_| TILT_DIMENSION - DIMENSION);
+        let named = NAMES.iter().zip(RANGES).take(DIMENSION + tilt);
+        let vertical = self.vertical.iter().flat_map(|_| {
+            vertical::VERTICAL_NAMES
+                .iter()
+                .zip(vertical::VERTICAL_RANGES)
+        });
+        let local = self
+            .local
+            .iter()
+            .flat_map(|_| local::LOCAL_NAMES.iter().zip(local::LOCAL_RANGES));
+        named
+            .chain(vertical)
+            .chain(local)
+            .zip(self.to_unit())
+            .enumerate()
+            .filter(|&(i, (_, x))| {
+                (x <= within || x >= 1.0 - within) && !(i == MRP_SHARE && self.tilt.is_some())
+            })
+            .map(|(_, v)| v)
+            .map(|((name, range), x)| RangeEnd {
+                variable: name,
+                value: value_in(range, x),
+                range: [range.0, range.1],
+            })
+            .collect()
+    }
+}
 
 fn to_value(i: usize, x: f64) -> f64 {
     value_in(RANGES[i], x)
@@ -326,6 +393,18 @@ pub struct Mapped {
     pub saturation_max: f64,
     /// `ι_max(M_p, k_f, k_s)` [N m] (roll's, with tilt priority).
     pub iota_max: f64,
+    /// What sets `ι_max`: the rotor fit's level and Theorem 2's per axis.
+    pub iota_cap: IotaCap,
+}
+
+/// The position law of `c` in `ctx`: `ctx`'s, with `c`'s vertical channel ratios.
+pub fn position_law<'a>(ctx: &Context<'a>, c: &Choices) -> PositionLaw<'a> {
+    PositionLaw {
+        vertical: c
+            .vertical
+            .map(|v| (v.up_ratio, v.down_ratio, v.kf_ratio, v.ks_ratio)),
+        ..ctx.position
+    }
 }
 
 /// `((1 + δ)² − 1)(1 + δ)`: the factor of `tr G − min g` in tilt priority's hysteresis-band
@@ -373,12 +452,7 @@ fn tilt_gains(
 /// is not certifiable on this vehicle), or when with the integral action no `k_i` makes the
 /// linearised loop stable ([`super::integral::IntegralSpec::gains`]).
 pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
-    let law = PositionLaw {
-        vertical: c
-            .vertical
-            .map(|v| (v.up_ratio, v.down_ratio, v.kf_ratio, v.ks_ratio)),
-        ..ctx.position
-    };
+    let law = position_law(ctx, c);
     let mp_max = saturation_max_with(
         ctx.bounds,
         ctx.vehicle,
@@ -431,6 +505,10 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     let shares = c.tilt.map_or(Vector3::repeat(1.0), |t| {
         Vector3::new(1.0, 1.0, t.yaw_share)
     });
+    let iota_cap = IotaCap {
+        rotor_fit_Nm: i_max,
+        theorem2_Nm: theorem2_iota_max_axes(ctx.rotors, &env, ctx.fit, &shares).into(),
+    };
     let i_max = i_max.min(theorem2_iota_max(ctx.rotors, &env, ctx.fit, &shares));
     if i_max <= 0.0 {
         return None;
@@ -482,6 +560,7 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
         gains: g,
         saturation_max: mp_max,
         iota_max: i_max,
+        iota_cap,
     })
 }
 

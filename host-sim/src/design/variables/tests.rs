@@ -176,3 +176,59 @@ fn every_point_is_certified_with_the_tight_bounds() {
         }
     }
 }
+
+/// Given a point with every coordinate inside its range, when one coordinate is moved to an end
+/// of its range, then exactly that variable is reported at the end, named in the layout's
+/// order, with the end's value (except the MRP share, which tilt priority does not read); and
+/// the interior point reports none. With the paper's law the MRP share is reported.
+#[test]
+fn range_ends_name_the_variable_at_the_end() {
+    use rand::RngExt;
+    let layout = Layout {
+        law: AttitudeLaw::TiltPriority,
+        local: true,
+        vertical: true,
+    };
+    let mut rng = crate::runs::sampler::seeded_rng(3);
+    let names: Vec<&str> = NAMES
+        .iter()
+        .chain(&vertical::VERTICAL_NAMES)
+        .chain(&local::LOCAL_NAMES)
+        .copied()
+        .collect();
+    assert_eq!(names.len(), layout.dimension());
+    for _ in 0..20 {
+        let interior: Vec<f64> = (0..layout.dimension())
+            .map(|_| rng.random_range(0.05..0.95))
+            .collect();
+        assert!(Choices::from_unit(&interior, layout)
+            .range_ends(0.01)
+            .is_empty());
+        for (i, name) in names.iter().enumerate() {
+            for end in [0.0, 1.0] {
+                let mut x = interior.clone();
+                x[i] = end;
+                let ends = Choices::from_unit(&x, layout).range_ends(0.01);
+                if i == MRP_SHARE {
+                    // Tilt priority does not read it.
+                    assert!(ends.is_empty(), "{ends:?}");
+                    continue;
+                }
+                assert_eq!(ends.len(), 1, "{name}: {ends:?}");
+                let e = &ends[0];
+                assert_eq!(e.variable, *name);
+                let expected = e.range[end as usize];
+                assert!(
+                    (e.value - expected).abs() <= 1e-9 * expected.abs(),
+                    "{name}: {} vs {expected}",
+                    e.value
+                );
+            }
+        }
+    }
+    let mut x = vec![0.5; DIMENSION];
+    x[MRP_SHARE] = 1.0;
+    let ends = Choices::from_unit(&x, Layout::default()).range_ends(0.01);
+    assert_eq!(ends.len(), 1);
+    assert_eq!(ends[0].variable, NAMES[MRP_SHARE]);
+}

@@ -24,12 +24,16 @@ pub struct VerticalChoices {
     pub ks_ratio: f64,
 }
 
-const VERTICAL_RANGES: [Interval; VERTICAL_DIMENSION] = [
+pub(super) const VERTICAL_RANGES: [Interval; VERTICAL_DIMENSION] = [
     (1.0, 8.0, true),
     (0.1, 1.0, true),
     (0.5, 10.0, true),
     (1.5, 12.0, true),
 ];
+
+/// The names of [`VERTICAL_RANGES`]' variables, as reports print them.
+pub(super) const VERTICAL_NAMES: [&str; VERTICAL_DIMENSION] =
+    ["M_up / M_p", "M_down / M_p", "k_f,z / k_f", "k_s,z / k_f,z"];
 
 impl VerticalChoices {
     /// The initial guess: brake at three times the horizontal level, descend at half of it,
