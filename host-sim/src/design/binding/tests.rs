@@ -1,25 +1,9 @@
 use super::*;
 use crate::design::authority::saturation_max_with;
-use crate::design::variables::{position_law, AttitudeLaw, Choices, Context, Layout};
-use controller_core::{Lemma1Form, PositionSaturation, Trajectory};
+use crate::design::variables::tests::{context, preset_on_the_paper_helix};
+use crate::design::variables::{position_law, AttitudeLaw, Choices, Layout};
+use controller_core::{Lemma1Form, PositionSaturation};
 use nalgebra::Vector4;
-
-/// A preset vehicle, its rotor set and the paper helix's constants.
-fn preset(
-    name: &str,
-) -> (
-    crate::design::vehicle::DesignVehicle,
-    RotorSet,
-    TrajectoryConstants<f64>,
-) {
-    let v = crate::design::vehicle::DesignVehicle::load(&crate::model::vehicle::preset_path(name))
-        .unwrap();
-    let set = RotorSet::new(&v.rotors).unwrap();
-    let constants = crate::model::scenario::Scenario::paper()
-        .trajectory::<f64>()
-        .constants();
-    (v, set, constants)
-}
 
 const PRESETS: [&str; 3] = ["crazyflie-2.1", "hummingbird", "x500"];
 
@@ -39,23 +23,14 @@ fn the_reported_cap_is_where_the_search_stops() {
     };
     let (mut thrust_fit, mut torque_fit, mut assumption) = (0, 0, 0);
     for name in PRESETS {
-        let (v, set, constants) = preset(name);
+        let (v, set, constants) = preset_on_the_paper_helix(name);
         for fit in [RotorFit::Airmode, RotorFit::Set] {
-            let ctx = Context {
-                vehicle: &v.body,
-                constants: &constants,
-                rotors: &set,
-                margin: 0.05,
+            let ctx = context(
+                (&v, &constants, &set),
                 fit,
-                bounds: Default::default(),
-                position: PositionLaw {
-                    integral: None,
-                    shape: PositionSaturation::Norm,
-                    lemma1: Lemma1Form::DesiredFrame,
-                    vertical: None,
-                },
-                speed_limit: None,
-            };
+                PositionSaturation::Norm,
+                Lemma1Form::DesiredFrame,
+            );
             for _ in 0..25 {
                 use rand::RngExt;
                 let x: Vec<f64> = (0..layout.dimension())
@@ -150,7 +125,7 @@ fn the_reported_cap_is_where_the_search_stops() {
 #[test]
 fn the_collective_range_puts_a_rotor_on_its_limit() {
     for name in PRESETS {
-        let (_, set, _) = preset(name);
+        let (_, set, _) = preset_on_the_paper_helix(name);
         for margin in [0.0, 0.05, 0.2] {
             let [c_lo, c_hi] = collective_range(&set, margin);
             let (lo, hi) = set.shrunk(margin);

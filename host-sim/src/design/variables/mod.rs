@@ -565,4 +565,4 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -40,16 +40,54 @@ fn crazyflie_on_the_paper_helix() -> (
     RotorSet,
     TrajectoryConstants<f64>,
 ) {
+    preset_on_the_paper_helix("crazyflie-2.1")
+}
+
+/// The preset `name`, its rotor set and the paper helix's constants.
+pub(crate) fn preset_on_the_paper_helix(
+    name: &str,
+) -> (
+    crate::design::vehicle::DesignVehicle,
+    RotorSet,
+    TrajectoryConstants<f64>,
+) {
     use controller_core::Trajectory;
-    let v = crate::design::vehicle::DesignVehicle::load(&crate::model::vehicle::preset_path(
-        "crazyflie-2.1",
-    ))
-    .unwrap();
+    let v = crate::design::vehicle::DesignVehicle::load(&crate::model::vehicle::preset_path(name))
+        .unwrap();
     let set = RotorSet::new(&v.rotors).unwrap();
     let constants = crate::model::scenario::Scenario::paper()
         .trajectory::<f64>()
         .constants();
     (v, set, constants)
+}
+
+/// A context on `v`'s body, `constants` and `set` with the 5 % margin, `fit`, the paper's
+/// bounds, no integral action, `shape` and `lemma1`, and no speed limit.
+pub(crate) fn context<'a>(
+    (v, constants, set): (
+        &'a crate::design::vehicle::DesignVehicle,
+        &'a TrajectoryConstants<f64>,
+        &'a RotorSet,
+    ),
+    fit: crate::design::authority::RotorFit,
+    shape: PositionSaturation,
+    lemma1: controller_core::Lemma1Form,
+) -> Context<'a> {
+    Context {
+        vehicle: &v.body,
+        constants,
+        rotors: set,
+        margin: 0.05,
+        fit,
+        bounds: Default::default(),
+        position: PositionLaw {
+            integral: None,
+            shape,
+            lemma1,
+            vertical: None,
+        },
+        speed_limit: None,
+    }
 }
 
 /// Certified by construction: points all over the unit box map to gains that pass
@@ -67,21 +105,12 @@ fn every_point_of_the_box_is_certified() {
         .flat_map(|l| shapes.map(|s| (l, s)))
         .flat_map(|ls| [RotorFit::Set, RotorFit::Airmode].map(|f| (ls, f)))
     {
-        let ctx = Context {
-            vehicle: &v.body,
-            constants: &constants,
-            rotors: &set,
-            margin: 0.05,
+        let ctx = context(
+            (&v, &constants, &set),
             fit,
-            bounds: Default::default(),
-            position: PositionLaw {
-                integral: None,
-                shape,
-                lemma1: controller_core::Lemma1Form::Tangential,
-                vertical: None,
-            },
-            speed_limit: None,
-        };
+            shape,
+            controller_core::Lemma1Form::Tangential,
+        );
         for _ in 0..50 {
             let x = random_point(&mut rng, law);
             let choices = Choices::from_unit(
