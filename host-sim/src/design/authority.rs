@@ -510,21 +510,6 @@ pub fn saturation_max(
     )
 }
 
-/// The end of `M_p`'s range [m/s²]: Theorem 1's thrust floor `T_min = m(g − K_a3 − M_p)` (with
-/// the integral action `− M_i,z`; with the vertical channel apart `M_down = down M_p` in place of
-/// `M_p`) reaches 0 there (`theorem1.saturation_margin`). Not positive when the reference's
-/// vertical acceleration and the integral's level leave no room. No errors.
-pub fn saturation_top(
-    vehicle: &Vehicle<f64>,
-    constants: &TrajectoryConstants<f64>,
-    law: PositionLaw<'_>,
-) -> f64 {
-    (vehicle.gravity
-        - constants.vertical_acceleration
-        - law.integral.map_or(0.0, |i| i.level_m_s2[2]))
-        / law.vertical.map_or(1.0, |(_, down, _, _)| down)
-}
-
 /// [`saturation_max`] with the feedforward of `bounds` ([`envelope_with`]). With the tight
 /// bounds each step is a branch and bound, so the bisection stops after 12 steps (the bracket
 /// at `2⁻¹²` of `g − K_a3`) instead of 60; the value returned is always one where `ι_max > 0`
@@ -537,7 +522,7 @@ pub fn saturation_max_with(
     (kf, ks): (f64, f64),
     law: PositionLaw<'_>,
 ) -> Option<f64> {
-    let top = saturation_top(vehicle, constants, law);
+    let top = super::binding::saturation_top(vehicle, constants, law);
     if top <= 0.0 {
         return None;
     }

@@ -8,8 +8,8 @@
 //! so the cap reported is the one the design was bounded by, not a second opinion.
 
 use super::authority::{
-    envelope_with, iota_max, reference_torque_extents, saturation_top, shadow_iota_max,
-    theorem2_iota_max_axes, thrust_fits, PositionLaw, RotorFit, RotorSet,
+    envelope_with, iota_max, reference_torque_extents, shadow_iota_max, theorem2_iota_max_axes,
+    thrust_fits, PositionLaw, RotorFit, RotorSet,
 };
 use super::tight::BoundsKind;
 use controller_core::{TrajectoryConstants, Vehicle};
@@ -161,6 +161,21 @@ pub fn saturation_blocked(
         feedforward_Nm: env.feedforward[axis],
         capacity_Nm: capacity,
     })
+}
+
+/// The end of `M_p`'s range [m/s²]: Theorem 1's thrust floor `T_min = m(g − K_a3 − M_p)` (with
+/// the integral action `− M_i,z`; with the vertical channel apart `M_down = down M_p` in place of
+/// `M_p`) reaches 0 there (`theorem1.saturation_margin`). Not positive when the reference's
+/// vertical acceleration and the integral's level leave no room. No errors.
+pub fn saturation_top(
+    vehicle: &Vehicle<f64>,
+    constants: &TrajectoryConstants<f64>,
+    law: PositionLaw<'_>,
+) -> f64 {
+    (vehicle.gravity
+        - constants.vertical_acceleration
+        - law.integral.map_or(0.0, |i| i.level_m_s2[2]))
+        / law.vertical.map_or(1.0, |(_, down, _, _)| down)
 }
 
 /// What stops `M_p` above `mp_max` \[m/s²\], its largest certifiable value for the same

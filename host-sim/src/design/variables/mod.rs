@@ -47,8 +47,8 @@ use nalgebra::Vector3;
 
 use super::authority::{
     envelope_with, iota_max, iota_max_along, iota_max_by, mrp_factor, probe_gains,
-    saturation_max_with, shadow_iota_max, theorem2_iota_max, theorem2_iota_max_axes, PositionLaw,
-    RotorFit, RotorSet, ALPHA, DELTA,
+    saturation_max_with, shadow_iota_max, theorem2_iota_max_axes, PositionLaw, RotorFit, RotorSet,
+    ALPHA, DELTA,
 };
 use super::binding::IotaCap;
 
@@ -509,7 +509,7 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
         rotor_fit_Nm: i_max,
         theorem2_Nm: theorem2_iota_max_axes(ctx.rotors, &env, ctx.fit, &shares).into(),
     };
-    let i_max = i_max.min(theorem2_iota_max(ctx.rotors, &env, ctx.fit, &shares));
+    let i_max = iota_cap.theorem2_Nm.iter().fold(i_max, |a, &b| a.min(b));
     if i_max <= 0.0 {
         return None;
     }
