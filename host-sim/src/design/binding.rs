@@ -84,15 +84,8 @@ impl IotaCap {
     /// `None` when the rotor fit binds, else the Theorem 2 axis (0 roll, 1 pitch, 2 yaw) whose
     /// level is the least.
     pub fn theorem2_axis(&self) -> Option<usize> {
-        let (axis, level) =
-            self.theorem2_Nm
-                .iter()
-                .enumerate()
-                .fold(
-                    (0, f64::INFINITY),
-                    |a, (i, &v)| if v < a.1 { (i, v) } else { a },
-                );
-        (level < self.rotor_fit_Nm).then_some(axis)
+        let axis = Vector3::from(self.theorem2_Nm).imin();
+        (self.theorem2_Nm[axis] < self.rotor_fit_Nm).then_some(axis)
     }
 }
 
