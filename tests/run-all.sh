@@ -102,7 +102,7 @@ case "$target_dir" in /*) ;; *) target_dir="$PWD/$target_dir" ;; esac
 elf_mps2="$target_dir/thumbv7em-none-eabihf/release/firmware-mps2-an386"
 bash firmware/qemu/boot-check.sh "$elf_mps2"
 
-step "processor in the loop: the default build's x500 from upside down, firmware on QEMU (lockstep), law at 100 Hz and 1 kHz; lockstep determinism (two short runs, whole vs random writes, same telemetry)"
+step "processor in the loop: the default build's x500 from upside down, firmware on QEMU (lockstep), law at 100 Hz (the whole flight) and 1 kHz (the recovery, 0 overruns); lockstep determinism (two short runs, whole vs random writes, same telemetry)"
 # The law runs at 100, 250, 500 or 1000 Hz; any other rate stops the build.
 if FIRMWARE_CONTROL_RATE_HZ=300 cargo check -p firmware --lib 2>/dev/null; then
   echo "the firmware built with the law at 300 Hz" >&2
