@@ -13,8 +13,8 @@
 # with `design`'s defaults (both attitude laws searched, the norm-saturated, velocity-limited
 # position feedback, airmode, the vertical channel apart and the envelope design's local regime,
 # 30 s runs): one to two minutes of design and a few seconds of campaigns per preset on 2 cores,
-# after the release build. Where no design converges on 30 s runs (no preset now), `design`
-# designs again on 300 s runs (docs/design.md) and says so: about 5 minutes more.
+# after the release build. Where no design converges on 30 s runs, `design` designs again for the
+# same path with the heading held (the x500), then on 300 s runs (docs/design.md), and says so.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 out="${1:-out/designs}"
@@ -67,7 +67,8 @@ cells = [
     "yes" if design["certificate"]["all_hold"] else "NO",
     f'{design["rotor_fit"]["margin"] * 100:.1f} %',
     f'{g["M_p"]:.2f} m/s², ι = {design["feedback_torque_Nm"][1]:.3g} N m',
-    f'{helix:.3f} rad/s' + (f' (× {ref["scale"]:.3f} of the request)' if ref["scaled"] else ""),
+    f'{helix:.3f} rad/s' + (f' (× {ref["scale"]:.3f} of the request)' if ref["scaled"] else "")
+    + (" (heading held)" if ref.get("heading_held") else ""),
     f'{design["thrust"]["mode"]}' + (f', floor {design["thrust"]["floor_N"]:.3g} N' if design["thrust"]["floor_N"] > 0 else ""),
     " / ".join(fmt(t["step_settling_time_s"], "{:.1f}") for t in obj["nominal_tasks"]) + " s",
     " / ".join(fmt(t["tilt_settling_time_s"], "{:.1f}") for t in obj["nominal_tasks"]) + " s",

@@ -33,6 +33,14 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             r.duration_s
         );
     }
+    if let Some(why) = &r.reference.heading_held {
+        let _ = writeln!(
+            s,
+            "**Heading held:** for the requested reference {why}; this design is certified for \
+             the same path with the heading held at its initial value (the wall time above \
+             counts both attempts; docs/design.md).\n"
+        );
+    }
     if r.reference.scaled {
         let _ = writeln!(
             s,
@@ -41,7 +49,7 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             r.reference.binding.as_deref().unwrap_or("?"),
             r.reference.scale
         );
-    } else {
+    } else if r.reference.heading_held.is_none() {
         let _ = writeln!(s, "The requested reference is certified as is.\n");
     }
     let _ = writeln!(
@@ -118,10 +126,16 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
                 )
             })
             .collect();
+        // The laws are searched on the first attempt; a fallback designs again with its winner.
+        let first = if r.fallback.is_some() || r.reference.heading_held.is_some() {
+            " on the first attempt (the requested reference), designed again with it above"
+        } else {
+            ""
+        };
         let _ = writeln!(
             s,
-            "Attitude law: `{}`, the better of the laws searched (`--law both`; objective, lower is \
-             better): {}.\n",
+            "Attitude law: `{}`, the better of the laws searched{first} (`--law both`; objective, \
+             lower is better): {}.\n",
             r.law.name(),
             listed.join(", ")
         );

@@ -31,11 +31,15 @@ pub const FALLBACK_DURATION_S: f64 = 300.0;
 pub enum Fallback {
     /// Nothing: the best design is written and reported as not converging.
     Off,
-    /// Design again, with the velocity-limited position feedback (the first attempt's speed
-    /// limit, or [`DEFAULT_SPEED_LIMIT_M_S`] if it flew the paper's feedback;
-    /// docs/velocity-limit.md) on runs of [`FALLBACK_DURATION_S`], and write that design (the
-    /// CLI's default when `--duration-s` is not given): a certified design with a small `M_p`
-    /// needs minutes to brake a long fall and climb back.
+    /// Design again: first, when the requested heading swings, for the same path with the
+    /// heading held at `ψ_d(0)` on the same runs with the better law (its swing's rate
+    /// multiplies the tilt rate in `ω̇_d`, which small yaw authority pays for at any attitude
+    /// error); if that does not converge either, with the velocity-limited position feedback
+    /// (the first attempt's speed limit, or [`DEFAULT_SPEED_LIMIT_M_S`] if it flew the paper's
+    /// feedback; docs/velocity-limit.md) for the requested reference on runs of
+    /// [`FALLBACK_DURATION_S`], and write that design (the CLI's default when `--duration-s` is
+    /// not given): a certified design with a small `M_p` needs minutes to brake a long fall and
+    /// climb back.
     VelocityLimited,
     /// This design is that second attempt: why the first was set aside, and its wall time \[s\].
     Taken {
@@ -100,6 +104,10 @@ pub struct DesignOptions {
     pub speed_limit: Option<f64>,
     /// What to do when no design meets the convergence constraints.
     pub fallback: Fallback,
+    /// `Some(why)`: this attempt is the fallback's first step, the requested path with the
+    /// heading held at `ψ_d(0)` ([`super::reference::Reference::heading_held`]); `why` is the
+    /// first attempt's outcome, for the report. `None`: the requested reference.
+    pub heading_held: Option<String>,
     /// Output directory.
     pub out: PathBuf,
 }

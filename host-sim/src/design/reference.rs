@@ -69,6 +69,27 @@ impl Reference {
         }
     }
 
+    /// The same path with the heading held at `ψ_d(0)` \[rad\]: `design`'s first fallback when
+    /// no design converges with the requested heading's swing (its rate multiplies the tilt rate
+    /// in `ω̇_d`, docs/design.md). `None` when the heading is already constant: nothing to hold.
+    pub fn heading_held(&self) -> Option<Self> {
+        let (_, yaw) = self.start();
+        let mut trajectory = self.trajectory.clone();
+        let heading = match &mut trajectory {
+            TrajectoryConfig::Hover { heading, .. }
+            | TrajectoryConfig::Helix { heading, .. }
+            | TrajectoryConfig::FigureEight { heading, .. } => heading,
+        };
+        if matches!(heading, HeadingConfig::Constant { .. }) {
+            return None;
+        }
+        *heading = HeadingConfig::Constant { yaw_rad: yaw };
+        Some(Self {
+            trajectory,
+            initial: self.initial.clone(),
+        })
+    }
+
     /// A hover at `p_d(0)` with the heading `ψ_d(0)`: the reference of the upside-down test.
     pub fn hover_at_start(&self) -> TrajectoryConfig {
         let (p, yaw) = self.start();
@@ -120,6 +141,31 @@ mod tests {
         assert!(close(b.jerk, a.jerk * 0.125));
         assert!(close(b.snap, a.snap * 0.0625));
         assert!(close(b.heading_rate, a.heading_rate * 0.5));
+    }
+
+    /// Holding the heading keeps the path (its start and every position constant) and its
+    /// start heading, and leaves no heading rate; a constant heading has nothing to hold.
+    #[test]
+    fn holding_the_heading_keeps_the_path() {
+        let s = Scenario::paper();
+        let r = Reference {
+            trajectory: s.trajectory.clone(),
+            initial: s.initial.clone(),
+        };
+        let held = r.heading_held().expect("the paper's heading swings");
+        let (a, b) = (r.constants(), held.constants());
+        assert!(
+            a.heading_rate > 0.1 && a.heading_acceleration > 0.01,
+            "{a:?}"
+        );
+        assert_eq!((b.heading_rate, b.heading_acceleration), (0.0, 0.0));
+        assert_eq!(b.horizontal_acceleration, a.horizontal_acceleration);
+        assert_eq!(b.vertical_acceleration, a.vertical_acceleration);
+        assert_eq!(b.jerk, a.jerk);
+        assert_eq!(b.snap, a.snap);
+        assert_eq!(held.start(), r.start());
+        assert_eq!(held.initial, r.initial);
+        assert!(held.heading_held().is_none());
     }
 
     #[test]

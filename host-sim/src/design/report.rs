@@ -125,6 +125,11 @@ pub struct ReferenceEntry {
     pub scale: f64,
     /// Why the requested reference could not be certified (binding condition with numbers).
     pub binding: Option<String>,
+    /// Set when the certified reference is the requested path with the heading held at
+    /// `ψ_d(0)` (`design`'s first fallback): why the requested heading was set aside. Absent
+    /// otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub heading_held: Option<String>,
 }
 
 /// `objective`.
@@ -437,6 +442,7 @@ impl Report {
                 scaled: scale < 1.0,
                 scale,
                 binding: binding.map(str::to_owned),
+                heading_held: o.heading_held.clone(),
             },
             what_binds: None,
         }

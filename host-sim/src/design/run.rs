@@ -211,20 +211,39 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
                 .unwrap_or(std::cmp::Ordering::Equal)
         })
         .ok_or_else(|| anyhow::anyhow!("no attitude law to search (bug)"))?;
-    if !chosen.best.evaluation.feasible && o.fallback == Fallback::VelocityLimited {
-        let e = &chosen.best.evaluation;
-        let feedback = match o.speed_limit {
-            Some(v) => format!("the velocity-limited position feedback ({v} m/s)"),
-            None => "the paper's position feedback".to_owned(),
-        };
-        let why = format!(
-            "with {feedback} on {} s runs no design met the convergence \
-             constraints (the best: worst settling from 180 degrees {}, {:.1} m lost upside down)",
-            o.duration_s,
-            e.worst_settling_180_s
-                .map_or("not settled".to_owned(), |t| format!("{t:.1} s")),
-            e.altitude_loss_upside_down_m
+    let fallback = o.fallback == Fallback::VelocityLimited;
+    let swings = load_reference(o.reference.as_ref())?
+        .0
+        .heading_held()
+        .is_some();
+    // What the heading-held attempt gave when it did not converge either (for the report).
+    let mut held_too = None;
+    if !chosen.best.evaluation.feasible && fallback && swings {
+        // The heading's swing costs the most where yaw is weak (its rate multiplies the tilt
+        // rate in ω̇_d, at any attitude error): the same path with the heading held, same runs.
+        let why = not_converged(o, &chosen.best.evaluation);
+        eprintln!(
+            "design: {why}; designing again for the same path with the heading held at its \
+             initial value ({}, {} s runs)",
+            chosen.law.name(),
+            o.duration_s
         );
+        let held = DesignOptions {
+            heading_held: Some(why),
+            ..o.clone()
+        };
+        let attempt = design_with(&held, chosen.law)?;
+        if attempt.best.evaluation.feasible {
+            chosen = attempt;
+        } else {
+            held_too = Some(not_converged(o, &attempt.best.evaluation));
+        }
+    }
+    if !chosen.best.evaluation.feasible && fallback {
+        let mut why = not_converged(o, &chosen.best.evaluation);
+        if let Some(held) = held_too {
+            why = format!("{why}; for the same path with the heading held, {held}");
+        }
         let speed_limit = o.speed_limit.unwrap_or(DEFAULT_SPEED_LIMIT_M_S);
         eprintln!(
             "design: {why}; designing again with the velocity-limited position feedback \
@@ -253,6 +272,23 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         chosen.period,
     )?;
     Ok(DesignOutcome { report, files })
+}
+
+/// Why a first attempt was set aside: no design met the convergence constraints, with its
+/// feedback, run length and best figures (for the report and the log).
+fn not_converged(o: &DesignOptions, e: &super::evaluate::Evaluation) -> String {
+    let feedback = match o.speed_limit {
+        Some(v) => format!("the velocity-limited position feedback ({v} m/s)"),
+        None => "the paper's position feedback".to_owned(),
+    };
+    format!(
+        "with {feedback} on {} s runs no design met the convergence \
+         constraints (the best: worst settling from 180 degrees {}, {:.1} m lost upside down)",
+        o.duration_s,
+        e.worst_settling_180_s
+            .map_or("not settled".to_owned(), |t| format!("{t:.1} s")),
+        e.altitude_loss_upside_down_m
+    )
 }
 
 /// Refuses options no design can use (with the option's name and value).
@@ -293,7 +329,13 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
     let started = Instant::now();
     let vehicle = DesignVehicle::load(&o.vehicle)?;
     let set = refuse_impossible(&vehicle)?;
-    let (requested, period) = load_reference(o.reference.as_ref())?;
+    let (asked, period) = load_reference(o.reference.as_ref())?;
+    // The fallback's first step certifies the same path with the heading held (run_design only
+    // asks for it when the requested heading swings).
+    let requested = match o.heading_held {
+        Some(_) => asked.heading_held().unwrap_or_else(|| asked.clone()),
+        None => asked.clone(),
+    };
     let integral = o.integral.as_ref();
     if let Some(spec) = integral {
         refuse_uncoverable(&vehicle, &set, spec)?;
@@ -422,7 +464,7 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
     let mut report = Report::new(
         &vehicle,
         (o, law),
-        (&requested, &reference, scale, binding.as_deref()),
+        (&asked, &reference, scale, binding.as_deref()),
         Choices::from_unit(&optimum.x, layout),
         &best,
         (lag_max, baselines),

@@ -1,6 +1,7 @@
 //! The command line's options: `--duration-s` and `--speed-limit` written or refused, the
 //! default fallback to the velocity-limited feedback, and a vehicle that cannot hover refused.
 
+use controller_core::Trajectory;
 use host_sim::design::run_design;
 use host_sim::model::scenario::Scenario;
 use host_sim::model::vehicle::preset_path;
@@ -84,10 +85,11 @@ fn speed_limit_is_written_and_bad_ones_are_refused() {
 }
 
 /// The CLI's default path: when no design meets the convergence constraints with the paper's
-/// feedback on 30 s runs (the x500 with a one-point budget), `design` designs again with the
-/// velocity-limited feedback on 300 s runs (with the vertical channel apart, as asked), writes
-/// that one and says why in the report; with the fallback off the first design is written as it
-/// is.
+/// feedback on 30 s runs (the x500 with a one-point budget), `design` designs again for the same
+/// path with the heading held, and when that does not converge either, with the
+/// velocity-limited feedback on 300 s runs for the requested reference (with the vertical
+/// channel apart, as asked), writes that one and says why in the report, both attempts named;
+/// with the fallback off the first design is written as it is.
 #[test]
 fn unconverged_design_falls_back_to_the_velocity_limit() {
     use host_sim::design::options::{Fallback, DEFAULT_SPEED_LIMIT_M_S, FALLBACK_DURATION_S};
@@ -99,6 +101,16 @@ fn unconverged_design_falls_back_to_the_velocity_limit() {
     let r = run_design(&o).unwrap().report;
     let why = r.fallback.as_deref().expect("the fallback was taken");
     assert!(why.contains("no design met the convergence"), "{why}");
+    assert!(
+        why.contains("for the same path with the heading held, with"),
+        "{why}"
+    );
+    assert!(r.reference.heading_held.is_none());
+    let certified = serde_json::to_value(&r.reference.certified).unwrap();
+    assert_eq!(
+        certified["heading"]["kind"], "sinusoidal",
+        "the 300 s fallback certifies the requested heading: {certified}"
+    );
     assert_eq!(r.duration_s, FALLBACK_DURATION_S);
     let v = r
         .gains
@@ -122,6 +134,56 @@ fn unconverged_design_falls_back_to_the_velocity_limit() {
         .report;
     assert!(!r.objective.constraints_met && r.fallback.is_none());
     assert!(r.gains.velocity_limit.is_none());
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// Given the fallback's first step (the requested path with the heading held, here asked for
+/// directly on the Crazyflie with a one-point budget), when it designs, then it certifies the
+/// paper's helix with a constant heading at the helix's initial one, reports the requested
+/// swinging heading and why it was held (design.json and design.md), and writes the held
+/// heading into the scenario it flies.
+#[test]
+fn the_heading_held_design_certifies_the_same_path_at_a_constant_heading() {
+    let out = out_dir("heading-held");
+    let mut o = options(preset_path("crazyflie-2.1"), out.clone(), 1);
+    o.heading_held = Some("(the first attempt's outcome)".to_owned());
+    let r = run_design(&o).unwrap().report;
+    assert_eq!(
+        r.reference.heading_held.as_deref(),
+        Some("(the first attempt's outcome)")
+    );
+    let requested = serde_json::to_value(&r.reference.requested).unwrap();
+    let certified = serde_json::to_value(&r.reference.certified).unwrap();
+    assert_eq!(requested["heading"]["kind"], "sinusoidal", "{requested}");
+    assert_eq!(certified["heading"]["kind"], "constant", "{certified}");
+    // The same path: everything but the heading.
+    for key in [
+        "kind",
+        "center_m",
+        "radius_m",
+        "vertical_amplitude_m",
+        "frequency_rad_s",
+    ] {
+        assert_eq!(certified[key], requested[key], "{key}");
+    }
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    let reference = s.trajectory::<f64>();
+    let yaw = |t: f64| {
+        let h = reference.sample(t).heading;
+        h.y.atan2(h.x)
+    };
+    // Held at ψ_d(0) of the paper's helix, whose heading swings ±π about 0.
+    for t in [0.0, 3.0, 7.5, 12.0] {
+        assert!(yaw(t).abs() < 1e-12, "{t}: {}", yaw(t));
+    }
+    let md = std::fs::read_to_string(out.join("design.md")).unwrap();
+    assert!(
+        md.contains("**Heading held:** for the requested reference (the first"),
+        "{md}"
+    );
+    assert!(!md.contains("certified as is"), "{md}");
+    let json = std::fs::read_to_string(out.join("design.json")).unwrap();
+    assert!(json.contains("\"heading_held\""));
     let _ = std::fs::remove_dir_all(&out);
 }
 

@@ -43,6 +43,7 @@ pub fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOpti
         lemma1: controller_core::Lemma1Form::DesiredFrame,
         speed_limit: None,
         fallback: host_sim::design::options::Fallback::Off,
+        heading_held: None,
         out,
     }
 }

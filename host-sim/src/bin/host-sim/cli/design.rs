@@ -254,6 +254,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         } else {
             Fallback::Off
         },
+        heading_held: None,
         out: args.out.clone(),
     })?;
     let r = &outcome.report;
