@@ -6,6 +6,8 @@ use std::fmt::Write as _;
 
 use super::report::Report;
 
+mod attempts;
+
 fn opt(v: Option<f64>, unit: &str) -> String {
     v.map_or_else(|| "not settled".to_owned(), |v| format!("{v:.3} {unit}"))
 }
@@ -25,33 +27,7 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
          converges when it has settled 5 s before its end.\n",
         r.seed, r.evaluations, r.wall_time_s, r.duration_s
     );
-    if let Some(why) = &r.fallback {
-        let _ = writeln!(
-            s,
-            "**Fallback:** {why}; this design flies the velocity-limited position feedback on \
-             {} s runs (docs/velocity-limit.md; the wall time above counts both attempts).\n",
-            r.duration_s
-        );
-    }
-    if let Some(why) = &r.reference.heading_held {
-        let _ = writeln!(
-            s,
-            "**Heading held:** for the requested reference {why}; this design is certified for \
-             the same path with the heading held at its initial value (the wall time above \
-             counts both attempts; docs/design.md).\n"
-        );
-    }
-    if r.reference.scaled {
-        let _ = writeln!(
-            s,
-            "**THE REQUESTED REFERENCE CANNOT BE CERTIFIED ON THIS VEHICLE.** Binding: {}.\n\n\
-             **This design is certified for the same reference slowed down: every frequency x {:.4}.**\n",
-            r.reference.binding.as_deref().unwrap_or("?"),
-            r.reference.scale
-        );
-    } else if r.reference.heading_held.is_none() {
-        let _ = writeln!(s, "The requested reference is certified as is.\n");
-    }
+    attempts::write(&mut s, r);
     let _ = writeln!(
         s,
         "## Certificate\n\nEvery condition holds: **{}**. Rotor fit of the certified torque set (docs/torque-set.md): **{}** (with the {:.0} % margin: **{}**; \

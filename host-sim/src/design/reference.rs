@@ -124,14 +124,19 @@ mod tests {
     use super::*;
     use crate::model::scenario::Scenario;
 
+    /// The paper's helix and initial state, the default requested reference.
+    fn paper() -> Reference {
+        let s = Scenario::paper();
+        Reference {
+            trajectory: s.trajectory,
+            initial: s.initial,
+        }
+    }
+
     /// Scaling time by `s` scales the constants by the powers of `s` the derivatives carry.
     #[test]
     fn scaling_scales_the_constants() {
-        let s = Scenario::paper();
-        let r = Reference {
-            trajectory: s.trajectory.clone(),
-            initial: s.initial.clone(),
-        };
+        let r = paper();
         let (a, b) = (r.constants(), r.scaled(0.5).constants());
         let close = |x: f64, y: f64| (x - y).abs() <= 1e-9 * x.abs().max(1e-12);
         assert!(close(
@@ -147,11 +152,7 @@ mod tests {
     /// start heading, and leaves no heading rate; a constant heading has nothing to hold.
     #[test]
     fn holding_the_heading_keeps_the_path() {
-        let s = Scenario::paper();
-        let r = Reference {
-            trajectory: s.trajectory.clone(),
-            initial: s.initial.clone(),
-        };
+        let r = paper();
         let held = r.heading_held().expect("the paper's heading swings");
         let (a, b) = (r.constants(), held.constants());
         assert!(
@@ -170,11 +171,7 @@ mod tests {
 
     #[test]
     fn bisection_finds_the_threshold() {
-        let s = Scenario::paper();
-        let r = Reference {
-            trajectory: s.trajectory.clone(),
-            initial: s.initial.clone(),
-        };
+        let r = paper();
         let limit = r.constants().heading_rate * 0.3;
         let scale = largest_certifiable_scale(&r, |x| x.constants().heading_rate <= limit).unwrap();
         assert!((scale - 0.3).abs() < 1e-6, "{scale}");

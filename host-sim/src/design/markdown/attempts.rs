@@ -1,0 +1,39 @@
+//! `design.md`'s lines on the attempts behind a design: the fallbacks taken (the requested path
+//! with the heading held, the velocity-limited feedback on longer runs) and whether the
+//! requested reference is certified as is or slowed down (docs/design.md, "The fallback" and
+//! "When the reference cannot be certified").
+
+use std::fmt::Write as _;
+
+use super::super::report::Report;
+
+/// Appends the lines to `s`.
+pub(super) fn write(s: &mut String, r: &Report) {
+    if let Some(why) = &r.fallback {
+        let _ = writeln!(
+            s,
+            "**Fallback:** {why}; this design flies the velocity-limited position feedback on \
+             {} s runs (docs/velocity-limit.md; the wall time above counts both attempts).\n",
+            r.duration_s
+        );
+    }
+    if let Some(why) = &r.reference.heading_held {
+        let _ = writeln!(
+            s,
+            "**Heading held:** for the requested reference {why}; this design is certified for \
+             the same path with the heading held at its initial value (the wall time above \
+             counts both attempts; docs/design.md).\n"
+        );
+    }
+    if r.reference.scaled {
+        let _ = writeln!(
+            s,
+            "**THE REQUESTED REFERENCE CANNOT BE CERTIFIED ON THIS VEHICLE.** Binding: {}.\n\n\
+             **This design is certified for the same reference slowed down: every frequency x {:.4}.**\n",
+            r.reference.binding.as_deref().unwrap_or("?"),
+            r.reference.scale
+        );
+    } else if r.reference.heading_held.is_none() {
+        let _ = writeln!(s, "The requested reference is certified as is.\n");
+    }
+}
