@@ -11,7 +11,7 @@
 //! release: the flip, the path lifting's switches, the braking, the mission's start), where every
 //! control step must also finish within its 1 ms period (0 overruns in the firmware's timing
 //! log). A step costs the same at any point of the flight, and emulating the whole 1 kHz flight
-//! takes QEMU four times the 100 Hz one's wall clock: `host-sim pil --rate-hz 1000` flies it
+//! takes QEMU twice the 100 Hz one's wall clock: `host-sim pil --rate-hz 1000` flies it
 //! whole (docs/sil-pil.md).
 //!
 //! And the lockstep's determinism: two short runs of the same scenario and seed, the host's

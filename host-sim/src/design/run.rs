@@ -212,13 +212,15 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         })
         .ok_or_else(|| anyhow::anyhow!("no attitude law to search (bug)"))?;
     let fallback = o.fallback == Fallback::VelocityLimited;
-    let swings = load_reference(o.reference.as_ref())?
-        .0
-        .heading_held()
-        .is_some();
     // What the heading-held attempt gave when it did not converge either (for the report).
     let mut held_too = None;
-    if !chosen.best.evaluation.feasible && fallback && swings {
+    if !chosen.best.evaluation.feasible
+        && fallback
+        && load_reference(o.reference.as_ref())?
+            .0
+            .heading_held()
+            .is_some()
+    {
         // The heading's swing costs the most where yaw is weak (its rate multiplies the tilt
         // rate in ω̇_d, at any attitude error): the same path with the heading held, same runs.
         let why = not_converged(o, &chosen.best.evaluation);
