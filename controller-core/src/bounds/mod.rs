@@ -30,9 +30,11 @@ pub use certificate::{
     CONDITION_COUNT, LOCAL_CONDITION_COUNT,
 };
 
-/// Lemma 1's `U_l` for the filter bandwidths `k_f`, `k_s` [1/s] and where the filters start:
-/// `(k_f/k_s)^{k_f/(k_s−k_f)}` (`e⁻¹` if `k_f = k_s`) from rest, 1 from anywhere in the set.
-fn overshoot<T: Scalar>(kf: T, ks: T, start: FilterStart) -> T {
+/// Lemma 1's `U_l` (dimensionless) for the filter bandwidths `k_f`, `k_s` [1/s] and where the
+/// filters start: `(k_f/k_s)^{k_f/(k_s−k_f)}` (`e⁻¹` if `k_f = k_s`) from rest, 1 from anywhere
+/// in the set; `|u_s − u_f|` stays below `U_l` times the saturation set's width. No errors.
+/// Source: Lemma 1.
+pub fn overshoot<T: Scalar>(kf: T, ks: T, start: FilterStart) -> T {
     match start {
         FilterStart::InSaturationBox => T::one(),
         FilterStart::Zero => {

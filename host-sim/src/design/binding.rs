@@ -89,14 +89,115 @@ impl IotaCap {
     }
 }
 
-/// Both caps of a design, and the search variables at an end of their range, as
-/// `design.json`'s `what_binds`.
+/// The least time the position loop's certified levels and filters allow for the 1 m step
+/// (the nominal task from hover) to settle within its 5 cm band. The commanded acceleration
+/// `u_f` stays in the ball of radius `M_p` and, by Lemma 1 from rest (the step starts from
+/// hover, its filters at rest) without the reference's and the integral's terms, changes at
+/// most at `2 k_f U_l M_p`, `U_l = (k_f/k_s)^{k_f/(k_s−k_f)}` (the local regime's `M_p,L`,
+/// `k_f,L`, `k_s,L` where there is one: the step starts inside it). With perfect attitude
+/// tracking and the integral's estimate at rest, `p̈ = u_f`, and [`band_entry_time`] is the
+/// earliest such a move enters the band and stays. A floor of the model, not a guarantee about
+/// the flown loop, which lags it.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct StepFloor {
+    /// The acceleration bound `M_p` \[m/s²\].
+    pub acceleration_m_s2: f64,
+    /// The jerk bound `2 k_f U_l M_p` \[m/s³\].
+    pub jerk_m_s3: f64,
+    /// Whether the local regime's gains set them.
+    pub local: bool,
+    /// The least time \[s\] to enter the step's band and stay.
+    pub time_s: f64,
+}
+
+/// The step \[m\] and its settling band \[m\] (design.md's nominal task).
+pub const STEP_M: (f64, f64) = (1.0, 0.05);
+
+impl StepFloor {
+    /// The floor of the gains `g`: the local regime's level and filters where there is one, the
+    /// global ones otherwise.
+    pub fn of(g: &controller_core::Gains<f64>) -> Self {
+        match &g.local {
+            Some(l) => Self::new(l.saturation, (l.kf, l.ks), true),
+            None => Self::new(g.position.saturation, (g.position.kf, g.position.ks), false),
+        }
+    }
+
+    /// The floor for the position level `mp` \[m/s²\] and the filter gains `(k_f, k_s)` \[1/s\].
+    pub fn new(mp: f64, (kf, ks): (f64, f64), local: bool) -> Self {
+        let from_rest =
+            controller_core::bounds::overshoot(kf, ks, controller_core::FilterStart::Zero);
+        let jerk = 2.0 * kf * from_rest * mp;
+        Self {
+            acceleration_m_s2: mp,
+            jerk_m_s3: jerk,
+            local,
+            time_s: band_entry_time(STEP_M, mp, jerk),
+        }
+    }
+}
+
+/// The least time \[s\] to move `distance` \[m\] from rest to rest with the acceleration at most
+/// `acceleration` \[m/s²\] and its rate at most `jerk` \[m/s³\] (no speed limit): the profile
+/// whose jerk is `±jerk` or 0 and symmetric about its midpoint. Without reaching the
+/// acceleration bound (`distance ≤ 2 A³/J²`) it is `(32 d / J)^(1/3)`; otherwise, with `t_c` at
+/// the bound in each half, `d = A (A/J + t_c)(2A/J + t_c)`, solved for `t_c ≥ 0`, and the time
+/// is `2 (2A/J + t_c)`.
+pub fn rest_to_rest_time(distance: f64, acceleration: f64, jerk: f64) -> f64 {
+    let (d, a, j) = (distance, acceleration, jerk);
+    if d <= 2.0 * a.powi(3) / (j * j) {
+        return (32.0 * d / j).cbrt();
+    }
+    let r = a / j;
+    // t_c² + 3 r t_c + 2 r² − d/A = 0.
+    let t_c = 0.5 * (-3.0 * r + (r * r + 4.0 * d / a).sqrt());
+    2.0 * (2.0 * r + t_c)
+}
+
+/// The distance \[m\] the rest-to-rest profile of duration `time` \[s\] ([`rest_to_rest_time`],
+/// bounds `acceleration` \[m/s²\], `jerk` \[m/s³\]) covers in its first `tau` \[s\], `tau` at most
+/// half of `time`: jerk `+J` until the acceleration reaches `min(A, J time / 4)`, held, then
+/// `−J`; each piece integrated exactly.
+pub fn distance_from_rest(tau: f64, time: f64, acceleration: f64, jerk: f64) -> f64 {
+    let ramp = acceleration.min(jerk * time / 4.0) / jerk;
+    let hold = 0.5 * time - 2.0 * ramp;
+    let (mut left, mut a, mut v, mut x) = (tau, 0.0, 0.0, 0.0);
+    for (length, j) in [(ramp, jerk), (hold, 0.0), (ramp, -jerk)] {
+        let dt = left.min(length).max(0.0);
+        x += v * dt + a * dt * dt / 2.0 + j * dt.powi(3) / 6.0;
+        v += a * dt + j * dt * dt / 2.0;
+        a += j * dt;
+        left -= dt;
+    }
+    x
+}
+
+/// The least time \[s\] for a move of `step.0` \[m\] from rest to enter the band `step.1` \[m\]
+/// around its end and stay, with the acceleration at most `acceleration` \[m/s²\] and its rate
+/// at most `jerk` \[m/s³\]: the time-optimal move to the band's far edge, rest to rest, at the
+/// moment it crosses the near edge. Taken as the earliest entry because a move that stops
+/// inside the band stops no farther than the far edge, and the time-optimal one gets there
+/// first; with the acceleration bound alone (bang-bang) this is the classical synthesis, with
+/// the jerk bound it is the model's argument, not a proof. By the profile's symmetry the entry
+/// is its duration less the time its first part takes to cover twice the band (bisection, 60
+/// steps).
+pub fn band_entry_time(step: (f64, f64), acceleration: f64, jerk: f64) -> f64 {
+    let (d, band) = step;
+    let time = rest_to_rest_time(d + band, acceleration, jerk);
+    let left = |tau: f64| distance_from_rest(tau, time, acceleration, jerk) <= 2.0 * band;
+    time - super::bisect::bisect(0.0, 0.5 * time, 60, left)
+}
+
+/// Both caps of a design, the step's floor, and the search variables at an end of their range,
+/// as `design.json`'s `what_binds`.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct WhatBinds {
     /// What stops `M_p` above its largest certifiable value.
     pub saturation: SaturationCap,
     /// What sets `ι_max`.
     pub iota: IotaCap,
+    /// The least time the certified levels and filters allow for the 1 m step.
+    pub step: StepFloor,
     /// The decision variables within [`RANGE_END`] of an end of their search range
     /// ([`super::variables::Choices::range_ends`]).
     pub range_ends: Vec<super::variables::RangeEnd>,

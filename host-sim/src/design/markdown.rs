@@ -7,6 +7,7 @@ use std::fmt::Write as _;
 use super::report::Report;
 
 mod attempts;
+mod what_binds;
 
 fn opt(v: Option<f64>, unit: &str) -> String {
     v.map_or_else(|| "not settled".to_owned(), |v| format!("{v:.3} {unit}"))
@@ -330,7 +331,7 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
         c.position_damping
     );
     if let Some(w) = &r.what_binds {
-        what_binds(&mut s, r, w);
+        what_binds::write(&mut s, r, w);
     }
     let o = &r.objective;
     let a = &o.authority;
@@ -473,110 +474,3 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
 }
 
 const AXES: [&str; 3] = ["roll", "pitch", "yaw"];
-
-/// The "What binds" lines: what caps `M_p` and `ι` ([`super::binding`]), with their numbers.
-fn what_binds(s: &mut String, r: &Report, w: &super::binding::WhatBinds) {
-    use super::binding::SaturationCap;
-    let margin = 100.0 * r.rotor_fit.requested_margin;
-    let vertical_reach = {
-        let up = r.gains.vertical.as_ref().map_or(r.gains.M_p, |v| v.up_m_s2);
-        let integral = r.gains.integral.as_ref().map_or(0.0, |i| i.M_i_m_s2[2]);
-        format!(
-            "its top carries the braking level M_up = {up:.4} m/s^2 and the integral's \
-             M_i,z = {integral:.4} m/s^2 above gravity: more thrust, or less of either, raises the cap"
-        )
-    };
-    let why = match w.saturation {
-        SaturationCap::ThrustFloor { level_m_s2 } => format!(
-            "nothing binds before the end of its range, {level_m_s2:.4} m/s^2, where Theorem 1's \
-             thrust floor m(g - K_a3 - M_down - M_i,z) reaches 0"
-        ),
-        SaturationCap::Refused => "`certify` refuses the set-up (its bounds are undefined)".into(),
-        SaturationCap::ThrustFit {
-            thrust_N: [t_lo, t_hi],
-            capacity_N: [c_lo, c_hi],
-        } => format!(
-            "Theorem 1's thrust interval [{t_lo:.3}, {t_hi:.3}] N leaves the collective the rotors \
-             give at zero torque with the {margin:.0} % margin, [{c_lo:.3}, {c_hi:.3}] N; {}",
-            if t_hi > c_hi {
-                vertical_reach
-            } else {
-                "its bottom is Theorem 1's floor m(g - K_a3 - M_down - M_i,z): a smaller descent \
-                 level M_down raises it"
-                    .to_owned()
-            }
-        ),
-        SaturationCap::TorqueFit => format!(
-            "the certified torque set's feedforward part alone fills the rotors with the {margin:.0} % \
-             margin: no feedback torque fits (docs/torque-set.md)"
-        ),
-        SaturationCap::Assumption1 {
-            axis,
-            reference_Nm,
-            capacity_Nm,
-        } => format!(
-            "Assumption 1's {} condition fails: the reference's feedforward alone needs \
-             {reference_Nm:.4e} N m, more than the {capacity_Nm:.4e} N m the rotors give about that \
-             axis over the whole thrust interval",
-            AXES[axis]
-        ),
-        SaturationCap::Theorem2 {
-            axis,
-            feedforward_Nm,
-            capacity_Nm,
-        } => format!(
-            "Theorem 2's {} condition fails: its feedforward terms J U_omega_d_dot + \
-             |J_jj - J_kk| U_omega_d^2 / 2 = {feedforward_Nm:.4e} N m reach the axis's capacity \
-             {capacity_Nm:.4e} N m (the rates Lemma 1 bounds grow with M_p)",
-            AXES[axis]
-        ),
-    };
-    let i = &w.iota;
-    let iota_why = match i.theorem2_axis() {
-        None => "the rotor fit of the certified torque set".to_owned(),
-        Some(axis) => format!("Theorem 2's {} condition", AXES[axis]),
-    };
-    let per_axis = i
-        .theorem2_Nm
-        .map(|v| {
-            if v.is_finite() {
-                format!("{v:.4e}")
-            } else {
-                "none".into()
-            }
-        })
-        .join(", ");
-    let ends = if w.range_ends.is_empty() {
-        "none".to_owned()
-    } else {
-        w.range_ends
-            .iter()
-            .map(|e| {
-                format!(
-                    "`{}` = {:.4} (searched from {} to {})",
-                    e.variable, e.value, e.range[0], e.range[1]
-                )
-            })
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    let _ = writeln!(
-        s,
-        "## What binds\n\n\
-         - **Position level**: M_p <= {:.4} m/s^2 (the design flies {:.3} of it). Above it, {why}.\n\
-         - **Feedback torque level**: iota <= {:.4e} N m (roll's; the design flies {:.3} of it), set by \
-         {iota_why}: the rotor fit allows {:.4e} N m, Theorem 2's roll, pitch and yaw conditions \
-         [{per_axis}] N m{}.\n\
-         - **Search variables at an end of their range**: {ends}.\n",
-        r.saturation_max_m_s2,
-        r.choices.saturation_fraction,
-        r.feedback_torque_Nm.0,
-        r.choices.iota_fraction,
-        i.rotor_fit_Nm,
-        if r.choices.tilt.is_some() {
-            " (yaw's with the yaw level at its share of roll's)"
-        } else {
-            ""
-        },
-    );
-}

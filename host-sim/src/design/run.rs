@@ -487,6 +487,7 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
             super::variables::position_law(&ctx, &choices),
         ),
         iota: best.mapped.iota_cap,
+        step: super::binding::StepFloor::of(&best.mapped.gains),
         range_ends: choices.range_ends(super::binding::RANGE_END),
     });
     Ok(Designed {

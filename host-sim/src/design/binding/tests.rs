@@ -152,3 +152,128 @@ fn the_least_level_names_the_binding_axis() {
     assert_eq!(cap(0.4, [2.0, 2.0, 0.5]).theorem2_axis(), None);
     assert_eq!(cap(0.4, [f64::INFINITY; 3]).theorem2_axis(), None);
 }
+
+/// Distance \[m\] covered by `until` \[s\] and largest |acceleration| \[m/s²\] of the rest-to-rest
+/// profile of duration `time` with the acceleration bound `a` and the jerk bound `j`,
+/// integrated segment by segment over the whole profile (an independent check of
+/// [`rest_to_rest_time`]'s closed forms and of [`band_entry_time`]): jerk `+j` until the
+/// acceleration reaches `min(a, j time / 4)`, held, `−j` back to 0 at the midpoint, then the
+/// mirror image. Each segment's jerk is constant, so its integration is exact.
+fn fly_profile(time: f64, a: f64, j: f64, until: f64) -> (f64, f64) {
+    let peak = a.min(j * time / 4.0);
+    let ramp = peak / j;
+    let hold = time / 2.0 - 2.0 * ramp;
+    let segments = [
+        (ramp, j),
+        (hold, 0.0),
+        (ramp, -j),
+        (ramp, -j),
+        (hold, 0.0),
+        (ramp, j),
+    ];
+    let (mut acc, mut vel, mut pos, mut top, mut left) = (0.0f64, 0.0, 0.0, 0.0f64, until);
+    for (length, jerk) in segments {
+        assert!(length >= -1e-12, "{length}");
+        let dt = length.min(left).max(0.0);
+        pos += vel * dt + acc * dt * dt / 2.0 + jerk * dt.powi(3) / 6.0;
+        vel += acc * dt + jerk * dt * dt / 2.0;
+        acc += jerk * dt;
+        top = top.max(acc.abs());
+        left -= dt;
+    }
+    if until >= time {
+        assert!(
+            vel.abs() < 1e-9 * peak * time && acc.abs() < 1e-9 * peak,
+            "{vel} {acc}"
+        );
+    }
+    (pos, top)
+}
+
+/// Given moves with the acceleration bound reached and not, when the profile of the floor's
+/// duration is flown, then it covers the distance and keeps both bounds; the two forms meet at
+/// `d = 2A³/J²`, and the time tends to bang-bang `2√(d/A)` as the jerk bound grows and to
+/// `(32 d/J)^(1/3)` as the acceleration bound does.
+#[test]
+fn the_rest_to_rest_time_is_a_profile_within_both_bounds() {
+    for &(d, a, j) in &[
+        (0.95, 0.94, 1.35),
+        (0.95, 2.54, 15.1),
+        (1.0, 0.5, 20.0),
+        (3.0, 1.0, 1.0),
+        (0.95, 5.0, 1.35),
+    ] {
+        let t = rest_to_rest_time(d, a, j);
+        let (covered, top) = fly_profile(t, a, j, t);
+        assert!(
+            (covered - d).abs() < 1e-9 * d,
+            "{d} {a} {j}: {covered} in {t}"
+        );
+        assert!(top <= a * (1.0 + 1e-12), "{top} > {a}");
+    }
+    let (a, j) = (1.3, 4.0);
+    let edge = 2.0 * a * a * a / (j * j);
+    let below = rest_to_rest_time(edge * (1.0 - 1e-9), a, j);
+    let above = rest_to_rest_time(edge * (1.0 + 1e-9), a, j);
+    assert!((below - above).abs() < 1e-6, "{below} vs {above}");
+    let bang_bang = 2.0 * (0.95f64 / 0.94).sqrt();
+    assert!((rest_to_rest_time(0.95, 0.94, 1e9) - bang_bang).abs() < 1e-3);
+    let jerk_only = (32.0f64 * 0.95 / 1.35).cbrt();
+    assert!((rest_to_rest_time(0.95, 1e9, 1.35) - jerk_only).abs() < 1e-9);
+}
+
+/// Given the step and its band, the floor is the moment the time-optimal move to the band's
+/// far edge crosses its near edge (flown segment by segment), earlier than a rest-to-rest move
+/// to the near edge; with an unbounded jerk it is bang-bang's crossing,
+/// `2√(D/A) − √(2(D − x)/A)` for `D` = 1.05 m, `x` = 0.95 m.
+#[test]
+fn the_step_floor_is_where_the_fastest_stoppable_move_enters_the_band() {
+    for &(a, j) in &[(0.94, 1.35), (2.54, 8.45), (1.98, 5.12), (0.5, 20.0)] {
+        let entry = band_entry_time((1.0, 0.05), a, j);
+        let time = rest_to_rest_time(1.05, a, j);
+        let (at, _) = fly_profile(time, a, j, entry);
+        assert!((at - 0.95).abs() < 1e-9, "{a} {j}: {at} at {entry}");
+        let (before, _) = fly_profile(time, a, j, entry - 1e-3);
+        assert!(before < 0.95, "{before}");
+        assert!(entry < rest_to_rest_time(0.95, a, j));
+    }
+    let a = 0.94;
+    let bang_bang = 2.0 * (1.05f64 / a).sqrt() - (2.0 * 0.1f64 / a).sqrt();
+    let entry = band_entry_time((1.0, 0.05), a, 1e9);
+    assert!((entry - bang_bang).abs() < 1e-4, "{entry} vs {bang_bang}");
+}
+
+/// Given the committed preset designs, their reported step floor lies below the step they fly
+/// (design.md's nominal task): the floor drops the attitude's lag, so a floor above the flown
+/// time would be a wrong floor; and it is the floor of their own gains.
+#[test]
+fn the_committed_designs_fly_the_step_no_faster_than_their_floor() {
+    for preset in PRESETS {
+        let path = format!(
+            "{}/designs/{preset}/design.json",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let floor = json["what_binds"]["step"]["time_s"].as_f64().unwrap();
+        let local = json["gains"]["local"].is_object();
+        let (g, level) = if local {
+            (&json["gains"]["local"], "M_p_m_s2")
+        } else {
+            (&json["gains"], "M_p")
+        };
+        let number = |key: &str| g[key].as_f64().unwrap();
+        let own = StepFloor::new(number(level), (number("kf"), number("ks")), local);
+        assert!(
+            (own.time_s - floor).abs() < 1e-9 * floor,
+            "{preset}: {own:?} vs {floor}"
+        );
+        let flown = json["objective"]["nominal_tasks"][0]["step_settling_time_s"]
+            .as_f64()
+            .unwrap();
+        assert!(
+            floor > 0.5 && floor < flown,
+            "{preset}: floor {floor} s, flown {flown} s"
+        );
+    }
+}
