@@ -2,7 +2,9 @@
 //! feedback's level `M_p` at its largest certifiable value, and the feedback torque level `ι`
 //! at `ι_max`. Each cap is named with the numbers of the condition that stops it, so that on a
 //! vehicle where the design is slow the engineer reads which of its limits to lift (thrust,
-//! the torque about one axis, the reference's feedforward) and by how much.
+//! the torque about one axis, the reference's feedforward) and by how much. What the position
+//! level and filters allow the 1 m step ([`StepFloor`]) says whether attitude gains could make
+//! the step brisk or only a larger `k_f M_p` could.
 //!
 //! The search ([`super::authority::saturation_max_with`]) uses [`saturation_blocked`] itself,
 //! so the cap reported is the one the design was bounded by, not a second opinion.
