@@ -160,7 +160,7 @@ pub fn rest_to_rest_time(distance: f64, acceleration: f64, jerk: f64) -> f64 {
 /// bounds `acceleration` \[m/s²\], `jerk` \[m/s³\]) covers in its first `tau` \[s\], `tau` at most
 /// half of `time`: jerk `+J` until the acceleration reaches `min(A, J time / 4)`, held, then
 /// `−J`; each piece integrated exactly.
-pub fn distance_from_rest(tau: f64, time: f64, acceleration: f64, jerk: f64) -> f64 {
+fn distance_from_rest(tau: f64, time: f64, acceleration: f64, jerk: f64) -> f64 {
     let ramp = acceleration.min(jerk * time / 4.0) / jerk;
     let hold = 0.5 * time - 2.0 * ramp;
     let (mut left, mut a, mut v, mut x) = (tau, 0.0, 0.0, 0.0);

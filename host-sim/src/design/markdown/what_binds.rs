@@ -103,16 +103,18 @@ pub(super) fn write(s: &mut String, r: &Report, w: &WhatBinds) {
             format!("settles in {t:.2} s")
         });
     let (step_m, band_m) = crate::design::binding::STEP_M;
-    let step =
-        format!(
+    // The step starts inside the local regime where there is one: its gains set the floor.
+    let (local, whose) = if f.local {
+        (",L", ", with the local regime's gains")
+    } else {
+        ("", "")
+    };
+    let step = format!(
         "no faster than {:.2} s with perfect attitude tracking: the commanded acceleration is at \
-         most M_p{} = {:.4} m/s^2 and, from rest, changes at most at 2 k_f U_l M_p = {:.3} m/s^3 \
-         (Lemma 1), and a move of {step_m} m from rest enters its {band_m} m band and stays no \
-         sooner; the design {flown}.",
-        f.time_s,
-        if f.local { ",L (the local regime's)" } else { "" },
-        f.acceleration_m_s2,
-        f.jerk_m_s3,
+         most M_p{local} = {:.4} m/s^2 and, from rest, changes at most at 2 k_f{local} U_l \
+         M_p{local} = {:.3} m/s^3 (Lemma 1{whose}), and a move of {step_m} m from rest enters its \
+         {band_m} m band and stays no sooner; the design {flown}.",
+        f.time_s, f.acceleration_m_s2, f.jerk_m_s3,
     );
     let _ = writeln!(
         s,
