@@ -13,7 +13,9 @@
 //! extension: docs/position-saturation.md),
 //! [`desired_attitude`] (eq:DesiredRotationMatrix, Lemma 1), [`mrp`] (Section II),
 //! [`desired_frame_bounds`] (Lemma 1 per axis of the desired frame, an extension:
-//! docs/airmode.md), [`path_lifting`] (Appendix), [`attitude_control`] (Section V), [`reference`](mod@reference)
+//! docs/airmode.md), [`heading_compensator`] (a compensated heading fed to
+//! eq:DesiredRotationMatrix so that the desired frame's yaw rate is the compensator's alone, an
+//! extension of Lemma 1), [`path_lifting`] (Appendix), [`attitude_control`] (Section V), [`reference`](mod@reference)
 //! (Assumption 1's trajectories), [`bounds`] (Assumption 1, Theorems 1–2, Lemma 1),
 //! [`integral`], [`disturbance_observer`], [`feedforward_scale`] and [`integral_stability`]
 //! (bounded integral action, an extension: docs/integral-action.md),
@@ -42,6 +44,7 @@ pub mod desired_frame_bounds;
 pub mod disturbance_observer;
 pub mod feedforward_scale;
 pub mod gains;
+pub mod heading_compensator;
 pub mod integral;
 pub mod integral_stability;
 pub mod lemma1_form;
