@@ -52,9 +52,11 @@ for preset in crazyflie-2.1 hummingbird x500; do
     cargo test -p firmware --lib built_config_is_certified_and_arms
 done
 
-step "firmware built with a flight file with airmode and a local regime (a test fixture): the gate certifies it and it arms, flying airmode"
-FIRMWARE_FLIGHT_FILE=firmware/flights/fixtures/crazyflie-airmode-local.toml \
-  cargo test -p firmware --lib built_config_is_certified_and_arms
+step "firmware built with the test fixtures' flight files (airmode and a local regime; a local regime with the compensated heading): the gate certifies each and it arms"
+for fixture in crazyflie-airmode-local x500-compensated-local; do
+  FIRMWARE_FLIGHT_FILE="firmware/flights/fixtures/$fixture.toml" \
+    cargo test -p firmware --lib built_config_is_certified_and_arms
+done
 
 step "no import cycle between the modules of any crate (cargo-modules 0.27.0, installed if missing)"
 # cargo-modules resolves every crate's `use` edges (rust-analyzer); tests/module_cycles.py fails on

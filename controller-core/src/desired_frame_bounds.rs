@@ -84,11 +84,43 @@ impl<T: Scalar> DesiredFrameBounds<T> {
         let (kd, kdd) = (c.heading_rate, c.heading_acceleration);
         let two = lit::<T>(2.0);
         let yaw_rate = ((h * r + kd) / l).min(c.angular_velocity);
-        let tilt_rate = r.min(c.angular_velocity);
         let yaw_acceleration = (((r + h * kd) * r + h * q + kdd) / l
             + two * h * kd * r / (l * l)
             + two * h * (r + h * kd) * (h * r + kd) / (l * l * l))
             .min(c.angular_acceleration);
+        Self::from_yaw(c, h, (yaw_rate, yaw_acceleration), inertia)
+    }
+
+    /// The bounds of the frame built from the compensated heading
+    /// ([`crate::heading_compensator`]): its yaw components are bounded by the compensator's
+    /// `yaw = (U_ω3 [rad/s], U_ω̇3 [rad/s²])` ([`crate::heading_compensator::yaw_bounds`]), the
+    /// tilt components and the gyroscopic term follow from them as in [`Self::new`] (the identities
+    /// of the module documentation hold for any heading signal). Nothing is capped by the chain's
+    /// `angular_velocity`, `angular_acceleration`: Lemma 1's norms bound the frame built from the
+    /// reference heading, not this one. No errors. Source: extension of Lemma 1
+    /// ([`crate::heading_compensator`]).
+    pub fn compensated(chain: &ChainBounds<T>, yaw: (T, T), inertia: &Vector3<T>) -> Self {
+        let l = chain.heading_projection_min;
+        let h = (T::one() - l * l).max(T::zero()).sqrt();
+        let tilt_rate = chain.thrust_direction_rate;
+        // Caps that never bind: the norm of the components themselves.
+        let uncapped = ChainBounds {
+            angular_velocity: (tilt_rate * tilt_rate + yaw.0 * yaw.0).sqrt(),
+            angular_acceleration: yaw.0 * tilt_rate + chain.thrust_direction_acceleration_across,
+            ..*chain
+        };
+        Self::from_yaw(&uncapped, h, yaw, inertia)
+    }
+
+    /// The tilt components and the gyroscopic term for the yaw bounds `yaw`, capped by the chain's
+    /// norms (module documentation).
+    fn from_yaw(c: &ChainBounds<T>, h: T, yaw: (T, T), inertia: &Vector3<T>) -> Self {
+        let (yaw_rate, yaw_acceleration) = yaw;
+        let (r, q) = (
+            c.thrust_direction_rate,
+            c.thrust_direction_acceleration_across,
+        );
+        let tilt_rate = r.min(c.angular_velocity);
         let tilt_acceleration = (yaw_rate * tilt_rate + q).min(c.angular_acceleration);
         let j = inertia;
         let half = lit::<T>(0.5);

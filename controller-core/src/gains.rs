@@ -4,6 +4,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use crate::attitude_control::{AttitudeGains, TorqueOutput};
+use crate::heading_compensator::HeadingCompensatorGains;
 use crate::integral::IntegralGains;
 use crate::lemma1_form::Lemma1Form;
 use crate::local_regime::LocalGains;
@@ -41,6 +42,10 @@ pub struct Gains<T: Scalar> {
     /// [`crate::local_regime`]): faster position gains flown while the attitude energy is inside
     /// a sublevel set; `None` flies `position` always, bit for bit.
     pub local: Option<LocalGains<T>>,
+    /// The compensated heading (extension, [`crate::heading_compensator`]): the desired frame is
+    /// built from a heading state whose rate cancels the tilt-induced yaw, so that its yaw rate is
+    /// the compensator's alone; `None` builds it from the reference heading, bit for bit.
+    pub heading_compensator: Option<HeadingCompensatorGains<T>>,
 }
 
 impl<T: Scalar> Gains<T> {
@@ -70,6 +75,7 @@ impl<T: Scalar> Gains<T> {
             velocity_limit: None,
             lemma1: Lemma1Form::Paper,
             local: None,
+            heading_compensator: None,
         }
     }
 }
@@ -112,6 +118,9 @@ impl<T: Scalar> Gains<T> {
         }
         if let Some(l) = &self.local {
             l.validate(&self.position)?;
+        }
+        if let Some(h) = &self.heading_compensator {
+            h.validate()?;
         }
         let p = &self.position;
         let a = &self.attitude;

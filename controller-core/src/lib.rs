@@ -82,6 +82,7 @@ pub use controller::{ControlOutput, Controller, Diagnostics, StepError, VehicleS
 pub use disturbance_observer::ObserverGains;
 pub use feedforward_scale::{FeedforwardScaleGains, FeedforwardScaleState};
 pub use gains::Gains;
+pub use heading_compensator::HeadingCompensatorGains;
 pub use integral::{IntegralGains, IntegralState};
 pub use lemma1_form::Lemma1Form;
 pub use local_regime::{LocalGains, Regime};

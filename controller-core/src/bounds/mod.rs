@@ -13,6 +13,7 @@ use crate::condition::strictly_less;
 pub use crate::condition::{Condition, Violation};
 use crate::desired_frame_bounds::{ChainBounds, DesiredFrameBounds};
 use crate::gains::Gains;
+use crate::heading_compensator::{yaw_bounds, CompensatorChain};
 use crate::integral_stability::local_stability_conditions;
 use crate::parameter_error::ParameterError;
 use crate::position_saturation::PositionSaturation;
@@ -222,18 +223,46 @@ pub fn certify<T: Scalar>(
         Some(t) => t.feedback_levels(a_gains.mrp_saturation, gains.hysteresis),
     };
     let feedback_torque = feedback_torque_axes.max();
-    let desired_frame = DesiredFrameBounds::new(
-        &ChainBounds {
-            thrust_direction_rate: rho_d,
-            thrust_direction_acceleration_across: rho_dd_projected,
-            heading_projection_min,
-            heading_rate: k.heading_rate,
-            heading_acceleration: k.heading_acceleration,
+    let chain_bounds = ChainBounds {
+        thrust_direction_rate: rho_d,
+        thrust_direction_acceleration_across: rho_dd_projected,
+        heading_projection_min,
+        heading_rate: k.heading_rate,
+        heading_acceleration: k.heading_acceleration,
+        angular_velocity,
+        angular_acceleration,
+    };
+    // With the compensated heading the desired frame is built from the compensator's heading,
+    // not the reference's: Lemma 1's norms above bound the reference's frame, so the norms are
+    // the compensated frame's components' (crate::heading_compensator) from here on.
+    let (desired_frame, angular_velocity, angular_acceleration) = match &gains.heading_compensator {
+        None => (
+            DesiredFrameBounds::new(&chain_bounds, &inertia),
             angular_velocity,
             angular_acceleration,
-        },
-        &inertia,
-    );
+        ),
+        Some(hc) => {
+            let yaw = yaw_bounds(
+                hc,
+                &CompensatorChain {
+                    thrust_direction_rate: rho_d,
+                    horizontal_share: (T::one() - heading_projection_min * heading_projection_min)
+                        .max(T::zero())
+                        .sqrt(),
+                    heading_projection_min,
+                    heading_rate: k.heading_rate,
+                    heading_acceleration: k.heading_acceleration,
+                },
+            );
+            let frame = DesiredFrameBounds::compensated(&chain_bounds, yaw, &inertia);
+            let hypot = |a: T, b: T| (a * a + b * b).sqrt();
+            (
+                frame,
+                hypot(frame.tilt_rate, frame.yaw_rate),
+                hypot(frame.tilt_acceleration, frame.yaw_acceleration),
+            )
+        }
+    };
 
     let set_rates = desired_frame.norm_bounds((angular_velocity, angular_acceleration));
     // Theorem 2's per-axis bounds: Lemma 1's norms as the paper writes them, or with the desired

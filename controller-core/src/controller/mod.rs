@@ -16,9 +16,12 @@
 use nalgebra::Vector3;
 
 use crate::attitude_energy::attitude_energy;
-use crate::desired_attitude::desired_attitude;
+use crate::desired_attitude::{desired_attitude, normalize_with_derivatives, DesiredAttitudeError};
 use crate::feedforward_scale::FeedforwardScaleState;
 use crate::gains::Gains;
+use crate::heading_compensator::{
+    advance, compensated_heading, CompensatedHeading, HeadingCompensatorGains,
+};
 use crate::integral::{modelled_compensation, IntegralGains, IntegralState};
 use crate::local_regime::Regime;
 use crate::mrp::rotation_from_quaternion;
@@ -57,6 +60,9 @@ pub struct Controller<T: Scalar> {
     /// The disturbance observer's velocity `v̂` [m/s], inertial (`None`: it starts at the next
     /// measured velocity; extension, docs/integral-action.md).
     observed_velocity: Option<Vector3<T>>,
+    /// The compensated heading's state `ψ_c` \[rad\] (extension, [`crate::heading_compensator`]):
+    /// `None` until the first sample with [`Gains::heading_compensator`], which starts it at `ψ_d`.
+    compensated_heading: Option<T>,
 }
 
 fn finite3<T: Scalar>(v: &Vector3<T>, field: &'static str) -> Result<(), StepError> {
@@ -95,6 +101,7 @@ impl<T: Scalar> Controller<T> {
             feedforward_scale: FeedforwardScaleState::zero(),
             integral_frozen: false,
             observed_velocity: None,
+            compensated_heading: None,
         };
         c.accept_reference(constants)?;
         Ok(c)
@@ -336,13 +343,27 @@ impl<T: Scalar> Controller<T> {
             });
             (ig, rate, scale)
         });
+        // The compensated heading (extension, crate::heading_compensator): the desired frame is
+        // built from the state ψ_c, started at ψ_d, whose rate cancels the tilt-induced yaw.
+        let compensated = match &g.heading_compensator {
+            None => None,
+            Some(hc) => Some(self.compensated_heading_of(hc, &position, reference)?),
+        };
+        let (heading, heading_rate, heading_acceleration) = match &compensated {
+            None => (
+                reference.heading,
+                reference.heading_rate,
+                reference.heading_acceleration,
+            ),
+            Some(c) => (c.heading, c.heading_rate, c.heading_acceleration),
+        };
         let desired = desired_attitude(
             &position.u,
             &position.u_dot,
             &position.u_ddot,
-            &reference.heading,
-            &reference.heading_rate,
-            &reference.heading_acceleration,
+            &heading,
+            &heading_rate,
+            &heading_acceleration,
         )
         .map_err(StepError::DesiredAttitude)?;
 
@@ -481,10 +502,43 @@ impl<T: Scalar> Controller<T> {
         }
         self.propagator = Some((self.regime, propagator));
         self.regime = next_regime;
+        if let Some(c) = &compensated {
+            self.compensated_heading = Some(advance(c.angle, c.rate, dt));
+        }
         Ok(ControlOutput {
             thrust,
             torque: torque.torque,
             diagnostics,
         })
+    }
+
+    /// The compensated heading at this sample ([`crate::heading_compensator`]): the thrust
+    /// direction of `position`'s `u` with its derivatives and the reference heading as an angle
+    /// with its rates (`ψ̇_d = ν_d^⊥ᵀ ν̇_d`, `ψ̈_d = ν_d^⊥ᵀ ν̈_d` for the unit `ν_d`), from the
+    /// state `ψ_c` (or `ψ_d` at the first sample). Errors: the desired attitude's, when `u = 0`
+    /// or points down (the compensator's rate divides by `ρ₃`).
+    fn compensated_heading_of(
+        &self,
+        gains: &HeadingCompensatorGains<T>,
+        position: &crate::position::PositionOutput<T>,
+        reference: &ReferenceSample<T>,
+    ) -> Result<CompensatedHeading<T>, StepError> {
+        let rho = normalize_with_derivatives(&position.u, &position.u_dot, &position.u_ddot)
+            .ok_or(StepError::DesiredAttitude(DesiredAttitudeError::ZeroThrust))?;
+        if rho.unit.z <= T::zero() {
+            return Err(StepError::DesiredAttitude(
+                DesiredAttitudeError::ThrustNotUpward,
+            ));
+        }
+        let nu = &reference.heading;
+        let across = nalgebra::Vector2::new(-nu.y, nu.x);
+        let psi_d = reference.yaw();
+        let rates = (
+            psi_d,
+            across.dot(&reference.heading_rate),
+            across.dot(&reference.heading_acceleration),
+        );
+        let psi_c = self.compensated_heading.unwrap_or(psi_d);
+        Ok(compensated_heading(gains, psi_c, &rho, rates))
     }
 }

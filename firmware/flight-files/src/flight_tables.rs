@@ -81,6 +81,10 @@ pub struct GainsTable {
     /// gains; extension, docs/envelope-design.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub local: Option<LocalTable>,
+    /// `[gains.heading_compensator]`: the desired frame built from a compensated heading
+    /// (extension, controller-core's `heading_compensator`); absent: from the reference heading.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heading_compensator: Option<HeadingCompensatorTable>,
 }
 
 /// `[gains.vertical]`: the vertical channel of the position feedback apart from the horizontal
@@ -121,6 +125,18 @@ pub struct LocalTable {
     pub energy_in_J: f64,
     /// `E_out` \[J\], above `E_in`: the global gains take back over above this.
     pub energy_out_J: f64,
+}
+
+/// `[gains.heading_compensator]`: the heading state whose rate cancels the desired frame's
+/// tilt-induced yaw, so that the frame's yaw rate is `c = ψ̇_d + L tanh(k_ψ sin(ψ_d − ψ_c)/L)`
+/// alone (extension, controller-core's `heading_compensator`).
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct HeadingCompensatorTable {
+    /// `L` [rad/s]: the level of the heading correction, `> 0`.
+    pub level_rad_s: f64,
+    /// `k_ψ` [1/s]: the heading correction's gain at zero heading error, `> 0`.
+    pub gain_1_s: f64,
 }
 
 /// `[gains] position_saturation`: the shape of the position feedback's saturation `σ_p`

@@ -111,7 +111,10 @@ pub fn scenario_tight_bounds_with(
 ) -> Result<TightBounds> {
     let (vehicle, gains) = (scenario.vehicle(), scenario.gains());
     let constants = scenario.trajectory::<f64>().constants();
-    if gains.position.vertical.is_some() || gains.local.is_some() {
+    if gains.position.vertical.is_some()
+        || gains.local.is_some()
+        || gains.heading_compensator.is_some()
+    {
         return certified_stand_in(scenario);
     }
     tight_bounds(&vehicle, &gains, &constants, FilterStart::Zero, options)
@@ -119,9 +122,10 @@ pub fn scenario_tight_bounds_with(
 }
 
 /// The certificate's own bounds in the tight bounds' place, for the set-ups the branch and bound
-/// does not model (the vertical channel apart, docs/vertical-channel.md, and the envelope
-/// design's local regime, docs/envelope-design.md): its confining set is the paper's symmetric
-/// one with one set of position gains. Sound (they are the certified bounds, each the larger of
+/// does not model (the vertical channel apart, docs/vertical-channel.md, the envelope
+/// design's local regime, docs/envelope-design.md, and the compensated heading, controller-core's
+/// `heading_compensator`): its confining set is the paper's symmetric one with one set of
+/// position gains and the reference heading. Sound (they are the certified bounds, each the larger of
 /// the global and the local regime's), only not tighter; `boxes` is 0, which says no search ran.
 /// Errors: the certificate cannot be computed.
 fn certified_stand_in(scenario: &Scenario) -> Result<TightBounds> {

@@ -97,6 +97,12 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
             energy_in_J: l.energy_in,
             energy_out_J: l.energy_out,
         }),
+        heading_compensator: g.heading_compensator.map(|h| {
+            firmware::flight_tables::HeadingCompensatorTable {
+                level_rad_s: h.level,
+                gain_1_s: h.gain,
+            }
+        }),
     }
 }
 

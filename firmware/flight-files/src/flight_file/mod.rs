@@ -287,7 +287,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
          controller_core::Gains {{\n        \
          position: controller_core::position::PositionGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {}, saturation_shape: controller_core::PositionSaturation::{:?}, vertical: {} }},\n        \
          attitude: controller_core::attitude_control::AttitudeGains {{ k_mrp: {}, k_omega: {}, mrp_saturation: {}, omega_saturation: {} }},\n        \
-         hysteresis: {},\n        reset_threshold: {},\n        integral: {},\n        tilt_priority: {},\n        velocity_limit: {},\n        lemma1: controller_core::Lemma1Form::{:?},\n        local: {},\n    }}\n}}",
+         hysteresis: {},\n        reset_threshold: {},\n        integral: {},\n        tilt_priority: {},\n        velocity_limit: {},\n        lemma1: controller_core::Lemma1Form::{:?},\n        local: {},\n        heading_compensator: {},\n    }}\n}}",
         lit(g.kp),
         lit(g.kv),
         lit(g.kf),
@@ -363,6 +363,12 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
             lit(l.M_p_m_s2),
             lit(l.energy_in_J),
             lit(l.energy_out_J)
+        )),
+        // `[gains.heading_compensator]` (absent = None, the reference heading).
+        g.heading_compensator.map_or("None".to_string(), |h| format!(
+            "Some(controller_core::HeadingCompensatorGains {{ level: {}, gain: {} }})",
+            lit(h.level_rad_s),
+            lit(h.gain_1_s)
         ))
     ));
     put(format!(

@@ -327,6 +327,12 @@ impl Scenario {
             energy_in: lit(l.energy_in_J),
             energy_out: lit(l.energy_out_J),
         });
+        out.heading_compensator =
+            g.heading_compensator
+                .map(|h| controller_core::HeadingCompensatorGains {
+                    level: lit(h.level_rad_s),
+                    gain: lit(h.gain_1_s),
+                });
         out.integral = g.integral.as_ref().map(|i| IntegralGains {
             gain: lit(i.k_i),
             level: v3(&i.M_i_m_s2),

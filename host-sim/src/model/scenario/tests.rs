@@ -73,6 +73,36 @@ fn bad_value_is_named_with_key() {
     assert!(e.contains("gains.alpha"), "{e}");
 }
 
+/// Given `[gains.heading_compensator]`, when it parses, then the gains carry it; a level that is
+/// not positive is refused naming its key and value, an unknown key by name.
+#[test]
+fn heading_compensator_table_is_read_and_checked() {
+    let table = |level: &str, key: &str| {
+        format!("{PAPER_SCENARIO}\n[gains.heading_compensator]\n{key} = {level}\ngain_1_s = 2.0\n")
+    };
+    let s = Scenario::parse(&table("0.3", "level_rad_s"), "h.toml").unwrap();
+    let h = s
+        .gains::<f64>()
+        .heading_compensator
+        .expect("the compensator is on");
+    assert_eq!((h.level, h.gain), (0.3, 2.0));
+    assert!(Scenario::paper()
+        .gains::<f64>()
+        .heading_compensator
+        .is_none());
+    let e = Scenario::parse(&table("0.0", "level_rad_s"), "h.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("gains.heading_compensator.level_rad_s") && e.contains("got 0"),
+        "{e}"
+    );
+    let e = Scenario::parse(&table("0.3", "level"), "h.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("level"), "{e}");
+}
+
 #[test]
 fn wrong_type_is_named() {
     let text = PAPER_SCENARIO.replace("duration_s = 30.0", "duration_s = \"long\"");
