@@ -167,4 +167,4 @@ impl<T: Scalar> DesiredFrameBounds<T> {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

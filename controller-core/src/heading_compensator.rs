@@ -56,8 +56,9 @@
 //! - `ω̇_d,3 = ċ ρ₃/|ϖ|² + c ρ̇₃/|ϖ|² + 2 c ρ₃ s ṡ/|ϖ|⁴`, so
 //!   `|ω̇_d,3| ≤ C'/L_ϖ + (K_ν̇ + L) h U_ρ̇/L_ϖ² + 2 (K_ν̇ + L) h (U_ρ̇ + h U_ψc)/L_ϖ³`.
 //!
-//! No term holds `ρ̈`. This module is not wired into the controller: it is the law and its
-//! bounds only.
+//! No term holds `ρ̈`. The controller flies it when [`crate::Gains::heading_compensator`] is
+//! set (its state `ψ_c` starts at `ψ_d`), and `certify` then takes the desired frame's yaw
+//! bounds from [`yaw_bounds`] (docs/heading-compensator.md).
 //!
 //! [`desired_attitude`]: crate::desired_attitude::desired_attitude
 

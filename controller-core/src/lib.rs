@@ -15,7 +15,7 @@
 //! [`desired_frame_bounds`] (Lemma 1 per axis of the desired frame, an extension:
 //! docs/airmode.md), [`heading_compensator`] (a compensated heading fed to
 //! eq:DesiredRotationMatrix so that the desired frame's yaw rate is the compensator's alone, an
-//! extension of Lemma 1), [`path_lifting`] (Appendix), [`attitude_control`] (Section V), [`reference`](mod@reference)
+//! extension of Lemma 1: docs/heading-compensator.md), [`path_lifting`] (Appendix), [`attitude_control`] (Section V), [`reference`](mod@reference)
 //! (Assumption 1's trajectories), [`bounds`] (Assumption 1, Theorems 1–2, Lemma 1),
 //! [`integral`], [`disturbance_observer`], [`feedforward_scale`] and [`integral_stability`]
 //! (bounded integral action, an extension: docs/integral-action.md),

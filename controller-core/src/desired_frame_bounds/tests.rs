@@ -11,13 +11,15 @@ use crate::desired_attitude::desired_attitude;
 use crate::reference::{ReferenceTrajectory, Trajectory};
 use crate::{certify, FilterStart, Gains, Lemma1Form, Limits, TrajectoryConstants, Vehicle};
 
-fn vec3() -> impl Strategy<Value = Vector3<f64>> {
+pub(crate) fn vec3() -> impl Strategy<Value = Vector3<f64>> {
     (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64).prop_map(|(x, y, z)| Vector3::new(x, y, z))
 }
 
 /// `(u, u̇, ü)` with `u` upward (tilts up to about 80°), at scales from calm to violent, and a
-/// unit heading with `(ψ, ψ̇, ψ̈)`, a constant heading a third of the time.
-fn signals() -> impl Strategy<Value = (Vector3<f64>, Vector3<f64>, Vector3<f64>, [f64; 3])> {
+/// unit heading with `(ψ, ψ̇, ψ̈)`, a constant heading a third of the time (also the compensated
+/// heading's tests' signals).
+pub(crate) fn signals(
+) -> impl Strategy<Value = (Vector3<f64>, Vector3<f64>, Vector3<f64>, [f64; 3])> {
     (
         vec3(),
         0.5..10.0f64,

@@ -17,6 +17,7 @@ use super::{
 use crate::desired_attitude::{
     desired_attitude, normalize_with_derivatives, DesiredAttitude, UnitWithDerivatives,
 };
+use crate::desired_frame_bounds::tests::{signals as frame_signals, vec3};
 use crate::parameter_error::ParameterError;
 
 /// `(u, u̇, ü)` [m/s², m/s³, m/s⁴], inertial.
@@ -25,36 +26,15 @@ type ControlSignals = (Vector3<f64>, Vector3<f64>, Vector3<f64>);
 /// `(ψ_d, ψ̇_d, ψ̈_d)` [rad, rad/s, rad/s²].
 type HeadingReference = (f64, f64, f64);
 
-fn vec3() -> impl Strategy<Value = Vector3<f64>> {
-    (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64).prop_map(|(x, y, z)| Vector3::new(x, y, z))
+/// `desired_frame_bounds`' signals: `(u, u̇, ü)` with `u` upward, at scales from calm to
+/// violent, and a reference heading `(ψ_d, ψ̇_d, ψ̈_d)`, held a third of the time.
+fn signals() -> impl Strategy<Value = (Vector3<f64>, Vector3<f64>, Vector3<f64>, HeadingReference)>
+{
+    frame_signals().prop_map(|(u, ud, udd, [psi, psid, psidd])| (u, ud, udd, (psi, psid, psidd)))
 }
 
 fn gains() -> impl Strategy<Value = HeadingCompensatorGains<f64>> {
     (0.05..3.0f64, 0.1..10.0f64).prop_map(|(level, gain)| HeadingCompensatorGains { level, gain })
-}
-
-/// `(u, u̇, ü)` with `u` upward (tilts up to about 85°), at scales from calm to violent, and a
-/// reference heading `(ψ_d, ψ̇_d, ψ̈_d)`, held a third of the time.
-fn signals() -> impl Strategy<Value = (Vector3<f64>, Vector3<f64>, Vector3<f64>, HeadingReference)>
-{
-    (
-        vec3(),
-        0.5..10.0f64,
-        vec3(),
-        prop_oneof![Just(0.0), 0.01..1.0f64, 1.0..30.0f64],
-        vec3(),
-        prop_oneof![Just(0.0), 0.01..1.0f64, 1.0..300.0f64],
-        (
-            -3.2..3.2f64,
-            prop_oneof![Just(0.0), -3.0..3.0f64],
-            -5.0..5.0f64,
-        ),
-    )
-        .prop_map(|(u, uz, ud, sd, udd, sdd, (psi, psid, psidd))| {
-            let u = Vector3::new(6.0 * u.x, 6.0 * u.y, uz + u.z.abs());
-            let psidd = if psid == 0.0 { 0.0 } else { psidd };
-            (u, ud * sd, udd * sdd, (psi, psid, psidd))
-        })
 }
 
 fn thrust_direction(
