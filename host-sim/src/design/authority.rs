@@ -156,6 +156,9 @@ pub struct PositionLaw<'a> {
     /// levels `M_up = up M_p` and `M_down = down M_p` and its filters `k_f,z = kf k_f`,
     /// `k_s,z = ks k_f,z` (ratios, dimensionless).
     pub vertical: Option<(f64, f64, f64, f64)>,
+    /// `Some`: the desired frame built from the compensated heading with these gains
+    /// (docs/heading-compensator.md); it enters the same bounds.
+    pub heading: Option<controller_core::HeadingCompensatorGains<f64>>,
 }
 
 impl PositionLaw<'_> {
@@ -180,6 +183,7 @@ pub fn probe_gains(mp: f64, kf: f64, ks: f64, law: PositionLaw<'_>) -> Gains<f64
     g.hysteresis = DELTA;
     g.reset_threshold = ALPHA;
     g.integral = law.integral.map(|i| i.probe(kf, ks));
+    g.heading_compensator = law.heading;
     g.position.vertical =
         law.vertical
             .map(|(up, down, kf_z, ks_z)| controller_core::VerticalChannel {

@@ -127,6 +127,17 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             _ => " (as the paper states it)",
         }
     );
+    if let Some(h) = &r.gains.heading_compensator {
+        let _ = writeln!(
+            s,
+            "**Compensated heading** (`--heading-compensator`, docs/heading-compensator.md): the \
+             desired frame is built from a heading whose rate cancels the tilt-induced yaw, \
+             corrected towards the reference's at level L = {} rad/s with gain k_psi = {} 1/s; the \
+             certificate takes the desired frame's yaw bounds from it and the flight file \
+             carries `[gains.heading_compensator]`.\n",
+            h.level_rad_s, h.gain_1_s
+        );
+    }
     if r.certificate.bounds == super::tight::BoundsKind::Tight {
         let _ = writeln!(
             s,

@@ -50,6 +50,14 @@ pub enum Fallback {
     },
 }
 
+/// The compensated heading `design --heading-compensator` flies: `L` = 0.3 rad/s, `k_ψ` = 1/s
+/// (docs/heading-compensator.md; not searched).
+pub const DESIGN_HEADING_COMPENSATOR: controller_core::HeadingCompensatorGains<f64> =
+    controller_core::HeadingCompensatorGains {
+        level: 0.3,
+        gain: 1.0,
+    };
+
 /// Default evaluation budget: sized so one preset finishes in well under 10 minutes on 2 cores
 /// (release build).
 pub const DEFAULT_EVALUATIONS: usize = 960;
@@ -84,6 +92,9 @@ pub struct DesignOptions {
     /// Whether the vertical channel's own levels are searched too (`--vertical`,
     /// docs/vertical-channel.md): a braking level upwards apart from the downward one.
     pub vertical: bool,
+    /// Whether the designs fly the compensated heading ([`DESIGN_HEADING_COMPENSATOR`],
+    /// `--heading-compensator`, docs/heading-compensator.md).
+    pub heading_compensator: bool,
     /// The bounds that certify Theorem 2's torque condition and the rotor fit.
     pub bounds: BoundsKind,
     /// `Some`: the design carries the bounded integral action sized to cover this disturbance,

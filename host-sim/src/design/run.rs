@@ -347,6 +347,9 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
         shape: o.position_saturation,
         lemma1: o.lemma1,
         vertical: None,
+        heading: o
+            .heading_compensator
+            .then_some(super::options::DESIGN_HEADING_COMPENSATOR),
     };
     let binding = binding_condition(
         &vehicle,

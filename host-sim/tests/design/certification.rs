@@ -290,3 +290,41 @@ fn uncertifiable_reference_is_slowed_down_and_said() {
     assert!(outcome.report.certificate.all_hold && outcome.report.rotor_fit.fits);
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// Given `--heading-compensator`, when the Crazyflie is designed on a small budget, then the
+/// written scenario and flight file carry the compensator, the scenario read back re-certifies
+/// with it (its desired-frame yaw-rate bound is the compensator's `(K_ν̇ + L)/L_ϖ`), and
+/// design.md says so.
+#[test]
+fn heading_compensator_design_carries_it_and_recertifies() {
+    let out = out_dir("cf-compensated");
+    let mut o = options(preset_path("crazyflie-2.1"), out.clone(), 16);
+    o.heading_compensator = true;
+    let outcome = run_design(&o).unwrap();
+    assert!(outcome.report.certificate.all_hold && outcome.report.rotor_fit.fits_with_margin);
+
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    let gains = s.gains::<f64>();
+    let h = gains
+        .heading_compensator
+        .expect("the scenario carries the compensator");
+    assert_eq!(h, host_sim::design::options::DESIGN_HEADING_COMPENSATOR);
+    let cert = certified_read_back(&s);
+    let constants = s.trajectory::<f64>().constants();
+    let frame = cert.bounds.desired_frame;
+    // The compensator's own yaw-rate bound, (K_ν̇ + L)/L_ϖ, with L_ϖ = √(1 − h²).
+    let l_varpi = (1.0 - frame.horizontal_share.powi(2)).sqrt();
+    let expected = (constants.heading_rate + h.level) / l_varpi;
+    assert!(
+        (frame.yaw_rate - expected).abs() <= 1e-9 * expected,
+        "{} vs {expected}",
+        frame.yaw_rate
+    );
+    let firmware = std::fs::read_to_string(out.join("firmware.toml")).unwrap();
+    assert!(
+        firmware.contains("[gains.heading_compensator]"),
+        "{firmware}"
+    );
+    let md = std::fs::read_to_string(out.join("design.md")).unwrap();
+    assert!(md.contains("**Compensated heading**"));
+}

@@ -85,6 +85,7 @@ pub(crate) fn context<'a>(
             shape,
             lemma1,
             vertical: None,
+            heading: None,
         },
         speed_limit: None,
     }

@@ -190,6 +190,11 @@ pub struct DesignArgs {
     /// `M_p` on every axis.
     #[arg(long, value_enum, default_value_t = DesignAirmode::On)]
     pub vertical: DesignAirmode,
+    /// The compensated heading (docs/heading-compensator.md): the designs build the desired frame
+    /// from a heading whose rate cancels the tilt-induced yaw (`L` = 0.3 rad/s, `k_ψ` = 1/s), so
+    /// the desired frame's yaw no longer pays for the tilt; the flight file carries it.
+    #[arg(long)]
+    pub heading_compensator: bool,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/design")]
     pub out: PathBuf,
@@ -230,6 +235,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         },
         envelope: args.envelope == DesignAirmode::On,
         vertical: args.vertical == DesignAirmode::On,
+        heading_compensator: args.heading_compensator,
         bounds: match args.bounds {
             DesignBounds::Paper => BoundsKind::Paper,
             DesignBounds::Tight => BoundsKind::Tight,
