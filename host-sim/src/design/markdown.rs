@@ -130,12 +130,50 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
     if let Some(h) = &r.gains.heading_compensator {
         let _ = writeln!(
             s,
-            "**Compensated heading** (`--heading-compensator`, docs/heading-compensator.md): the \
+            "**Compensated heading** (`--heading compensated`, docs/heading-compensator.md): the \
              desired frame is built from a heading whose rate cancels the tilt-induced yaw, \
              corrected towards the reference's at level L = {} rad/s with gain k_psi = {} 1/s; the \
              certificate takes the desired frame's yaw bounds from it and the flight file \
              carries `[gains.heading_compensator]`.\n",
             h.level_rad_s, h.gain_1_s
+        );
+    }
+    if r.heading_search.len() > 1 {
+        let listed: Vec<String> = r
+            .heading_search
+            .iter()
+            .map(|c| {
+                format!(
+                    "{} {:.3}{}{}",
+                    if c.compensated {
+                        "compensated"
+                    } else {
+                        "paper's"
+                    },
+                    c.objective,
+                    if c.long_runs {
+                        " (on the long-run fallback's runs)"
+                    } else {
+                        ""
+                    },
+                    if c.constraints_met {
+                        ""
+                    } else {
+                        " (constraints not met)"
+                    }
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            "Heading: the {}, the better of the headings searched, each designed with its own \
+             fallbacks (`--heading both`; objective, lower is better): {}.\n",
+            if r.gains.heading_compensator.is_some() {
+                "compensated heading"
+            } else {
+                "paper's desired frame"
+            },
+            listed.join(", ")
         );
     }
     if r.certificate.bounds == super::tight::BoundsKind::Tight {

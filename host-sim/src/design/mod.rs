@@ -12,7 +12,8 @@
 //! `firmware.toml`. [`vehicle`] reads the vehicle file, [`flight`] builds the scenarios;
 //! [`integral`] sizes the bounded integral action of `design` (unless `--no-integral`); [`thrust`] puts the
 //! no-dive thrust of `design --thrust vertical-priority` inside the certified box; [`binding`]
-//! names what caps the design's levels.
+//! names what caps the design's levels; [`refine`] refines the envelope design's local regime
+//! after the search.
 
 pub mod authority;
 pub mod binding;
@@ -27,6 +28,7 @@ pub mod optimise;
 pub mod options;
 pub mod outputs;
 pub mod reference;
+pub mod refine;
 pub mod report;
 pub mod run;
 pub mod thrust;

@@ -50,7 +50,7 @@ pub enum Fallback {
     },
 }
 
-/// The compensated heading `design --heading-compensator` flies: `L` = 0.3 rad/s, `k_ψ` = 1/s
+/// The compensated heading `design` flies (`--heading compensated`, or `both`, the default): `L` = 0.3 rad/s, `k_ψ` = 1/s
 /// (docs/heading-compensator.md; not searched).
 pub const DESIGN_HEADING_COMPENSATOR: controller_core::HeadingCompensatorGains<f64> =
     controller_core::HeadingCompensatorGains {
@@ -93,8 +93,9 @@ pub struct DesignOptions {
     /// docs/vertical-channel.md): a braking level upwards apart from the downward one.
     pub vertical: bool,
     /// Whether the designs fly the compensated heading ([`DESIGN_HEADING_COMPENSATOR`],
-    /// `--heading-compensator`, docs/heading-compensator.md).
-    pub heading_compensator: bool,
+    /// `--heading`, docs/heading-compensator.md): both searched (the better design is written)
+    /// or one.
+    pub heading: HeadingSearch,
     /// The bounds that certify Theorem 2's torque condition and the rotor fit.
     pub bounds: BoundsKind,
     /// `Some`: the design carries the bounded integral action sized to cover this disturbance,
@@ -142,6 +143,48 @@ impl LawSearch {
         match self {
             Self::Both => vec![AttitudeLaw::Paper, AttitudeLaw::TiltPriority],
             Self::One(l) => vec![l],
+        }
+    }
+}
+
+/// Which desired-frame headings `design` searches (docs/heading-compensator.md).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum HeadingSearch {
+    /// The paper's heading and the compensated one, each designed on the whole budget with
+    /// every fallback; the design that meets the convergence constraints on the shorter runs
+    /// with the lower objective is written (which wins depends on the vehicle: the compensated
+    /// heading where the tilt-induced yaw fills the yaw authority, the x500). Twice the wall
+    /// time of one.
+    #[default]
+    Both,
+    /// The paper's desired frame (eq:DesiredRotationMatrix with the reference's heading).
+    Paper,
+    /// The compensated heading [`DESIGN_HEADING_COMPENSATOR`].
+    Compensated,
+}
+
+impl HeadingSearch {
+    /// Whether each design searched flies the compensated heading, in order.
+    pub fn modes(self) -> Vec<bool> {
+        match self {
+            Self::Both => vec![false, true],
+            Self::Paper => vec![false],
+            Self::Compensated => vec![true],
+        }
+    }
+
+    /// The compensator a single attempt flies: `Some` for [`Self::Compensated`] only
+    /// (`run_design` resolves [`Self::Both`] into one attempt per mode before designing).
+    pub fn compensator(self) -> Option<controller_core::HeadingCompensatorGains<f64>> {
+        (self == Self::Compensated).then_some(DESIGN_HEADING_COMPENSATOR)
+    }
+
+    /// The single search flying the compensated heading when `compensated`, else the paper's.
+    pub fn one(compensated: bool) -> Self {
+        if compensated {
+            Self::Compensated
+        } else {
+            Self::Paper
         }
     }
 }

@@ -203,6 +203,20 @@ pub struct MarginsEntry {
     pub doubled_lag_settling_180_s: Vec<(String, Option<f64>)>,
 }
 
+/// `heading_search`: one searched heading's outcome, after its fallbacks.
+#[derive(Clone, Debug, Serialize)]
+pub struct HeadingCandidate {
+    /// Whether it flies the compensated heading (docs/heading-compensator.md); `false`: the
+    /// paper's desired frame.
+    pub compensated: bool,
+    /// Its best design's objective (lower is better; graded penalty when unconverged).
+    pub objective: f64,
+    /// Whether that design met the convergence constraints.
+    pub constraints_met: bool,
+    /// Whether it was designed on the long-run fallback's runs.
+    pub long_runs: bool,
+}
+
 /// `law_search`: one searched attitude law's outcome.
 #[derive(Clone, Debug, Serialize)]
 pub struct LawCandidate {
@@ -241,6 +255,10 @@ pub struct Report {
     pub rotor_fit: RotorFitEntry,
     /// The envelope design's local regime (`--envelope`), `null` when the design has none.
     pub local_regime: Option<LocalRegimeEntry>,
+    /// The local regime refined after the search (`crate::design::refine`): the objectives
+    /// before and after, and whether the refined one is this design's; `null` without the
+    /// envelope design or without the compensated heading.
+    pub local_refinement: Option<super::refine::Refinement>,
     /// Gains (scenario `[gains]`).
     pub gains: GainsConfig,
     /// Limits (scenario `[limits]`): what the rotors deliver.
@@ -250,6 +268,10 @@ pub struct Report {
     /// Every law searched (`--law`, both by default) with its best design's objective and
     /// whether it met the convergence constraints; this design's law is the better one.
     pub law_search: Vec<LawCandidate>,
+    /// With `--heading both` (the default): each heading's design, the written one the first
+    /// that meets the convergence constraints on the shorter runs with the lower objective;
+    /// empty when one heading was asked for.
+    pub heading_search: Vec<HeadingCandidate>,
     /// With the integral action (the default; absent with `--no-integral`): the disturbance the bounded integral action covers and its level
     /// `M_i` [m/s²] (its gains are in `gains.integral`); `null` without.
     pub integral: Option<super::integral::IntegralSpec>,
@@ -374,6 +396,7 @@ impl Report {
             limits: limits_config(&c.limits),
             law,
             law_search: Vec::new(),
+            heading_search: Vec::new(),
             integral: o.integral,
             thrust: best.thrust.clone(),
             choices,
@@ -445,6 +468,7 @@ impl Report {
                 heading_held: o.heading_held.clone(),
             },
             what_binds: None,
+            local_refinement: None,
         }
     }
 }

@@ -15,8 +15,9 @@ use super::optimise::minimise;
 use super::options::*;
 use super::outputs::write_outputs;
 use super::reference::{largest_certifiable_scale, Reference};
-use super::report::LawCandidate;
+use super::refine::refine_local;
 use super::report::Report;
+use super::report::{HeadingCandidate, LawCandidate};
 use super::thrust::ThrustDesign;
 use super::tight::SEARCH_BOXES;
 use super::variables::{map, AttitudeLaw, Choices, Context, Layout};
@@ -190,6 +191,68 @@ fn thrust_of(
 pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
     let started = Instant::now();
     check_options(o)?;
+    let mut attempts = Vec::new();
+    for compensated in o.heading.modes() {
+        let one = DesignOptions {
+            heading: HeadingSearch::one(compensated),
+            ..o.clone()
+        };
+        attempts.push(design_every_attempt(&one, started)?);
+    }
+    let searched: Vec<HeadingCandidate> = attempts
+        .iter()
+        .map(|a| HeadingCandidate {
+            compensated: a.design.report.gains.heading_compensator.is_some(),
+            objective: a.design.best.evaluation.cost,
+            constraints_met: a.design.best.evaluation.feasible,
+            long_runs: a.long_runs,
+        })
+        .collect();
+    // Constraints met first, then the shorter runs (a 300 s run's objective is not comparable
+    // with a 30 s run's), then the lower objective.
+    let key = |a: &Attempts| {
+        (
+            !a.design.best.evaluation.feasible,
+            a.long_runs,
+            a.design.best.evaluation.cost,
+        )
+    };
+    let chosen = attempts
+        .into_iter()
+        .min_by(|a, b| {
+            key(a)
+                .partial_cmp(&key(b))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        })
+        .ok_or_else(|| anyhow::anyhow!("no heading to search (bug)"))?
+        .design;
+    let mut report = chosen.report;
+    if searched.len() > 1 {
+        report.heading_search = searched;
+    }
+    report.wall_time_s = started.elapsed().as_secs_f64();
+    let files = write_outputs(
+        &o.out,
+        &report,
+        &chosen.vehicle,
+        &chosen.best,
+        &chosen.reference,
+        chosen.period,
+    )?;
+    Ok(DesignOutcome { report, files })
+}
+
+/// One heading's design after every fallback it took, not yet written.
+struct Attempts {
+    design: Designed,
+    /// Whether it fell back to the long runs ([`FALLBACK_DURATION_S`]).
+    long_runs: bool,
+}
+
+/// The laws searched under `o` (one heading), then the fallbacks when no design converges (the
+/// heading held, then the velocity-limited feedback on long runs); `started`: when the whole
+/// job started, for the report's fallback line. Errors: as [`run_design`], except writing.
+fn design_every_attempt(o: &DesignOptions, started: Instant) -> Result<Attempts> {
     let mut designs = Vec::new();
     for law in o.law.laws() {
         designs.push(design_with(o, law)?);
@@ -241,7 +304,8 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
             held_too = Some(not_converged(o, &attempt.best.evaluation));
         }
     }
-    if !chosen.best.evaluation.feasible && fallback {
+    let long_runs = !chosen.best.evaluation.feasible && fallback;
+    if long_runs {
         let mut why = not_converged(o, &chosen.best.evaluation);
         if let Some(held) = held_too {
             why = format!("{why}; for the same path with the heading held, {held}");
@@ -262,18 +326,11 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         };
         chosen = design_with(&again, chosen.law)?;
     }
-    let mut report = chosen.report;
-    report.law_search = searched;
-    report.wall_time_s = started.elapsed().as_secs_f64();
-    let files = write_outputs(
-        &o.out,
-        &report,
-        &chosen.vehicle,
-        &chosen.best,
-        &chosen.reference,
-        chosen.period,
-    )?;
-    Ok(DesignOutcome { report, files })
+    chosen.report.law_search = searched;
+    Ok(Attempts {
+        design: chosen,
+        long_runs,
+    })
 }
 
 /// Why a first attempt was set aside: no design met the convergence constraints, with its
@@ -347,9 +404,7 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
         shape: o.position_saturation,
         lemma1: o.lemma1,
         vertical: None,
-        heading: o
-            .heading_compensator
-            .then_some(super::options::DESIGN_HEADING_COMPENSATOR),
+        heading: o.heading.compensator(),
     };
     let binding = binding_condition(
         &vehicle,
@@ -410,12 +465,13 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
             ..ControllerConfig::default()
         },
     };
-    let layout = Layout {
+    let searched = Layout {
         law,
         local: o.envelope,
         vertical: o.vertical,
+        narrow_local: false,
     };
-    let cost = |x: &[f64]| match score(
+    let cost_in = |x: &[f64], layout: Layout| match score(
         &vehicle,
         (&ctx, layout),
         &reference,
@@ -426,8 +482,17 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
         Ok(s) => s.evaluation.cost,
         Err(c) => c,
     };
-    let guess = Choices::initial_guess(layout).to_unit();
+    let cost = |x: &[f64]| cost_in(x, searched);
+    let guess = Choices::initial_guess(searched).to_unit();
     let optimum = minimise(&cost, &guess, o.evaluations, o.seed)?;
+    // Only with the compensated heading: it is what lets narrow envelopes fit the x500's yaw
+    // (docs/heading-compensator.md); without it the refinement moves no preset's step and
+    // would move the committed designs.
+    let (optimum, layout, refinement) = if o.heading.compensator().is_some() {
+        refine_local(&cost_in, optimum, searched, o.evaluations, o.seed)?
+    } else {
+        (optimum, searched, None)
+    };
     // The final design's tight bounds with the default budget: never looser than the search's.
     let final_boxes = crate::bounds::tight::TightOptions::default().max_boxes;
     // The optimum flown for the report (traced), with airmode's margin above the rotors' least
@@ -479,6 +544,7 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
     if let Some(own) = report.objective.nominal_tasks.first_mut() {
         own.helix_tracking_error_m = Some(helix);
     }
+    report.local_refinement = refinement;
     let choices = Choices::from_unit(&optimum.x, layout);
     report.what_binds = Some(super::binding::WhatBinds {
         saturation: super::binding::saturation_cap(

@@ -299,7 +299,7 @@ fn uncertifiable_reference_is_slowed_down_and_said() {
 fn heading_compensator_design_carries_it_and_recertifies() {
     let out = out_dir("cf-compensated");
     let mut o = options(preset_path("crazyflie-2.1"), out.clone(), 16);
-    o.heading_compensator = true;
+    o.heading = host_sim::design::options::HeadingSearch::Compensated;
     let outcome = run_design(&o).unwrap();
     assert!(outcome.report.certificate.all_hold && outcome.report.rotor_fit.fits_with_margin);
 
@@ -327,4 +327,43 @@ fn heading_compensator_design_carries_it_and_recertifies() {
     );
     let md = std::fs::read_to_string(out.join("design.md")).unwrap();
     assert!(md.contains("**Compensated heading**"));
+}
+
+/// Given `--heading both`, when the Crazyflie is designed on a small budget, then both headings
+/// are listed (the paper's first), the written design is the one ranked first (constraints met,
+/// then the shorter runs, then the lower objective) and carries the compensator exactly when
+/// that one flies it, and design.md names the heading kept with both objectives.
+#[test]
+fn heading_both_writes_the_better_and_lists_both() {
+    use host_sim::design::options::HeadingSearch;
+    let out = out_dir("cf-heading-both");
+    let mut o = options(preset_path("crazyflie-2.1"), out.clone(), 16);
+    o.heading = HeadingSearch::Both;
+    let outcome = run_design(&o).unwrap();
+    let r = &outcome.report;
+    assert!(r.certificate.all_hold && r.rotor_fit.fits_with_margin);
+    let listed: Vec<bool> = r.heading_search.iter().map(|c| c.compensated).collect();
+    assert_eq!(listed, [false, true]);
+    let rank = |c: &host_sim::design::report::HeadingCandidate| {
+        (!c.constraints_met, c.long_runs, c.objective)
+    };
+    let best = r
+        .heading_search
+        .iter()
+        .min_by(|a, b| rank(a).partial_cmp(&rank(b)).unwrap())
+        .unwrap();
+    assert_eq!(r.gains.heading_compensator.is_some(), best.compensated);
+    // The objective written is the kept design's own.
+    assert_eq!(r.objective.value, best.objective);
+    let s = Scenario::load(&out.join("scenario.toml")).unwrap();
+    assert_eq!(
+        s.gains::<f64>().heading_compensator.is_some(),
+        best.compensated
+    );
+    let md = std::fs::read_to_string(out.join("design.md")).unwrap();
+    assert!(md.contains("the better of the headings searched"), "{md}");
+    for c in &r.heading_search {
+        assert!(md.contains(&format!("{:.3}", c.objective)), "{md}");
+    }
+    let _ = std::fs::remove_dir_all(&out);
 }

@@ -33,7 +33,7 @@ pub fn options(vehicle: PathBuf, out: PathBuf, evaluations: usize) -> DesignOpti
         fit: Default::default(),
         envelope: false,
         vertical: false,
-        heading_compensator: false,
+        heading: host_sim::design::options::HeadingSearch::Paper,
         evaluations,
         duration_s: host_sim::design::options::DEFAULT_DURATION_S,
         law: LawSearch::One(AttitudeLaw::Paper),

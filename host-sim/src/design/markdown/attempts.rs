@@ -1,7 +1,8 @@
 //! `design.md`'s lines on the attempts behind a design: the fallbacks taken (the requested path
 //! with the heading held, the velocity-limited feedback on longer runs) and whether the
 //! requested reference is certified as is or slowed down (docs/design.md, "The fallback" and
-//! "When the reference cannot be certified").
+//! "When the reference cannot be certified"); the local regime's refinement after the search
+//! (docs/envelope-design.md).
 
 use std::fmt::Write as _;
 
@@ -35,5 +36,21 @@ pub(super) fn write(s: &mut String, r: &Report) {
         );
     } else if r.reference.heading_held.is_none() {
         let _ = writeln!(s, "The requested reference is certified as is.\n");
+    }
+    if let Some(f) = &r.local_refinement {
+        let _ = writeln!(
+            s,
+            "Local regime refined after the search (docs/envelope-design.md, \"What `design` \
+             searches\"): the global gains held, {} more evaluations over the local regime's \
+             variables with envelopes narrowed where nothing fits; objective {:.3} -> {:.3}: {}.\n",
+            f.evaluations,
+            f.searched,
+            f.refined,
+            if f.kept {
+                "kept, this design's local regime"
+            } else {
+                "not kept, the search's design scores lower"
+            }
+        );
     }
 }

@@ -54,6 +54,10 @@ pub struct LocalChoices {
     pub tilt_out_deg: f64,
     /// `M_p,L / M_p`: the local regime's share of the saturation level.
     pub saturation_fraction: f64,
+    /// Whether the envelope is narrowed when nothing fits at the chosen one (`local_gains`);
+    /// not a coordinate of the box (`Layout::narrow_local`).
+    #[serde(skip)]
+    pub narrow: bool,
 }
 
 impl LocalChoices {
@@ -67,10 +71,11 @@ impl LocalChoices {
             position_damping: 1.0,
             tilt_out_deg: 30.0,
             saturation_fraction: 0.7,
+            narrow: false,
         }
     }
 
-    pub(super) fn from_unit(x: &[f64]) -> Self {
+    pub(super) fn from_unit(x: &[f64], narrow: bool) -> Self {
         let v = |i: usize| value_in(LOCAL_RANGES[i], x.get(i).copied().unwrap_or(0.5));
         Self {
             kf_ratio: v(0),
@@ -79,6 +84,7 @@ impl LocalChoices {
             position_damping: v(3),
             tilt_out_deg: v(4),
             saturation_fraction: v(5),
+            narrow,
         }
     }
 
@@ -160,16 +166,18 @@ pub const F32_SLACK: f64 = 2e-3;
 /// The local regime of `l` for the global gains `g`: its filters as chosen when its torque set
 /// fits ([`local_fits`]), else slowed (bisection on `k_f,L / k_f` towards 1, 40 steps, keeping
 /// `k_s,L / k_f,L`); when even `k_f,L = k_f` does not fit with a local level above the global
-/// one, the same with `M_p,L = M_p`; `None` when nothing fits.
+/// one, the same with `M_p,L = M_p`. When nothing fits at the chosen envelope `θ_out` and
+/// `l.narrow`, the envelope is narrowed instead ([`narrowed`]); `None` when nothing fits (even
+/// at the narrowest).
 pub(super) fn local_gains(
     ctx: &Context<'_>,
     g: &Gains<f64>,
     l: &LocalChoices,
 ) -> Option<LocalGains<f64>> {
-    let e_out = energy_out(g, l);
     let wp = l.position_frequency_rad_s;
-    let build = |ratio: f64, fraction: f64| {
+    let build = |ratio: f64, fraction: f64, tilt_out_deg: f64| {
         let kf = g.position.kf * ratio;
+        let e_out = energy_out(g, &LocalChoices { tilt_out_deg, ..*l });
         LocalGains {
             kp: wp * wp,
             kv: 2.0 * l.position_damping * wp,
@@ -186,17 +194,55 @@ pub(super) fn local_gains(
     } else {
         &fractions[..1]
     };
-    levels.iter().find_map(|&fraction| {
-        let fits = |ratio: f64| local_fits(ctx, g, build(ratio, fraction));
+    let at = |fraction: f64, tilt: f64| {
+        let fits = |ratio: f64| local_fits(ctx, g, build(ratio, fraction, tilt));
         if fits(l.kf_ratio) {
-            return Some(build(l.kf_ratio, fraction));
+            return Some(l.kf_ratio);
         }
         if !fits(1.0) {
             return None;
         }
-        Some(build(
-            crate::design::bisect::bisect(1.0, l.kf_ratio, 40, fits),
-            fraction,
-        ))
+        Some(crate::design::bisect::bisect(1.0, l.kf_ratio, 40, fits))
+    };
+    let chosen = levels.iter().find_map(|&fraction| {
+        at(fraction, l.tilt_out_deg).map(|ratio| build(ratio, fraction, l.tilt_out_deg))
+    });
+    if !l.narrow {
+        return chosen;
+    }
+    chosen.or_else(|| {
+        levels.iter().find_map(|&fraction| {
+            let fits = |ratio: f64, tilt: f64| local_fits(ctx, g, build(ratio, fraction, tilt));
+            narrowed(l, fits).map(|(ratio, tilt)| build(ratio, fraction, tilt))
+        })
     })
 }
+
+/// The narrowest envelope `θ_out` \[deg\] the design narrows a local regime to: the low end of
+/// its range.
+const NARROWEST_TILT_OUT_DEG: f64 = LOCAL_RANGES[4].0;
+
+/// `(k_f,L / k_f, θ_out [deg])` for a local regime whose torque set fits at no filter ratio
+/// with the chosen envelope `l.tilt_out_deg` (`fits(ratio, θ_out)`): a smaller `E_out` bounds
+/// the attitude error by which the local torque set turns the feedforward, so the set shrinks
+/// with `θ_out` (docs/envelope-design.md). With the chosen filters the widest `θ_out` in
+/// [[`NARROWEST_TILT_OUT_DEG`], chosen] that fits (bisection, 40 steps); if none, at the
+/// narrowest envelope the fastest ratio in [1, chosen] that fits; `None` when even `k_f,L = k_f`
+/// does not fit there. Why: without it most of the search box of a vehicle with little yaw
+/// torque (the x500) has no local regime, a flat objective the search cannot climb out of.
+fn narrowed(l: &LocalChoices, fits: impl Fn(f64, f64) -> bool) -> Option<(f64, f64)> {
+    let (ratio, widest) = (l.kf_ratio, l.tilt_out_deg);
+    let narrowest = NARROWEST_TILT_OUT_DEG.min(widest);
+    if fits(ratio, narrowest) {
+        let tilt = crate::design::bisect::bisect(narrowest, widest, 40, |t| fits(ratio, t));
+        return Some((ratio, tilt));
+    }
+    if !fits(1.0, narrowest) {
+        return None;
+    }
+    let ratio = crate::design::bisect::bisect(1.0, ratio, 40, |r| fits(r, narrowest));
+    Some((ratio, narrowest))
+}
+
+#[cfg(test)]
+mod tests;

@@ -114,6 +114,9 @@ pub struct Layout {
     pub local: bool,
     /// Whether the vertical channel's own levels are searched too.
     pub vertical: bool,
+    /// Whether a local regime that fits at no filter ratio with its chosen envelope is narrowed
+    /// (`LocalChoices::narrow`): the refinement's, after the search (`crate::design::refine`).
+    pub narrow_local: bool,
 }
 
 impl Layout {
@@ -289,7 +292,7 @@ impl Choices {
             };
         let local = layout
             .local
-            .then(|| LocalChoices::from_unit(x.get(base..).unwrap_or(&[])));
+            .then(|| LocalChoices::from_unit(x.get(base..).unwrap_or(&[]), layout.narrow_local));
         Self {
             kf,
             ks: kf * v(1),

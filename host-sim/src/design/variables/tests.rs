@@ -7,6 +7,7 @@ fn unit_box_round_trips() {
         law: AttitudeLaw::TiltPriority,
         local: true,
         vertical: true,
+        narrow_local: false,
     };
     let c = Choices::initial_guess(layout);
     let back = Choices::from_unit(&c.to_unit(), layout);
@@ -218,6 +219,7 @@ fn range_ends_name_the_variable_at_the_end() {
         law: AttitudeLaw::TiltPriority,
         local: true,
         vertical: true,
+        narrow_local: false,
     };
     let mut rng = crate::runs::sampler::seeded_rng(3);
     let names: Vec<&str> = NAMES

@@ -9,7 +9,8 @@ use host_sim::design::{
     authority::RotorFit,
     integral::IntegralSpec,
     options::{
-        Fallback, LawSearch, DEFAULT_DURATION_S, DEFAULT_EVALUATIONS, DEFAULT_SPEED_LIMIT_M_S,
+        Fallback, HeadingSearch, LawSearch, DEFAULT_DURATION_S, DEFAULT_EVALUATIONS,
+        DEFAULT_SPEED_LIMIT_M_S,
     },
     run_design,
     tight::BoundsKind,
@@ -37,6 +38,20 @@ pub enum DesignLaw {
     Paper,
     /// Tilt priority (docs/tilt-priority.md): per-axis levels, yaw's small.
     TiltPriority,
+}
+
+/// The desired-frame headings `design` searches (the library's [`HeadingSearch`], named on the
+/// command line; docs/heading-compensator.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DesignHeading {
+    /// Both, each on the whole budget with its fallbacks; the better design is written (twice
+    /// the wall time).
+    Both,
+    /// The paper's desired frame: the reference's heading as it is.
+    Paper,
+    /// The compensated heading (L = 0.3 rad/s, k_psi = 1/s): its rate cancels the
+    /// tilt-induced yaw of the desired frame.
+    Compensated,
 }
 
 /// The bounds that certify a design (the library's [`BoundsKind`], named on the command line).
@@ -190,11 +205,13 @@ pub struct DesignArgs {
     /// `M_p` on every axis.
     #[arg(long, value_enum, default_value_t = DesignAirmode::On)]
     pub vertical: DesignAirmode,
-    /// The compensated heading (docs/heading-compensator.md): the designs build the desired frame
-    /// from a heading whose rate cancels the tilt-induced yaw (`L` = 0.3 rad/s, `k_ψ` = 1/s), so
-    /// the desired frame's yaw no longer pays for the tilt; the flight file carries it.
-    #[arg(long)]
-    pub heading_compensator: bool,
+    /// The desired frame's heading (docs/heading-compensator.md): `both` (each on the whole
+    /// budget, the better design is written), `paper` (the reference's heading) or
+    /// `compensated` (a heading whose rate cancels the tilt-induced yaw, `L` = 0.3 rad/s,
+    /// `k_ψ` = 1/s, so the desired frame's yaw no longer pays for the tilt; the flight file
+    /// carries it).
+    #[arg(long, value_enum, default_value_t = DesignHeading::Both)]
+    pub heading: DesignHeading,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/design")]
     pub out: PathBuf,
@@ -235,7 +252,11 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         },
         envelope: args.envelope == DesignAirmode::On,
         vertical: args.vertical == DesignAirmode::On,
-        heading_compensator: args.heading_compensator,
+        heading: match args.heading {
+            DesignHeading::Both => HeadingSearch::Both,
+            DesignHeading::Paper => HeadingSearch::Paper,
+            DesignHeading::Compensated => HeadingSearch::Compensated,
+        },
         bounds: match args.bounds {
             DesignBounds::Paper => BoundsKind::Paper,
             DesignBounds::Tight => BoundsKind::Tight,
