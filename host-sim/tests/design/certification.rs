@@ -291,7 +291,7 @@ fn uncertifiable_reference_is_slowed_down_and_said() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
-/// Given `--heading-compensator`, when the Crazyflie is designed on a small budget, then the
+/// Given `--heading compensated`, when the Crazyflie is designed on a small budget, then the
 /// written scenario and flight file carry the compensator, the scenario read back re-certifies
 /// with it (its desired-frame yaw-rate bound is the compensator's `(K_ν̇ + L)/L_ϖ`), and
 /// design.md says so.
