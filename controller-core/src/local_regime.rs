@@ -3,9 +3,10 @@
 //! is forward invariant), the global gains outside it (extension, docs/envelope-design.md).
 //!
 //! **The switch.** The controller flies the global gains until `E ≤ E_in`, then the local ones
-//! (`k_p, k_v, k_f, k_s` and the level `M_p,L`: faster filters, the shape is shared) once the
-//! filter states lie in the local saturation set, and goes back only if `E > E_out > E_in`
-//! (which the nominal model never does: `E` does not increase). At the switch to the local gains
+//! (`k_p, k_v, k_f, k_s` and the level `M_p,L`: faster filters, the shape is shared; with the
+//! vertical channel apart, optionally its own vertical filters `k_f,z,L, k_s,z,L`, the vertical
+//! levels shared) once the filter states lie in the local saturation set, and goes back only if
+//! `E > E_out > E_in` (which the nominal model never does: `E` does not increase). At the switch to the local gains
 //! the inner filter state is re-timed so that `u̇ = −k_f(u_f − u_s)` keeps its value
 //! ([`retime`]): `ω_d` does not jump, and neither does `E`. The re-timed state lies between `u_f`
 //! and `u_s` (the local `k_f` is at least the global one), so it stays in the saturation set
@@ -20,6 +21,7 @@
 use crate::parameter_error::{positive, ParameterError};
 use crate::position::{FilterState, PositionGains};
 use crate::scalar::{to_f64, Scalar};
+use crate::vertical_channel::VerticalChannel;
 
 /// The local regime's position gains and the energy levels of its switch.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -42,6 +44,22 @@ pub struct LocalGains<T: Scalar> {
     pub energy_in: T,
     /// `E_out` \[J\], `> E_in`: the global gains take back over above this.
     pub energy_out: T,
+    /// The local regime's own vertical filter bandwidths, with the vertical channel apart
+    /// ([`crate::vertical_channel`]); `None`: the global vertical filters in both regimes.
+    pub vertical_filters: Option<LocalVerticalFilters<T>>,
+}
+
+/// The local regime's vertical filter bandwidths (the vertical channel's `k_f,z, k_s,z` while
+/// the local regime flies; its levels `M_up, M_down` are the global ones). Near the reference
+/// the tilt is small, and a vertical change of `u` turns the thrust direction only through the
+/// tilt (docs/vertical-channel.md), so faster vertical filters cost little torque there
+/// (extension, docs/envelope-design.md).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LocalVerticalFilters<T: Scalar> {
+    /// `k_f,z,L` [1/s]: the vertical output filter's bandwidth (at least the global `k_f,z`).
+    pub kf: T,
+    /// `k_s,z,L` [1/s]: the vertical inner filter's bandwidth.
+    pub ks: T,
 }
 
 /// Which position gains fly.
@@ -56,10 +74,12 @@ pub enum Regime {
 
 impl<T: Scalar> LocalGains<T> {
     /// Checks the gains `> 0`, `0 < E_in < E_out` and `k_f` at least `global`'s (`M_p,L` may
-    /// exceed `M_p`: the certificate then checks Theorem 1 for the local level too).
-    /// Errors: [`ParameterError::NotPositive`] naming the gain (`"local k_p"`, …, `"E_in"`),
-    /// [`ParameterError::OutOfRange`] naming `"E_out"` (not above `E_in`) or `"local k_f"`
-    /// (below the global `k_f`).
+    /// exceed `M_p`: the certificate then checks Theorem 1 for the local level too); local
+    /// vertical filters only with `global`'s vertical channel, and `k_f,z,L` at least its `k_f,z`.
+    /// Errors: [`ParameterError::NotPositive`] naming the gain (`"local k_p"`, …, `"E_in"`,
+    /// `"local k_f,z"`, `"local k_s,z"`), [`ParameterError::OutOfRange`] naming `"E_out"` (not
+    /// above `E_in`), `"local k_f"` (below the global `k_f`) or `"local k_f,z"` (below the global
+    /// `k_f,z`, or without a vertical channel: the range is then empty).
     pub fn validate(&self, global: &PositionGains<T>) -> Result<(), ParameterError> {
         for (name, v) in [
             ("local k_p", self.kp),
@@ -87,18 +107,44 @@ impl<T: Scalar> LocalGains<T> {
                 high: f64::INFINITY,
             });
         }
+        if let Some(f) = &self.vertical_filters {
+            positive("local k_f,z", f.kf)?;
+            positive("local k_s,z", f.ks)?;
+            let (low, high) = match &global.vertical {
+                Some(v) => (to_f64(v.kf), f64::INFINITY),
+                None => (f64::INFINITY, f64::NEG_INFINITY),
+            };
+            if !(to_f64(f.kf) >= low && to_f64(f.kf) <= high) {
+                return Err(ParameterError::OutOfRange {
+                    name: "local k_f,z",
+                    value: to_f64(f.kf),
+                    low,
+                    high,
+                });
+            }
+        }
         Ok(())
     }
 
     /// The local regime's position gains: these `k_p, k_v, k_f, k_s, M_p,L` with `global`'s
-    /// saturation shape.
+    /// saturation shape, and `global`'s vertical channel with the local vertical filters when
+    /// there are.
     pub fn position(&self, global: &PositionGains<T>) -> PositionGains<T> {
+        let vertical = match (global.vertical, self.vertical_filters) {
+            (Some(v), Some(f)) => Some(VerticalChannel {
+                kf: f.kf,
+                ks: f.ks,
+                ..v
+            }),
+            (v, _) => v,
+        };
         PositionGains {
             kp: self.kp,
             kv: self.kv,
             kf: self.kf,
             ks: self.ks,
             saturation: self.saturation,
+            vertical,
             ..*global
         }
     }
@@ -119,7 +165,7 @@ impl<T: Scalar> LocalGains<T> {
         match current {
             Regime::Global if energy <= self.energy_in => {
                 let local = self.position(global);
-                let f = retime(filter, global.kf, self.kf, global);
+                let f = retime(filter, global, &local, global);
                 if local.contains(&f.u_f) && local.contains(&f.u_s) {
                     (Regime::Local, f)
                 } else {
@@ -127,31 +173,37 @@ impl<T: Scalar> LocalGains<T> {
                 }
             }
             Regime::Local if energy > self.energy_out => {
-                (Regime::Global, retime(filter, self.kf, global.kf, global))
+                let local = self.position(global);
+                (Regime::Global, retime(filter, &local, global, global))
             }
             r => (r, *filter),
         }
     }
 }
 
-/// The inner filter state re-timed when `k_f` changes from `from_kf` to `to_kf` [1/s]:
-/// `u_s' = u_f − (from_kf/to_kf)(u_f − u_s)`, so that `u̇ = −k_f(u_f − u_s)` keeps its value
-/// (`ω_d` does not jump); with the vertical channel apart only its horizontal part, the vertical
-/// filters being the same in both regimes. With `to_kf ≥ from_kf` the new state lies between `u_f` and `u_s`; the
+/// The inner filter state re-timed when the position gains change from `from` to `to`:
+/// `u_s' = u_f − (k_f,from/k_f,to)(u_f − u_s)` (per channel with the vertical channel apart,
+/// each with its own `k_f`), so that `u̇ = −k_f(u_f − u_s)` keeps its value (`ω_d` does not
+/// jump). With `to`'s `k_f` at least `from`'s the new state lies between `u_f` and `u_s`; the
 /// other way it may leave the saturation set of `set` (the global gains'), and both states are
 /// then brought back into it ([`PositionGains::project`]; `u_f` too when `M_p,L > M_p`: a jump
 /// of `u` and `u̇`, only on the way back to the global gains, whose certificate covers any
 /// attitude). Source: extension (docs/envelope-design.md).
 pub fn retime<T: Scalar>(
     filter: &FilterState<T>,
-    from_kf: T,
-    to_kf: T,
+    from: &PositionGains<T>,
+    to: &PositionGains<T>,
     set: &PositionGains<T>,
 ) -> FilterState<T> {
-    let mut u_s = filter.u_f - (filter.u_f - filter.u_s) * (from_kf / to_kf);
-    if set.vertical.is_some() {
-        // The vertical channel keeps its own filters in both regimes: nothing to re-time.
-        u_s.z = filter.u_s.z;
+    let mut u_s = filter.u_f - (filter.u_f - filter.u_s) * (from.kf / to.kf);
+    if let (Some(a), Some(b)) = (&from.vertical, &to.vertical) {
+        // The vertical channel has its own filters: re-timed by its own bandwidths (unchanged
+        // when both regimes share them).
+        u_s.z = if a.kf == b.kf {
+            filter.u_s.z
+        } else {
+            filter.u_f.z - (filter.u_f.z - filter.u_s.z) * (a.kf / b.kf)
+        };
     }
     FilterState {
         u_f: set.project(&filter.u_f),

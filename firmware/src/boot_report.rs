@@ -7,7 +7,8 @@
 
 use controller_core::{
     certify, Certificate, Condition, Controller, FilterStart, Gains, Limits, LocalGains,
-    ParameterError, ReferenceTrajectory, Trajectory, TrajectoryConstants, Vehicle, VerticalChannel,
+    LocalVerticalFilters, ParameterError, ReferenceTrajectory, Trajectory, TrajectoryConstants,
+    Vehicle, VerticalChannel,
 };
 
 /// The parameters the firmware flies with.
@@ -113,6 +114,15 @@ pub fn local_values(l: &LocalGains<f32>) -> [Value; 7] {
         value("M_p_local", l.saturation, "m/s^2"),
         value("E_in", l.energy_in, "J"),
         value("E_out", l.energy_out, "J"),
+    ]
+}
+
+/// The local regime's own vertical filter bandwidths (extension, docs/envelope-design.md; the
+/// vertical levels are the global ones).
+pub fn local_vertical_values(f: &LocalVerticalFilters<f32>) -> [Value; 2] {
+    [
+        value("k_f_z_local", f.kf, "1/s"),
+        value("k_s_z_local", f.ks, "1/s"),
     ]
 }
 
@@ -385,6 +395,7 @@ mod tests {
             saturation: 2.0,
             energy_in: 1.0e-4,
             energy_out: 2.0e-4,
+            vertical_filters: Some(LocalVerticalFilters { kf: 6.0, ks: 20.0 }),
         };
         let v = local_values(&l);
         let named: Vec<_> = v.iter().map(|v| (v.name, v.value, v.unit)).collect();
@@ -402,6 +413,20 @@ mod tests {
         );
         let table_i = gains_values(&Gains::paper());
         assert!(v.iter().all(|v| table_i.iter().all(|g| g.name != v.name)));
+        let vertical = local_vertical_values(&LocalVerticalFilters { kf: 6.0, ks: 20.0 });
+        let global_vertical = vertical_values(&VerticalChannel {
+            up: 4.0,
+            down: 1.0,
+            kf: 1.5,
+            ks: 2.5,
+        });
+        assert_eq!(
+            vertical.map(|v| (v.name, v.value)),
+            [("k_f_z_local", 6.0), ("k_s_z_local", 20.0)]
+        );
+        assert!(vertical
+            .iter()
+            .all(|v| global_vertical.iter().all(|g| g.name != v.name)));
         assert!(convergence_verdict(0.06, 0.05).starts_with("convergence proven"));
         for below in [0.04, -0.1, f32::NAN] {
             assert!(convergence_verdict(below, 0.05).contains("simulation only"));

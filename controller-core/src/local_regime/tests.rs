@@ -3,9 +3,10 @@
 use nalgebra::Vector3;
 use proptest::prelude::*;
 
-use super::{retime, LocalGains, Regime};
+use super::{retime, LocalGains, LocalVerticalFilters, Regime};
 use crate::position::{FilterState, PositionGains};
 use crate::position_saturation::PositionSaturation;
+use crate::vertical_channel::VerticalChannel;
 
 fn vec3(r: f64) -> impl Strategy<Value = Vector3<f64>> {
     (-r..r, -r..r, -r..r).prop_map(|(x, y, z)| Vector3::new(x, y, z))
@@ -31,12 +32,13 @@ proptest! {
         prop_assume!(uf.norm() <= 2.0 && us.norm() <= 2.0);
         let fast = slow * ratio;
         let f = FilterState { u_f: uf, u_s: us };
-        let up = retime(&f, slow, fast, &set);
+        let faster = PositionGains { kf: fast, ..set };
+        let up = retime(&f, &set, &faster, &set);
         let before = (uf - us) * slow;
         let after = (up.u_f - up.u_s) * fast;
         prop_assert!((before - after).norm() <= 1e-12 * (1.0 + before.norm()));
         prop_assert!(up.u_s.norm() <= 2.0 + 1e-12 && up.u_f == uf);
-        let down = retime(&f, fast, slow, &set);
+        let down = retime(&f, &faster, &set, &set);
         prop_assert!(down.u_s.norm() <= 2.0 + 1e-12);
     }
 }
@@ -64,6 +66,7 @@ fn the_switch_has_its_hysteresis() {
         saturation: 1.5,
         energy_in: 0.01,
         energy_out: 0.02,
+        vertical_filters: None,
     };
     assert!(l.validate(&global).is_ok());
     let rest = FilterState::zero();
@@ -116,4 +119,75 @@ fn the_switch_has_its_hysteresis() {
         ..l
     };
     assert!(format!("{}", inverted.validate(&global).unwrap_err()).contains("E_out"));
+}
+
+/// Given the vertical channel apart and a local regime with its own vertical filters, when the
+/// switch enters and leaves the local regime, then each channel's `u̇ = −k_f(u_f − u_s)` keeps
+/// its value with its own bandwidth, the local gains fly the local vertical filters with the
+/// global vertical levels, and local vertical filters slower than the global ones, or without a
+/// vertical channel, are refused by name.
+#[test]
+fn local_vertical_filters_are_retimed_by_their_own_bandwidth() {
+    let vertical = VerticalChannel {
+        up: 4.0,
+        down: 1.0,
+        kf: 1.5,
+        ks: 2.5,
+    };
+    let global = PositionGains {
+        kp: 1.0,
+        kv: 2.0,
+        kf: 0.5,
+        ks: 1.0,
+        saturation: 2.5,
+        saturation_shape: PositionSaturation::Norm,
+        vertical: Some(vertical),
+    };
+    let l = LocalGains {
+        kp: 9.0,
+        kv: 6.0,
+        kf: 4.0,
+        ks: 10.0,
+        saturation: 1.5,
+        energy_in: 0.01,
+        energy_out: 0.02,
+        vertical_filters: Some(LocalVerticalFilters { kf: 6.0, ks: 20.0 }),
+    };
+    assert!(l.validate(&global).is_ok());
+    let local = l.position(&global);
+    assert_eq!(
+        local.vertical,
+        Some(VerticalChannel {
+            kf: 6.0,
+            ks: 20.0,
+            ..vertical
+        })
+    );
+    let moving = FilterState {
+        u_f: Vector3::new(1.0, 0.0, 0.5),
+        u_s: Vector3::new(0.2, 0.0, -0.5),
+    };
+    let rate = |f: &FilterState<f64>, kf: f64, kfz: f64| {
+        let d = f.u_f - f.u_s;
+        Vector3::new(d.x * kf, d.y * kf, d.z * kfz)
+    };
+    let (r, inside) = l.switch(&global, Regime::Global, 0.001, &moving);
+    assert_eq!(r, Regime::Local);
+    assert!((rate(&moving, 0.5, 1.5) - rate(&inside, 4.0, 6.0)).norm() < 1e-12);
+    // Between the old inner state and u_f, so inside both sets.
+    assert!(inside.u_s.z < moving.u_f.z && inside.u_s.z > moving.u_s.z);
+    let (r, back) = l.switch(&global, Regime::Local, 0.03, &inside);
+    assert_eq!(r, Regime::Global);
+    assert!((rate(&back, 0.5, 1.5) - rate(&inside, 4.0, 6.0)).norm() < 1e-12);
+    let slow = LocalGains {
+        vertical_filters: Some(LocalVerticalFilters { kf: 1.0, ks: 20.0 }),
+        ..l
+    };
+    assert!(format!("{}", slow.validate(&global).unwrap_err()).contains("local k_f,z"));
+    let flat = PositionGains {
+        vertical: None,
+        ..global
+    };
+    assert!(format!("{}", l.validate(&flat).unwrap_err()).contains("local k_f,z"));
+    assert_eq!(l.position(&flat).vertical, None);
 }

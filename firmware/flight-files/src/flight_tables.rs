@@ -125,6 +125,21 @@ pub struct LocalTable {
     pub energy_in_J: f64,
     /// `E_out` \[J\], above `E_in`: the global gains take back over above this.
     pub energy_out_J: f64,
+    /// `[gains.local.vertical]`: the local regime's own vertical filters, with `[gains.vertical]`
+    /// (absent = the global vertical filters in both regimes).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vertical: Option<LocalVerticalTable>,
+}
+
+/// `[gains.local.vertical]`: the local regime's vertical filter bandwidths (the levels are
+/// `[gains.vertical]`'s; controller-core's `LocalVerticalFilters`).
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LocalVerticalTable {
+    /// `k_f,z,L` [1/s]: the vertical output filter's bandwidth, at least `[gains.vertical] kf`.
+    pub kf: f64,
+    /// `k_s,z,L` [1/s]: the vertical inner filter's bandwidth.
+    pub ks: f64,
 }
 
 /// `[gains.heading_compensator]`: the heading state whose rate cancels the desired frame's

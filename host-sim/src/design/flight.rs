@@ -96,6 +96,9 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
             M_p_m_s2: l.saturation,
             energy_in_J: l.energy_in,
             energy_out_J: l.energy_out,
+            vertical: l
+                .vertical_filters
+                .map(|v| firmware::flight_tables::LocalVerticalTable { kf: v.kf, ks: v.ks }),
         }),
         heading_compensator: g.heading_compensator.map(|h| {
             firmware::flight_tables::HeadingCompensatorTable {

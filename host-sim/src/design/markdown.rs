@@ -337,10 +337,16 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
         );
     }
     if let (Some(l), Some(e)) = (&g.local, &r.local_regime) {
+        let vertical = l.vertical.map_or(String::new(), |v| {
+            format!(
+                " and its own vertical filters k_f,z,L = {:.4} 1/s, k_s,z,L = {:.4} 1/s",
+                v.kf, v.ks
+            )
+        });
         let _ = writeln!(
             s,
             "Envelope design (`[gains.local]`, docs/envelope-design.md): the local position gains \
-             k_p = {:.4}, k_v = {:.4}, k_f = {:.4}, k_s = {:.4}, M_p,L = {:.4} m/s^2 fly once the \
+             k_p = {:.4}, k_v = {:.4}, k_f = {:.4}, k_s = {:.4}, M_p,L = {:.4} m/s^2{} fly once the \
              attitude energy is at most E_in = {:.4e} J, the global ones again above E_out = {:.4e} J. \
              Inside {{E <= E_out}} (forward invariant): attitude error at most {:.1} deg, |omega \
              error| at most [{:.3}, {:.3}, {:.3}] rad/s; the local gains' U_omega_d_dot = {:.3} \
@@ -351,6 +357,7 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             l.kf,
             l.ks,
             l.M_p_m_s2,
+            vertical,
             l.energy_in_J,
             l.energy_out_J,
             e.angle_out_deg,

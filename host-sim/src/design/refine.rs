@@ -1,6 +1,8 @@
 //! The local regime refined after the search (docs/envelope-design.md, "What `design`
 //! searches"): the global variables held at the search's optimum, a second, small particle
-//! swarm over the local regime's six variables, with envelopes that fit at no filter ratio
+//! swarm over the local regime's six variables (seven with the vertical channel apart: the
+//! local regime's own vertical filters, started at the global ones), with envelopes that fit at
+//! no filter ratio
 //! narrowed instead of dropped. The refined design is kept only where it scores lower, so it
 //! is never worse than the search's. `design` refines only designs that fly the compensated
 //! heading (docs/heading-compensator.md): with the paper's desired frame the narrow regimes
@@ -16,10 +18,11 @@
 use anyhow::Result;
 
 use super::optimise::{minimise, Optimum};
-use super::variables::{Layout, LOCAL_DIMENSION};
+use super::variables::Layout;
 
-/// Evaluations of the refinement: this share of the search's budget (at least one swarm).
-pub const BUDGET_SHARE: f64 = 0.1;
+/// Evaluations of the refinement: this share of the search's budget (at least one swarm); a
+/// quarter since the refinement searches the local vertical filters too (seven variables).
+pub const BUDGET_SHARE: f64 = 0.25;
 
 /// The refinement's outcome, as `design.json` reports it.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -53,11 +56,16 @@ pub fn refine_local<F: Fn(&[f64], Layout) -> f64 + Sync>(
     }
     let narrowing = Layout {
         narrow_local: true,
+        local_vertical: layout.vertical,
         ..layout
     };
-    // The local regime's coordinates are the last ones of a point (`variables::Layout`).
-    let split = layout.dimension() - LOCAL_DIMENSION;
-    let (global, local) = optimum.x.split_at(split);
+    // The local regime's coordinates are the last ones of a point (`variables::Layout`); the
+    // refinement's own vertical filters start at the global ones (unit 0: a ratio of 1).
+    let split = layout.dimension() - layout.local_dimension();
+    let (global, searched) = optimum.x.split_at(split);
+    let extra = narrowing.local_dimension() - layout.local_dimension();
+    let local = [searched, &vec![0.0; extra]].concat();
+    let local = local.as_slice();
     let point = |y: &[f64]| [global, y].concat();
     let local_cost = |y: &[f64]| cost(&point(y), narrowing);
     let share = (BUDGET_SHARE * budget as f64).ceil() as usize;

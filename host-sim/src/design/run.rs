@@ -364,6 +364,7 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
         local: o.envelope,
         vertical: o.vertical,
         narrow_local: false,
+        local_vertical: false,
     };
     let cost_in = |x: &[f64], layout: Layout| match score(
         &vehicle,

@@ -98,6 +98,7 @@ fn a_wider_local_level_widens_the_certified_thrust_interval() {
         saturation: 3.5,
         energy_in: 1e-4,
         energy_out: 2e-4,
+        vertical_filters: None,
     };
     let global_only = certify(&v, &Limits::paper(), &g, &constants, FilterStart::Zero).unwrap();
     g.local = Some(local);

@@ -355,14 +355,19 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         g.lemma1,
         // `[gains.local]` (absent = None, one set of position gains).
         g.local.map_or("None".to_string(), |l| format!(
-            "Some(controller_core::LocalGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {}, energy_in: {}, energy_out: {} }})",
+            "Some(controller_core::LocalGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {}, energy_in: {}, energy_out: {}, vertical_filters: {} }})",
             lit(l.kp),
             lit(l.kv),
             lit(l.kf),
             lit(l.ks),
             lit(l.M_p_m_s2),
             lit(l.energy_in_J),
-            lit(l.energy_out_J)
+            lit(l.energy_out_J),
+            l.vertical.map_or("None".to_string(), |v| format!(
+                "Some(controller_core::LocalVerticalFilters {{ kf: {}, ks: {} }})",
+                lit(v.kf),
+                lit(v.ks)
+            ))
         )),
         // `[gains.heading_compensator]` (absent = None, the reference heading).
         g.heading_compensator.map_or("None".to_string(), |h| format!(

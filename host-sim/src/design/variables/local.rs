@@ -2,7 +2,7 @@
 //! switching energies and the fit of its torque set inside the rotors, which slows its filters
 //! until the set fits.
 
-use controller_core::{certify, FilterStart, Gains, Limits, LocalGains};
+use controller_core::{certify, FilterStart, Gains, Limits, LocalGains, LocalVerticalFilters};
 use nalgebra::Vector3;
 
 use super::interval::{unit_in, value_in, Interval};
@@ -29,6 +29,14 @@ pub(super) const LOCAL_RANGES: [Interval; LOCAL_DIMENSION] = [
     (0.25, 4.0, true),
 ];
 
+/// The local regime's own vertical filters, one more variable after [`LOCAL_RANGES`]' when the
+/// design searches them (`Layout::local_vertical`): `k_f,z,L / k_f,z`, 1 to 30 (log), with
+/// `k_s,z,L / k_f,z,L` the global vertical filters' ratio.
+pub(super) const LOCAL_VERTICAL_RANGE: Interval = (1.0, 30.0, true);
+
+/// The name of [`LOCAL_VERTICAL_RANGE`]'s variable, as reports print it.
+pub(super) const LOCAL_VERTICAL_NAME: &str = "k_f,z,L / k_f,z";
+
 /// The names of [`LOCAL_RANGES`]' variables, as reports print them.
 pub(super) const LOCAL_NAMES: [&str; LOCAL_DIMENSION] = [
     "k_f,L / k_f",
@@ -54,6 +62,10 @@ pub struct LocalChoices {
     pub tilt_out_deg: f64,
     /// `M_p,L / M_p`: the local regime's share of the saturation level.
     pub saturation_fraction: f64,
+    /// `k_f,z,L / k_f,z`: the local regime's own vertical filters, both the global vertical
+    /// filters times this (`None`, or 1: the global vertical filters in both regimes).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub vertical_kf_ratio: Option<f64>,
     /// Whether the envelope is narrowed when nothing fits at the chosen one (`local_gains`);
     /// not a coordinate of the box (`Layout::narrow_local`).
     #[serde(skip)]
@@ -62,9 +74,10 @@ pub struct LocalChoices {
 
 impl LocalChoices {
     /// The initial guess: filters twice the global ones (the fit then slows them as needed), a
-    /// stiff 5 rad/s local loop, `E_out` at 30 degrees.
+    /// stiff 5 rad/s local loop, `E_out` at 30 degrees; the global vertical filters.
     pub fn initial_guess() -> Self {
         Self {
+            vertical_kf_ratio: None,
             kf_ratio: 2.0,
             ks_ratio: 3.0,
             position_frequency_rad_s: 5.0,
@@ -75,9 +88,13 @@ impl LocalChoices {
         }
     }
 
-    pub(super) fn from_unit(x: &[f64], narrow: bool) -> Self {
+    /// From the local coordinates `x` of a point: [`LOCAL_RANGES`]' six, then
+    /// [`LOCAL_VERTICAL_RANGE`]'s when `vertical`.
+    pub(super) fn from_unit(x: &[f64], narrow: bool, vertical: bool) -> Self {
         let v = |i: usize| value_in(LOCAL_RANGES[i], x.get(i).copied().unwrap_or(0.5));
+        let unit = x.get(LOCAL_RANGES.len()).copied().unwrap_or(0.0);
         Self {
+            vertical_kf_ratio: vertical.then(|| value_in(LOCAL_VERTICAL_RANGE, unit)),
             kf_ratio: v(0),
             ks_ratio: v(1),
             position_frequency_rad_s: v(2),
@@ -88,7 +105,8 @@ impl LocalChoices {
         }
     }
 
-    pub(super) fn to_unit(self) -> [f64; LOCAL_DIMENSION] {
+    /// The local coordinates (inverse of [`LocalChoices::from_unit`], clamped).
+    pub(super) fn to_unit(self) -> Vec<f64> {
         let values = [
             self.kf_ratio,
             self.ks_ratio,
@@ -97,7 +115,13 @@ impl LocalChoices {
             self.tilt_out_deg,
             self.saturation_fraction,
         ];
-        core::array::from_fn(|i| unit_in(LOCAL_RANGES[i], values[i]))
+        (0..LOCAL_DIMENSION)
+            .map(|i| unit_in(LOCAL_RANGES[i], values[i]))
+            .chain(
+                self.vertical_kf_ratio
+                    .map(|r| unit_in(LOCAL_VERTICAL_RANGE, r)),
+            )
+            .collect()
     }
 }
 
@@ -167,12 +191,39 @@ pub const F32_SLACK: f64 = 2e-3;
 /// fits ([`local_fits`]), else slowed (bisection on `k_f,L / k_f` towards 1, 40 steps, keeping
 /// `k_s,L / k_f,L`); when even `k_f,L = k_f` does not fit with a local level above the global
 /// one, the same with `M_p,L = M_p`. When nothing fits at the chosen envelope `θ_out` and
-/// `l.narrow`, the envelope is narrowed instead ([`narrowed`]); `None` when nothing fits (even
-/// at the narrowest).
+/// `l.narrow`, the envelope is narrowed instead ([`narrowed`]). With local vertical filters
+/// (`l.vertical_kf_ratio` above 1 and the vertical channel apart) all of this is tried with them
+/// first, then with the global vertical filters. `None` when nothing fits (even at the
+/// narrowest).
 pub(super) fn local_gains(
     ctx: &Context<'_>,
     g: &Gains<f64>,
     l: &LocalChoices,
+) -> Option<LocalGains<f64>> {
+    let own = match (l.vertical_kf_ratio, g.position.vertical) {
+        (Some(r), Some(v)) if r > 1.0 => Some(LocalVerticalFilters {
+            kf: v.kf * r,
+            ks: v.ks * r,
+        }),
+        _ => None,
+    };
+    let verticals = [own, None];
+    let tried = if own.is_some() {
+        &verticals[..]
+    } else {
+        &verticals[1..]
+    };
+    tried
+        .iter()
+        .find_map(|&vertical_filters| local_gains_with(ctx, g, l, vertical_filters))
+}
+
+/// [`local_gains`] with the local vertical filters `vertical_filters`.
+fn local_gains_with(
+    ctx: &Context<'_>,
+    g: &Gains<f64>,
+    l: &LocalChoices,
+    vertical_filters: Option<LocalVerticalFilters<f64>>,
 ) -> Option<LocalGains<f64>> {
     let wp = l.position_frequency_rad_s;
     let build = |ratio: f64, fraction: f64, tilt_out_deg: f64| {
@@ -186,6 +237,7 @@ pub(super) fn local_gains(
             saturation: fraction * g.position.saturation,
             energy_in: 0.5 * e_out,
             energy_out: e_out,
+            vertical_filters,
         }
     };
     let fractions = [l.saturation_fraction, l.saturation_fraction.min(1.0)];

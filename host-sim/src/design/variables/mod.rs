@@ -60,6 +60,7 @@ use interval::{unit_in, value_in, Interval};
 
 use local::local_gains;
 pub use local::{energy_out, LocalChoices, F32_SLACK};
+use local::{LOCAL_VERTICAL_NAME, LOCAL_VERTICAL_RANGE};
 pub use vertical::VerticalChoices;
 
 /// Number of decision variables of the paper's attitude law.
@@ -117,6 +118,9 @@ pub struct Layout {
     /// Whether a local regime that fits at no filter ratio with its chosen envelope is narrowed
     /// (`LocalChoices::narrow`): the refinement's, after the search (`crate::design::refine`).
     pub narrow_local: bool,
+    /// Whether the local regime's own vertical filters are searched too (one more local
+    /// variable, `LocalChoices::vertical_kf_ratio`; with `vertical`): the refinement's.
+    pub local_vertical: bool,
 }
 
 impl Layout {
@@ -124,7 +128,17 @@ impl Layout {
     pub fn dimension(self) -> usize {
         self.law.dimension()
             + if self.vertical { VERTICAL_DIMENSION } else { 0 }
-            + if self.local { LOCAL_DIMENSION } else { 0 }
+            + self.local_dimension()
+    }
+
+    /// Number of the local regime's decision variables, the last of a point: none without it,
+    /// [`LOCAL_DIMENSION`], one more with its own vertical filters.
+    pub fn local_dimension(self) -> usize {
+        match (self.local, self.local_vertical && self.vertical) {
+            (false, _) => 0,
+            (true, false) => LOCAL_DIMENSION,
+            (true, true) => LOCAL_DIMENSION + 1,
+        }
     }
 }
 
@@ -188,10 +202,15 @@ impl Choices {
                 .iter()
                 .zip(vertical::VERTICAL_RANGES)
         });
-        let local = self
-            .local
-            .iter()
-            .flat_map(|_| local::LOCAL_NAMES.iter().zip(local::LOCAL_RANGES));
+        let local = self.local.iter().flat_map(|l| {
+            let vertical = l
+                .vertical_kf_ratio
+                .map(|_| (&LOCAL_VERTICAL_NAME, LOCAL_VERTICAL_RANGE));
+            local::LOCAL_NAMES
+                .iter()
+                .zip(local::LOCAL_RANGES)
+                .chain(vertical)
+        });
         named
             .chain(vertical)
             .chain(local)
@@ -290,9 +309,13 @@ impl Choices {
             } else {
                 0
             };
-        let local = layout
-            .local
-            .then(|| LocalChoices::from_unit(x.get(base..).unwrap_or(&[]), layout.narrow_local));
+        let local = layout.local.then(|| {
+            LocalChoices::from_unit(
+                x.get(base..).unwrap_or(&[]),
+                layout.narrow_local,
+                layout.local_dimension() > LOCAL_DIMENSION,
+            )
+        });
         Self {
             kf,
             ks: kf * v(1),
@@ -352,7 +375,10 @@ impl Choices {
             position_damping: 1.0,
             tilt: (law == AttitudeLaw::TiltPriority).then(TiltChoices::initial_guess),
             vertical: layout.vertical.then(VerticalChoices::initial_guess),
-            local: layout.local.then(LocalChoices::initial_guess),
+            local: layout.local.then(|| LocalChoices {
+                vertical_kf_ratio: (layout.local_dimension() > LOCAL_DIMENSION).then_some(1.0),
+                ..LocalChoices::initial_guess()
+            }),
         }
     }
 }

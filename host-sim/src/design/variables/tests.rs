@@ -8,6 +8,7 @@ fn unit_box_round_trips() {
         local: true,
         vertical: true,
         narrow_local: false,
+        local_vertical: false,
     };
     let c = Choices::initial_guess(layout);
     let back = Choices::from_unit(&c.to_unit(), layout);
@@ -220,6 +221,7 @@ fn range_ends_name_the_variable_at_the_end() {
         local: true,
         vertical: true,
         narrow_local: false,
+        local_vertical: false,
     };
     let mut rng = crate::runs::sampler::seeded_rng(3);
     let names: Vec<&str> = NAMES

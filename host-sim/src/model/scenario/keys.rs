@@ -53,6 +53,8 @@ fn key_of(name: &str) -> &'static str {
         "local M_p" => "gains.local.M_p_m_s2",
         "E_in" => "gains.local.energy_in_J",
         "E_out" => "gains.local.energy_out_J",
+        "local k_f,z" => "gains.local.vertical.kf",
+        "local k_s,z" => "gains.local.vertical.ks",
         "L_psi" => "gains.heading_compensator.level_rad_s",
         "k_psi" => "gains.heading_compensator.gain_1_s",
         "thrust_floor" => "controller.thrust_floor_N",

@@ -326,6 +326,10 @@ impl Scenario {
             saturation: lit(l.M_p_m_s2),
             energy_in: lit(l.energy_in_J),
             energy_out: lit(l.energy_out_J),
+            vertical_filters: l.vertical.map(|v| controller_core::LocalVerticalFilters {
+                kf: lit(v.kf),
+                ks: lit(v.ks),
+            }),
         });
         out.heading_compensator =
             g.heading_compensator

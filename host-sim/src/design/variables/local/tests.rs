@@ -38,14 +38,31 @@ fn narrowing_keeps_the_filters_and_finds_the_widest_envelope() {
 /// only after their envelope was narrowed, and none is lost that fitted as chosen.
 #[test]
 fn narrowed_local_regimes_are_certified() {
-    narrowed_local_regimes_certified_with(None);
-    narrowed_local_regimes_certified_with(Some(crate::design::options::DESIGN_HEADING_COMPENSATOR));
+    narrowed_local_regimes_certified_with(None, false);
+    narrowed_local_regimes_certified_with(
+        Some(crate::design::options::DESIGN_HEADING_COMPENSATOR),
+        false,
+    );
+}
+
+/// Given the same with the vertical channel apart and the local regime's own vertical filters
+/// searched (the refinement's layout, compensated heading), every mapped design is certified
+/// too, and some fly local vertical filters faster than the global ones, with the global
+/// `k_s,z / k_f,z`.
+#[test]
+fn local_vertical_filters_are_certified() {
+    narrowed_local_regimes_certified_with(
+        Some(crate::design::options::DESIGN_HEADING_COMPENSATOR),
+        true,
+    );
 }
 
 /// The check of [`narrowed_local_regimes_are_certified`] with the heading compensator
-/// `heading` (every mapped design must carry it).
+/// `heading` (every mapped design must carry it), and with the vertical channel apart and the
+/// local vertical filters searched when `vertical`.
 fn narrowed_local_regimes_certified_with(
     heading: Option<controller_core::HeadingCompensatorGains<f64>>,
+    vertical: bool,
 ) {
     use crate::design::authority::RotorFit;
     use crate::design::certificate::certify_design_with;
@@ -68,11 +85,13 @@ fn narrowed_local_regimes_certified_with(
     let layout = Layout {
         law: AttitudeLaw::TiltPriority,
         local: true,
-        vertical: false,
+        vertical,
         narrow_local: true,
+        local_vertical: vertical,
     };
     let mut rng = crate::runs::sampler::seeded_rng(21);
     let (mut with_local, mut narrowed_count, mut carrying) = (0, 0, 0);
+    let mut own_vertical = 0;
     for _ in 0..40 {
         let x: Vec<f64> = (0..layout.dimension())
             .map(|_| rng.random_range(0.0..=1.0))
@@ -86,6 +105,11 @@ fn narrowed_local_regimes_certified_with(
         };
         with_local += 1;
         carrying += usize::from(m.gains.heading_compensator == heading);
+        if let (Some(f), Some(global)) = (l.vertical_filters, m.gains.position.vertical) {
+            assert!(vertical && f.kf > global.kf, "{f:?} {global:?}");
+            assert!((f.ks / f.kf - global.ks / global.kf).abs() < 1e-12);
+            own_vertical += 1;
+        }
         let chosen = choices.local.unwrap();
         let chosen_energy = energy_out(&m.gains, &chosen);
         if l.energy_out < chosen_energy * (1.0 - 1e-12) {
@@ -135,4 +159,5 @@ fn narrowed_local_regimes_certified_with(
         carrying, with_local,
         "every mapped design carries the compensator asked for"
     );
+    assert_eq!(own_vertical > 0, vertical, "{own_vertical} of {with_local}");
 }
