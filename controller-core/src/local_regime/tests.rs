@@ -43,22 +43,24 @@ proptest! {
     }
 }
 
-/// The switch: into the local gains at `E ≤ E_in` once the re-timed filter states lie in the
-/// local saturation set, back only above `E_out`; the local gains keep the global shape; a local
-/// `M_p` above the global one is accepted, and on the way back both filter states are brought into
-/// the global set; a local `k_f` below the global one or `E_out ≤ E_in` is refused by name.
-#[test]
-fn the_switch_has_its_hysteresis() {
-    let global = PositionGains {
+/// The global position gains of the switch's tests (norm shape, `k_f` 0.5 1/s, `M_p` 2.5 m/s²),
+/// with the vertical channel `vertical`.
+fn global(vertical: Option<VerticalChannel<f64>>) -> PositionGains<f64> {
+    PositionGains {
         kp: 1.0,
         kv: 2.0,
         kf: 0.5,
         ks: 1.0,
         saturation: 2.5,
         saturation_shape: PositionSaturation::Norm,
-        vertical: None,
-    };
-    let l = LocalGains {
+        vertical,
+    }
+}
+
+/// A local regime eight times faster (`k_f,L` 4 1/s) with a smaller level (1.5 m/s²), `E_in`
+/// 0.01 J, `E_out` 0.02 J, and the local vertical filters `vertical_filters`.
+fn local(vertical_filters: Option<LocalVerticalFilters<f64>>) -> LocalGains<f64> {
+    LocalGains {
         kp: 9.0,
         kv: 6.0,
         kf: 4.0,
@@ -66,8 +68,17 @@ fn the_switch_has_its_hysteresis() {
         saturation: 1.5,
         energy_in: 0.01,
         energy_out: 0.02,
-        vertical_filters: None,
-    };
+        vertical_filters,
+    }
+}
+
+/// The switch: into the local gains at `E ≤ E_in` once the re-timed filter states lie in the
+/// local saturation set, back only above `E_out`; the local gains keep the global shape; a local
+/// `M_p` above the global one is accepted, and on the way back both filter states are brought into
+/// the global set; a local `k_f` below the global one or `E_out ≤ E_in` is refused by name.
+#[test]
+fn the_switch_has_its_hysteresis() {
+    let (global, l) = (global(None), local(None));
     assert!(l.validate(&global).is_ok());
     let rest = FilterState::zero();
     let regime = |r: Regime, e: f64, f: &FilterState<f64>| l.switch(&global, r, e, f).0;
@@ -134,25 +145,8 @@ fn local_vertical_filters_are_retimed_by_their_own_bandwidth() {
         kf: 1.5,
         ks: 2.5,
     };
-    let global = PositionGains {
-        kp: 1.0,
-        kv: 2.0,
-        kf: 0.5,
-        ks: 1.0,
-        saturation: 2.5,
-        saturation_shape: PositionSaturation::Norm,
-        vertical: Some(vertical),
-    };
-    let l = LocalGains {
-        kp: 9.0,
-        kv: 6.0,
-        kf: 4.0,
-        ks: 10.0,
-        saturation: 1.5,
-        energy_in: 0.01,
-        energy_out: 0.02,
-        vertical_filters: Some(LocalVerticalFilters { kf: 6.0, ks: 20.0 }),
-    };
+    let global = global(Some(vertical));
+    let l = local(Some(LocalVerticalFilters { kf: 6.0, ks: 20.0 }));
     assert!(l.validate(&global).is_ok());
     let local = l.position(&global);
     assert_eq!(

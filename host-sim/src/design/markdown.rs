@@ -91,15 +91,11 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             .law_search
             .iter()
             .map(|c| {
-                format!(
-                    "`{}` {:.3}{}",
-                    c.law.name(),
+                candidate(
+                    &format!("`{}`", c.law.name()),
                     c.objective,
-                    if c.constraints_met {
-                        ""
-                    } else {
-                        " (constraints not met)"
-                    }
+                    "",
+                    c.constraints_met,
                 )
             })
             .collect();
@@ -143,25 +139,17 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             .heading_search
             .iter()
             .map(|c| {
-                format!(
-                    "{} {:.3}{}{}",
-                    if c.compensated {
-                        "compensated"
-                    } else {
-                        "paper's"
-                    },
-                    c.objective,
-                    if c.long_runs {
-                        " (on the long-run fallback's runs)"
-                    } else {
-                        ""
-                    },
-                    if c.constraints_met {
-                        ""
-                    } else {
-                        " (constraints not met)"
-                    }
-                )
+                let name = if c.compensated {
+                    "compensated"
+                } else {
+                    "paper's"
+                };
+                let runs = if c.long_runs {
+                    " (on the long-run fallback's runs)"
+                } else {
+                    ""
+                };
+                candidate(name, c.objective, runs, c.constraints_met)
             })
             .collect();
         let _ = writeln!(
@@ -530,3 +518,14 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
 }
 
 const AXES: [&str; 3] = ["roll", "pitch", "yaw"];
+
+/// One searched candidate as design.md lists it: `name`, its `objective` to three decimals,
+/// `note`, and "(constraints not met)" when they are not.
+fn candidate(name: &str, objective: f64, note: &str, constraints_met: bool) -> String {
+    let unmet = if constraints_met {
+        ""
+    } else {
+        " (constraints not met)"
+    };
+    format!("{name} {objective:.3}{note}{unmet}")
+}

@@ -50,8 +50,8 @@ pub enum Fallback {
     },
 }
 
-/// The compensated heading `design` flies (`--heading compensated`, or `both`, the default): `L` = 0.3 rad/s, `k_ψ` = 1/s
-/// (docs/heading-compensator.md; not searched).
+/// The compensated heading `design` flies (`--heading compensated`, or `both`, the default):
+/// `L` = 0.3 rad/s, `k_ψ` = 1/s (docs/heading-compensator.md; not searched).
 pub const DESIGN_HEADING_COMPENSATOR: controller_core::HeadingCompensatorGains<f64> =
     controller_core::HeadingCompensatorGains {
         level: 0.3,

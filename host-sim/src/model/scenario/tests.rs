@@ -103,6 +103,31 @@ fn heading_compensator_table_is_read_and_checked() {
     assert!(e.contains("level"), "{e}");
 }
 
+/// Given the vertical channel apart and `[gains.local]` with `[gains.local.vertical]`, when it
+/// parses, then the local gains carry the vertical filters; local vertical filters slower than
+/// the global ones are refused naming their key and value.
+#[test]
+fn local_vertical_filters_are_read_and_checked() {
+    let table = |kf: &str| {
+        format!(
+            "{PAPER_SCENARIO}\n[gains.vertical]\nup_m_s2 = 4.0\ndown_m_s2 = 1.0\nkf = 1.5\nks = 2.5\n\
+             \n[gains.local]\nkp = 9.0\nkv = 6.0\nkf = 4.0\nks = 30.0\nM_p_m_s2 = 1.5\n\
+             energy_in_J = 0.01\nenergy_out_J = 0.02\n\n[gains.local.vertical]\nkf = {kf}\nks = 20.0\n"
+        )
+    };
+    let s = Scenario::parse(&table("6.0"), "l.toml").unwrap();
+    let l = s.gains::<f64>().local.expect("the local regime is on");
+    let f = l.vertical_filters.expect("its own vertical filters");
+    assert_eq!((f.kf, f.ks), (6.0, 20.0));
+    let e = Scenario::parse(&table("1.25"), "l.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("gains.local.vertical.kf") && e.contains("1.25"),
+        "{e}"
+    );
+}
+
 #[test]
 fn wrong_type_is_named() {
     let text = PAPER_SCENARIO.replace("duration_s = 30.0", "duration_s = \"long\"");
