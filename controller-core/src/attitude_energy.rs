@@ -31,7 +31,8 @@ pub struct EnergyLimits<T: Scalar> {
     pub omega_error: Vector3<T>,
 }
 
-/// The attitude energy `E = ½ ω̃ᵀJω̃ + Ψ(ϑ̃) (+ ½ tr(G(I − R̃)) with tilt priority)` \[J\] of the
+/// The attitude energy `E = ½ ω̃ᵀJω̃ + Ψ(ϑ̃) (+ ½ tr(G(I − R̃)) + Ψ_t(ϑ̃) with tilt priority and its
+/// turn-over term, docs/turn-over.md)` \[J\] of the
 /// MRP error `mrp_error`, the angular velocity error `omega_error` [rad/s] (body) and the error
 /// rotation `error_rotation` (`R̃ = R_dᵀR`) for `gains` and the inertia diagonal `inertia`
 /// [kg m²] (module documentation). Non-increasing along the closed loop with the exact
@@ -56,6 +57,7 @@ pub fn attitude_energy<T: Scalar>(
                 + g.y * (T::one() - r[(1, 1)])
                 + g.z * (T::one() - r[(2, 2)]))
                 * lit(0.5)
+                + t.turn_over.map_or(T::zero(), |o| o.potential(mrp_error))
         }
     };
     kinetic + potential + trace

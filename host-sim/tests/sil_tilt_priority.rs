@@ -22,6 +22,7 @@ fn the_pipeline_flies_tilt_priority_inside_its_certificate() {
         trace_weights: Vector3::new(0.002, 0.002, 0.01),
         omega_gains: Vector3::repeat(a.k_omega),
         omega_levels: Vector3::new(0.005, 0.005, 0.008),
+        turn_over: None,
     };
     let levels = tilt.feedback_levels(a.mrp_saturation, setup.flight.gains.hysteresis);
     assert!(levels.max() <= iota, "{levels} vs {iota}");

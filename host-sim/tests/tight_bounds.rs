@@ -255,6 +255,7 @@ fn tilt_priority_torque_decomposition_bounds_the_law() {
         trace_weights: Vector3::new(0.05, 0.02, 0.3),
         omega_gains: Vector3::new(0.1, 0.1, 0.05),
         omega_levels: Vector3::new(0.08, 0.07, 0.02),
+        turn_over: None,
     };
     let a = AttitudeGains {
         k_mrp: 4.0,

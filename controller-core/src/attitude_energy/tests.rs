@@ -28,6 +28,7 @@ pub(crate) fn gains(tilt: bool) -> Gains<f64> {
             trace_weights: Vector3::new(0.02, 0.02, 0.3),
             omega_gains: Vector3::new(0.05, 0.05, 0.02),
             omega_levels: Vector3::new(0.1, 0.1, 0.01),
+            turn_over: None,
         });
     }
     g

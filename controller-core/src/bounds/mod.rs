@@ -294,7 +294,8 @@ pub fn certify<T: Scalar>(
             set_rates.1,
             radial_mrp,
             t.trace_weights,
-            t.omega_levels,
+            // The turn-over term's per-axis bounds widen the damping's box (docs/turn-over.md).
+            t.omega_levels + t.turn_over_bounds(gains.hysteresis),
         ),
     };
 

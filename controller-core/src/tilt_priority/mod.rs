@@ -30,6 +30,7 @@ use nalgebra::{Matrix3, Vector3};
 use crate::attitude_control::{error_and_feedforward, AttitudeGains, TorqueOutput};
 use crate::parameter_error::{positive, ParameterError};
 use crate::scalar::{lit, to_f64, Scalar};
+use crate::turn_over::TurnOver;
 
 /// Gains of the tilt-priority feedback (extension, docs/tilt-priority.md). The radial MRP
 /// term keeps the paper's `k_ϑ`, `M_ϑ` ([`AttitudeGains`]); these replace the radial damping
@@ -44,6 +45,9 @@ pub struct TiltPriorityGains<T: Scalar> {
     pub omega_gains: Vector3<T>,
     /// Per-axis damping levels `M_ω,i` [N m], body axes, `> 0`.
     pub omega_levels: Vector3<T>,
+    /// The turn-over term (docs/turn-over.md): a tilt-only push near the half turn, where the
+    /// trace term has no gradient. `None`: off (the law as before, bit for bit).
+    pub turn_over: Option<TurnOver<T>>,
 }
 
 impl<T: Scalar> TiltPriorityGains<T> {
@@ -66,6 +70,9 @@ impl<T: Scalar> TiltPriorityGains<T> {
             for (name, x) in names.iter().zip(v.iter()) {
                 positive(name, *x)?;
             }
+        }
+        if let Some(t) = &self.turn_over {
+            t.validate()?;
         }
         Ok(())
     }
@@ -94,10 +101,10 @@ impl<T: Scalar> TiltPriorityGains<T> {
         })
     }
 
-    /// `ι_i = (1 + (1+δ)²) M_ϑ/4 + ½(g_j + g_k) + M_ω,i` [N m]: the per-axis bound of the
-    /// feedback while `|ϑ̃| ≤ 1 + δ` (the triangle inequality over the three terms). Inputs: the
-    /// radial term's level `M_ϑ` [N m] and the hysteresis `δ`.
-    /// Source: extension of Theorem 2's `ι` (docs/tilt-priority.md).
+    /// `ι_i = (1 + (1+δ)²) M_ϑ/4 + ½(g_j + g_k) + M_ω,i (+ the turn-over term's bound)` [N m]:
+    /// the per-axis bound of the feedback while `|ϑ̃| ≤ 1 + δ` (the triangle inequality over
+    /// the terms). Inputs: the radial term's level `M_ϑ` [N m] and the hysteresis `δ`.
+    /// Source: extension of Theorem 2's `ι` (docs/tilt-priority.md, docs/turn-over.md).
     pub fn feedback_levels(&self, mrp_saturation: T, hysteresis: T) -> Vector3<T> {
         let a = T::one() + hysteresis;
         let radial = (T::one() + a * a) * mrp_saturation * lit(0.25);
@@ -105,6 +112,14 @@ impl<T: Scalar> TiltPriorityGains<T> {
         let half = lit::<T>(0.5);
         Vector3::new((g.y + g.z) * half, (g.z + g.x) * half, (g.x + g.y) * half)
             + self.omega_levels.add_scalar(radial)
+            + self.turn_over_bounds(hysteresis)
+    }
+
+    /// The turn-over term's per-axis bounds [N m] while `|ϑ̃| ≤ 1 + δ` (zero when it is off):
+    /// [`TurnOver::bounds`]. Source: extension (docs/turn-over.md).
+    pub fn turn_over_bounds(&self, hysteresis: T) -> Vector3<T> {
+        self.turn_over
+            .map_or(Vector3::zeros(), |t| t.bounds(hysteresis))
     }
 
     /// The hysteresis-band condition `(lhs, rhs)`, holding when `lhs > rhs`:
@@ -147,8 +162,12 @@ impl<T: Scalar> TiltPriorityGains<T> {
         );
         let (s_mrp, shape) = attitude.radial_mrp_term(mrp_error);
         let s_omega = self.damping(&omega_error);
+        let mut torque = -s_mrp * shape + self.trace_torque(error_rotation) - s_omega - feedforward;
+        if let Some(t) = &self.turn_over {
+            torque += t.torque(mrp_error);
+        }
         TorqueOutput {
-            torque: -s_mrp * shape + self.trace_torque(error_rotation) - s_omega - feedforward,
+            torque,
             s_mrp,
             s_omega,
             feedforward,

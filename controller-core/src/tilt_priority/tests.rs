@@ -17,6 +17,7 @@ fn tilt() -> TiltPriorityGains<f64> {
         trace_weights: Vector3::new(0.04, 0.06, 0.4),
         omega_gains: Vector3::new(0.08, 0.09, 0.05),
         omega_levels: Vector3::new(0.12, 0.11, 0.03),
+        turn_over: None,
     }
 }
 
@@ -92,6 +93,59 @@ proptest! {
         let d = (potential(&t, &a, &(n * (r + h))) - potential(&t, &a, &(n * (r - h)))) / (2.0 * h);
         prop_assert!(d > 0.0, "dV/dr = {d} at r = {r}, n = {n:?}");
     }
+}
+
+/// Tilt priority with the turn-over term (docs/turn-over.md).
+fn tilt_turning() -> TiltPriorityGains<f64> {
+    TiltPriorityGains {
+        turn_over: Some(crate::turn_over::TurnOver {
+            level: 0.25,
+            onset: 0.8,
+        }),
+        ..tilt()
+    }
+}
+
+proptest! {
+    /// With the turn-over term the law is still bounded by its per-axis levels (which carry the
+    /// term's bounds), and its attitude part is still minus the rate of the potential, now
+    /// `Ψ_MRP + ½ tr(G(I − R̃)) + Ψ_t`.
+    #[test]
+    fn the_turn_over_term_keeps_the_levels_and_the_gradient(mrp in ball_point(), w in v3(3.0)) {
+        let (t, a) = (tilt_turning(), attitude());
+        let j = Vector3::new(2.24e-3, 2.9e-3, 5.3e-3);
+        let out = t.evaluate(&a, &mrp, &w, &rotation_from_mrp(&mrp), &Vector3::zeros(),
+            &Vector3::zeros(), &j);
+        let levels = t.feedback_levels(a.mrp_saturation, DELTA);
+        for i in 0..3 {
+            prop_assert!(out.torque[i].abs() <= levels[i], "axis {i}: {} > {}", out.torque[i], levels[i]);
+        }
+        let turn = t.turn_over.expect("on");
+        let v = |m: &Vector3<f64>| potential(&t, &a, m) + turn.potential(m);
+        let rate = mrp_kinematics(&mrp) * w;
+        let h = 1e-6;
+        let fd = (v(&(mrp + rate * h)) - v(&(mrp - rate * h))) / (2.0 * h);
+        let attitude_part = out.torque + out.s_omega;
+        prop_assert!((fd + w.dot(&attitude_part)).abs() < 1e-6 * (1.0 + fd.abs()),
+            "dV/dt {fd} vs -w.tau {}", -w.dot(&attitude_part));
+    }
+}
+
+/// Given the vehicle exactly upside down (a half turn about x), when tilt priority evaluates,
+/// then without the turn-over term only the small radial MRP term pushes; with it, roll gets
+/// the term's whole level more, and yaw nothing.
+#[test]
+fn upside_down_the_turn_over_term_adds_its_level_about_roll() {
+    let a = attitude();
+    let mrp = Vector3::new(1.0, 0.0, 0.0);
+    let r = rotation_from_mrp(&mrp);
+    let j = Vector3::new(2.24e-3, 2.9e-3, 5.3e-3);
+    let z = Vector3::zeros();
+    let off = tilt().evaluate(&a, &mrp, &z, &r, &z, &z, &j).torque;
+    let on = tilt_turning().evaluate(&a, &mrp, &z, &r, &z, &z, &j).torque;
+    // The radial term at |ϑ| = 1: (1 + 1)/4 · s_ϑ, s_ϑ just below its level M_ϑ.
+    assert_relative_eq!(off.x, -0.5 * a.mrp_saturation, max_relative = 1e-3);
+    assert_relative_eq!(on - off, Vector3::new(-0.25, 0.0, 0.0), epsilon = 1e-12);
 }
 
 /// The band condition is not vacuous: with the radial level far below it, the potential

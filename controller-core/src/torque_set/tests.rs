@@ -16,6 +16,7 @@ fn tilt_priority() -> TiltPriorityGains<f64> {
         trace_weights: Vector3::new(0.04, 0.06, 0.4),
         omega_gains: Vector3::new(0.08, 0.09, 0.05),
         omega_levels: Vector3::new(0.12, 0.11, 0.03),
+        turn_over: None,
     }
 }
 
@@ -186,6 +187,7 @@ fn trace_term_lies_in_its_ball_and_disks_and_reaches_them() {
             trace_weights: g,
             omega_gains: Vector3::repeat(1.0),
             omega_levels: Vector3::zeros(),
+            turn_over: None,
         };
         let set =
             TorqueSet::tilt_priority(Vector3::repeat(1.0), 0.0, 0.0, 0.0, g, Vector3::zeros());

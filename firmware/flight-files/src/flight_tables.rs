@@ -239,6 +239,25 @@ pub struct TiltPriorityTable {
     pub omega_gains_Nm_s: [f64; 3],
     /// `M_ω,i` [N m], body axes: per-axis damping levels.
     pub omega_levels_Nm: [f64; 3],
+    /// `M_t` [N m]: the turn-over term's torque about a horizontal half turn's axis
+    /// (docs/turn-over.md); absent with `turn_over_onset`: off.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub turn_over_level_Nm: Option<f64>,
+    /// `ρ₀` (dimensionless, in (0, 1)): the turn-over term's onset, the horizontal MRP norm below
+    /// which it is zero.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub turn_over_onset: Option<f64>,
+}
+
+impl TiltPriorityTable {
+    /// The turn-over term `(M_t, ρ₀)`: `None` when neither key is given; a key given alone reads
+    /// the other as 0, which controller-core's validation refuses by name.
+    pub fn turn_over(&self) -> Option<(f64, f64)> {
+        match (self.turn_over_level_Nm, self.turn_over_onset) {
+            (None, None) => None,
+            (level, onset) => Some((level.unwrap_or(0.0), onset.unwrap_or(0.0))),
+        }
+    }
 }
 
 /// `[gains.integral]`: the bounded integral action (extension, docs/integral-action.md).

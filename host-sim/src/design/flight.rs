@@ -70,6 +70,8 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
                 trace_weights_Nm: t.trace_weights.into(),
                 omega_gains_Nm_s: t.omega_gains.into(),
                 omega_levels_Nm: t.omega_levels.into(),
+                turn_over_level_Nm: t.turn_over.map(|o| o.level),
+                turn_over_onset: t.turn_over.map(|o| o.onset),
             }),
         velocity_limit: g
             .velocity_limit

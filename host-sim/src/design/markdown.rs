@@ -294,6 +294,15 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
             r.feedback_torque_axes_Nm[1],
             r.feedback_torque_axes_Nm[2],
         );
+        if let (Some(level), Some(onset)) = (t.turn_over_level_Nm, t.turn_over_onset) {
+            let _ = writeln!(
+                s,
+                "Turn-over term (docs/turn-over.md; in the levels above): {level:.4e} N m about \
+                 the axis of a horizontal half turn, from a horizontal MRP norm of {onset} ({:.1} \
+                 deg) on.\n",
+                4.0 * onset.atan().to_degrees()
+            );
+        }
     }
     if let Some(v) = &g.velocity_limit {
         let _ = writeln!(

@@ -335,10 +335,15 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         },
         // `[gains.tilt_priority]` (absent = None, the paper's radial feedback).
         g.tilt_priority.map_or("None".to_string(), |t| format!(
-            "Some(controller_core::TiltPriorityGains {{ trace_weights: {}, omega_gains: {}, omega_levels: {} }})",
+            "Some(controller_core::TiltPriorityGains {{ trace_weights: {}, omega_gains: {}, omega_levels: {}, turn_over: {} }})",
             vec3(t.trace_weights_Nm),
             vec3(t.omega_gains_Nm_s),
-            vec3(t.omega_levels_Nm)
+            vec3(t.omega_levels_Nm),
+            t.turn_over().map_or("None".to_string(), |(level, onset)| format!(
+                "Some(controller_core::TurnOver {{ level: {}, onset: {} }})",
+                lit(level),
+                lit(onset)
+            ))
         )),
         // `[gains.velocity_limit]` (absent = None, the paper's position feedback).
         g.velocity_limit.map_or("None".to_string(), |v| format!(

@@ -274,7 +274,12 @@ pub fn tight_bounds(
         let omega = gains
             .tilt_priority
             .map_or(gains.attitude.omega_saturation, |t| t.omega_levels[axis]);
-        torque_max[axis] = torque_bound(axis, omega, phi.upper, inertia, w.upper);
+        // Tilt priority's turn-over term (docs/turn-over.md) by its closed-form per-axis bound,
+        // beside the damping's level (the triangle inequality; the search does not model it).
+        let turn_over = gains
+            .tilt_priority
+            .map_or(0.0, |t| t.turn_over_bounds(gains.hysteresis)[axis]);
+        torque_max[axis] = torque_bound(axis, omega + turn_over, phi.upper, inertia, w.upper);
         let phi_low = term(h12.lower, h3.lower, f64::INFINITY).maximise(phi_gap, options.max_boxes);
         torque_lower[axis] = torque_bound(axis, omega, phi_low.lower, inertia, w.lower);
     }

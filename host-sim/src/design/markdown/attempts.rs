@@ -53,4 +53,30 @@ pub(super) fn write(s: &mut String, r: &Report) {
             }
         );
     }
+    if !r.turn_over_search.is_empty() {
+        let tried: Vec<String> = r
+            .turn_over_search
+            .iter()
+            .map(|t| {
+                format!(
+                    "{} {:.3}{}{}",
+                    t.share,
+                    t.objective,
+                    if t.constraints_met {
+                        ""
+                    } else {
+                        " (constraints not met)"
+                    },
+                    if t.chosen { " (chosen)" } else { "" }
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            "Turn-over term chosen after the search (docs/turn-over.md): the search's design \
+             flown with the term at each share of roll's level `M_t / iota_1` (objective, lower is \
+             better): {}.\n",
+            tried.join(", ")
+        );
+    }
 }

@@ -40,7 +40,7 @@
 //! `ζ_p = 1`).
 
 use controller_core::{
-    Gains, TiltPriorityGains, TorqueSet, TrajectoryConstants, Vehicle, VelocityLimit,
+    Gains, TiltPriorityGains, TorqueSet, TrajectoryConstants, TurnOver, Vehicle, VelocityLimit,
     VerticalBraking,
 };
 use nalgebra::Vector3;
@@ -407,6 +407,28 @@ pub struct Context<'a> {
     /// [`BRAKING_SHARE`] `× M_p` (and of `M_up`, `M_down` vertically with the vertical channel
     /// apart; `--speed-limit`, docs/velocity-limit.md).
     pub speed_limit: Option<f64>,
+    /// Tilt priority's turn-over term (docs/turn-over.md) as a share of roll's level `ι₁`:
+    /// `M_t = share × ι₁` on top of the levels, with the onset [`TURN_OVER_ONSET`]; 0: off.
+    /// `design` chooses it after the search (`crate::design::run`).
+    pub turn_over: f64,
+}
+
+/// The turn-over term's onset `ρ₀` in every design (a rotation by 4 atan 0.8 = 154.6° about a
+/// horizontal axis): lower onsets act over more of the turn, at a slightly larger yaw bound.
+pub const TURN_OVER_ONSET: f64 = 0.8;
+
+/// The turn-over term of `share` (of roll's level `iota` [N m]); `None` when `share` is 0.
+fn turn_over_of(share: f64, iota: f64) -> Option<TurnOver<f64>> {
+    (share > 0.0).then_some(TurnOver {
+        level: share * iota,
+        onset: TURN_OVER_ONSET,
+    })
+}
+
+/// The per-axis bounds of the turn-over term per newton metre of roll's level at `share`
+/// (dimensionless): what it adds to the levels `(1, 1, ρ)`.
+fn turn_over_shares(share: f64) -> Vector3<f64> {
+    turn_over_of(share, 1.0).map_or(Vector3::zeros(), |t| t.bounds(DELTA))
 }
 
 /// Braking acceleration of the velocity-limited feedback, as a share of `M_p`: the profile
@@ -442,11 +464,11 @@ fn band_factor() -> f64 {
     ((1.0 + DELTA).powi(2) - 1.0) * (1.0 + DELTA)
 }
 
-/// Tilt priority's gains for roll/pitch level `iota` and yaw level `ρ iota` (module table).
-/// Returns the gains and `M_ϑ`.
+/// Tilt priority's gains for roll/pitch level `iota` and yaw level `ρ iota` (module table),
+/// with the turn-over term of `turn_over` (share of `iota`) on top. Returns the gains and `M_ϑ`.
 fn tilt_gains(
     t: &TiltChoices,
-    iota: f64,
+    (iota, turn_over): (f64, f64),
     k_mrp: f64,
     inertia: &Vector3<f64>,
     damping: f64,
@@ -472,6 +494,7 @@ fn tilt_gains(
             trace_weights: g,
             omega_gains,
             omega_levels,
+            turn_over: turn_over_of(turn_over, iota),
         },
         mrp_saturation,
     )
@@ -507,7 +530,7 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
         (None, RotorFit::Set) => iota_max(ctx.rotors, &env, ctx.margin),
         (None, RotorFit::Airmode) => shadow_iota_max(ctx.rotors, &env, ctx.margin),
         (Some(t), fit) => {
-            let d = Vector3::new(1.0, 1.0, t.yaw_share);
+            let d = Vector3::new(1.0, 1.0, t.yaw_share) + turn_over_shares(ctx.turn_over);
             // A level known to fit: the box's on the thrust interval, or with airmode the
             // ball's through the shadow, shrunk so that the ball holds the box `ι d`.
             let lower = match fit {
@@ -515,15 +538,20 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
                 RotorFit::Airmode => shadow_iota_max(ctx.rotors, &env, ctx.margin) / d.norm(),
             };
             iota_max_by(ctx.rotors, &env, (ctx.margin, fit), lower, |iota| {
-                let (tilt, mrp_saturation) =
-                    tilt_gains(&t, iota, k_mrp, &ctx.vehicle.inertia, c.attitude_damping);
+                let (tilt, mrp_saturation) = tilt_gains(
+                    &t,
+                    (iota, ctx.turn_over),
+                    k_mrp,
+                    &ctx.vehicle.inertia,
+                    c.attitude_damping,
+                );
                 TorqueSet::tilt_priority(
                     Vector3::zeros(),
                     0.0,
                     0.0,
                     mrp_factor() * mrp_saturation,
                     tilt.trace_weights,
-                    tilt.omega_levels,
+                    tilt.omega_levels + tilt.turn_over_bounds(DELTA),
                 )
             })
         }
@@ -532,7 +560,7 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     // norms, or the tight bounds'), cap the level too (the set's tighter norms no longer imply
     // them).
     let shares = c.tilt.map_or(Vector3::repeat(1.0), |t| {
-        Vector3::new(1.0, 1.0, t.yaw_share)
+        Vector3::new(1.0, 1.0, t.yaw_share) + turn_over_shares(ctx.turn_over)
     });
     let iota_cap = IotaCap {
         rotor_fit_Nm: i_max,
@@ -554,7 +582,7 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     if let Some(t) = &c.tilt {
         let (tilt, mrp_saturation) = tilt_gains(
             t,
-            iota,
+            (iota, ctx.turn_over),
             g.attitude.k_mrp,
             &ctx.vehicle.inertia,
             c.attitude_damping,

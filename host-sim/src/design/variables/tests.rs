@@ -90,6 +90,7 @@ pub(crate) fn context<'a>(
             heading: None,
         },
         speed_limit: None,
+        turn_over: 0.0,
     }
 }
 
@@ -176,6 +177,7 @@ fn every_point_is_certified_with_the_tight_bounds() {
         bounds: BoundsKind::Tight,
         position: PositionLaw::paper(),
         speed_limit: None,
+        turn_over: 0.0,
     };
     let mut rng = crate::runs::sampler::seeded_rng(12);
     for law in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority] {

@@ -38,6 +38,8 @@ fn key_of(name: &str) -> &'static str {
         "g_1" | "g_2" | "g_3" => "gains.tilt_priority.trace_weights_Nm",
         "k_omega_1" | "k_omega_2" | "k_omega_3" => "gains.tilt_priority.omega_gains_Nm_s",
         "M_omega_1" | "M_omega_2" | "M_omega_3" => "gains.tilt_priority.omega_levels_Nm",
+        "turn_over_level" => "gains.tilt_priority.turn_over_level_Nm",
+        "turn_over_onset" => "gains.tilt_priority.turn_over_onset",
         "speed_limit" => "gains.velocity_limit.speed_m_s",
         "braking" => "gains.velocity_limit.braking_m_s2",
         "braking_up" => "gains.velocity_limit.braking_up_m_s2",

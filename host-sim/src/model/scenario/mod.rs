@@ -16,7 +16,7 @@ use anyhow::{anyhow, Context, Result};
 use controller_core::scalar::{lit, Scalar};
 use controller_core::{
     Gains, HeadingProfile, IntegralGains, Lemma1Form, Limits, PositionSaturation,
-    ReferenceTrajectory, TiltPriorityGains, Vehicle, VelocityLimit,
+    ReferenceTrajectory, TiltPriorityGains, TurnOver, Vehicle, VelocityLimit,
 };
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -307,6 +307,10 @@ impl Scenario {
             trace_weights: v3(&t.trace_weights_Nm),
             omega_gains: v3(&t.omega_gains_Nm_s),
             omega_levels: v3(&t.omega_levels_Nm),
+            turn_over: t.turn_over().map(|(level, onset)| TurnOver {
+                level: lit(level),
+                onset: lit(onset),
+            }),
         });
         out.velocity_limit = g.velocity_limit.map(|v| VelocityLimit {
             speed: lit(v.speed_m_s),
