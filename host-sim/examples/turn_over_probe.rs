@@ -41,13 +41,28 @@ fn main() -> anyhow::Result<()> {
     let e = host_sim::design::evaluate::evaluate(
         &s,
         &hover,
-        (s.rotors.as_ref().map_or(0.02, |r| r.motor_time_constant_s), Some(&spec)),
+        (
+            s.rotors.as_ref().map_or(0.02, |r| r.motor_time_constant_s),
+            Some(&spec),
+        ),
         false,
     )?;
-    println!("evaluate: feasible {} cost {:.3} failures {}", e.feasible, e.cost, e.failures);
-    for t in e.nominal.iter().chain(&e.doubled_lag).chain(&e.doubled_lag_turned).chain(&e.doubled_lag_random) {
+    println!(
+        "evaluate: feasible {} cost {:.3} failures {}",
+        e.feasible, e.cost, e.failures
+    );
+    for t in e
+        .nominal
+        .iter()
+        .chain(&e.doubled_lag)
+        .chain(&e.doubled_lag_turned)
+        .chain(&e.doubled_lag_random)
+    {
         if !t.converged {
-            println!("  not converged: {} settling {:?} tail {:.2} deg", t.start, t.settling_time_s, t.tail_attitude_error_max_deg);
+            println!(
+                "  not converged: {} settling {:?} tail {:.2} deg",
+                t.start, t.settling_time_s, t.tail_attitude_error_max_deg
+            );
         }
     }
     let h = half_turns(&s, false)?;
