@@ -70,7 +70,6 @@ pub(crate) fn binding_condition(
         bounds,
         position,
         speed_limit: None,
-        turn_over: 0.0,
     };
     let Some(m) = map(&ctx, &probe) else {
         return Some(

@@ -368,11 +368,20 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
         );
     }
     let c = &r.choices;
+    // With the turn-over term, roll's feedback level carries the term's bound on top of the
+    // fraction of `ι_max` the search chose (docs/turn-over.md).
+    let turn_over = match c.tilt.and_then(|t| t.turn_over_share) {
+        Some(share) if share > 0.0 => format!(
+            " plus the turn-over term's {:.4e} N m about roll",
+            r.feedback_torque_Nm.1 - c.iota_fraction * r.feedback_torque_Nm.0
+        ),
+        _ => String::new(),
+    };
     let _ = writeln!(
         s,
         "Chosen: M_p = {:.3} of its largest certifiable value {:.4} m/s^2; iota = {:.4e} N m = {:.3} of \
-         iota_max = {:.4e} N m; attitude natural frequency {:.2} rad/s (smallest-inertia axis), damping {:.2}; \
-         position natural frequency {:.2} rad/s, damping {:.2}.\n",
+         iota_max = {:.4e} N m{turn_over}; attitude natural frequency {:.2} rad/s (smallest-inertia axis), \
+         damping {:.2}; position natural frequency {:.2} rad/s, damping {:.2}.\n",
         c.saturation_fraction,
         r.saturation_max_m_s2,
         r.feedback_torque_Nm.1,

@@ -20,11 +20,14 @@ use anyhow::Result;
 use super::optimise::{minimise, Optimum};
 use super::variables::Layout;
 
+pub mod turn_over;
+
 /// Evaluations of the refinement: this share of the search's budget (at least one swarm); a
 /// quarter since the refinement searches the local vertical filters too (seven variables).
 pub const BUDGET_SHARE: f64 = 0.25;
 
-/// The refinement's outcome, as `design.json` reports it.
+/// A refinement's outcome (the local regime's here, the turn-over term's in [`turn_over`]), as
+/// `design.json` reports it.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Refinement {
     /// The search's objective (lower is better).
@@ -66,10 +69,24 @@ pub fn refine_local<F: Fn(&[f64], Layout) -> f64 + Sync>(
     let extra = narrowing.local_dimension() - layout.local_dimension();
     let local = [searched, &vec![0.0; extra]].concat();
     let local = local.as_slice();
-    let point = |y: &[f64]| [global, y].concat();
+    let global = global.to_vec();
+    let point = |y: &[f64]| [global.as_slice(), y].concat();
     let local_cost = |y: &[f64]| cost(&point(y), narrowing);
     let share = (BUDGET_SHARE * budget as f64).ceil() as usize;
     let best = minimise(&local_cost, local, share.max(1), seed)?;
+    Ok(keep_if_lower(optimum, best, point, (layout, narrowing)))
+}
+
+/// The refinement's outcome: `best` (a refinement's optimum over the coordinates `point` puts
+/// into a whole point laid out as `layouts.1`) kept when it scores lower than the search's
+/// `optimum` (laid out as `layouts.0`), else the search's; `evaluations` counts both. Returns
+/// the design's point, its layout and the [`Refinement`]. No errors.
+fn keep_if_lower(
+    optimum: Optimum,
+    best: Optimum,
+    point: impl Fn(&[f64]) -> Vec<f64>,
+    (searched, refined): (Layout, Layout),
+) -> (Optimum, Layout, Option<Refinement>) {
     let kept = best.cost < optimum.cost;
     let refinement = Refinement {
         searched: optimum.cost,
@@ -78,7 +95,7 @@ pub fn refine_local<F: Fn(&[f64], Layout) -> f64 + Sync>(
         evaluations: best.evaluations,
     };
     let evaluations = optimum.evaluations + best.evaluations;
-    Ok(if kept {
+    if kept {
         let x = point(&best.x);
         (
             Optimum {
@@ -86,7 +103,7 @@ pub fn refine_local<F: Fn(&[f64], Layout) -> f64 + Sync>(
                 cost: best.cost,
                 evaluations,
             },
-            narrowing,
+            refined,
             Some(refinement),
         )
     } else {
@@ -95,10 +112,10 @@ pub fn refine_local<F: Fn(&[f64], Layout) -> f64 + Sync>(
                 evaluations,
                 ..optimum
             },
-            layout,
+            searched,
             Some(refinement),
         )
-    })
+    }
 }
 
 #[cfg(test)]

@@ -203,20 +203,6 @@ pub struct MarginsEntry {
     pub doubled_lag_settling_180_s: Vec<(String, Option<f64>)>,
 }
 
-/// `turn_over_search`: the search's optimum flown with one turn-over share.
-#[derive(Clone, Debug, Serialize)]
-pub struct TurnOverTrial {
-    /// `M_t / ι₁` (dimensionless); 0: without the term.
-    pub share: f64,
-    /// The objective (lower is better; `≥ 1000` when a constraint is not met or the point is
-    /// refused).
-    pub objective: f64,
-    /// Every convergence constraint met.
-    pub constraints_met: bool,
-    /// This share is the design's.
-    pub chosen: bool,
-}
-
 /// `heading_search`: one searched heading's outcome, after its fallbacks.
 #[derive(Clone, Debug, Serialize)]
 pub struct HeadingCandidate {
@@ -273,10 +259,10 @@ pub struct Report {
     /// before and after, and whether the refined one is this design's; `null` without the
     /// envelope design or without the compensated heading.
     pub local_refinement: Option<super::refine::Refinement>,
-    /// Tilt priority's turn-over term chosen after the search (docs/turn-over.md): each share
-    /// of roll's level tried on the search's optimum, with its objective; empty with the
-    /// paper's law.
-    pub turn_over_search: Vec<TurnOverTrial>,
+    /// Tilt priority's turn-over term refined after the search
+    /// (`crate::design::refine::turn_over`, docs/turn-over.md): the objectives before and
+    /// after, and whether the refined design is this one; `null` with the paper's law.
+    pub turn_over_refinement: Option<super::refine::Refinement>,
     /// Gains (scenario `[gains]`).
     pub gains: GainsConfig,
     /// Limits (scenario `[limits]`): what the rotors deliver.
@@ -487,7 +473,7 @@ impl Report {
             },
             what_binds: None,
             local_refinement: None,
-            turn_over_search: Vec::new(),
+            turn_over_refinement: None,
         }
     }
 }

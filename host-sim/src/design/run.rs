@@ -16,7 +16,8 @@ use super::options::*;
 use super::outputs::write_outputs;
 use super::reference::{largest_certifiable_scale, Reference};
 use super::refine::refine_local;
-use super::report::{HeadingCandidate, Report, TurnOverTrial};
+use super::refine::turn_over::refine_turn_over;
+use super::report::{HeadingCandidate, Report};
 use super::thrust::ThrustDesign;
 use super::tight::SEARCH_BOXES;
 use super::variables::{map, AttitudeLaw, Choices, Context, Layout};
@@ -349,7 +350,6 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
         bounds: o.bounds,
         position,
         speed_limit: o.speed_limit,
-        turn_over: 0.0,
     };
     ThrustDesign::check_flown(o.thrust).map_err(anyhow::Error::msg)?;
     let settings = FlightSettings {
@@ -366,6 +366,7 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
         vertical: o.vertical,
         narrow_local: false,
         local_vertical: false,
+        turn_over: false,
     };
     let cost_in = |x: &[f64], layout: Layout| match score(
         &vehicle,
@@ -389,47 +390,10 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
     } else {
         (optimum, searched, None)
     };
-    // Tilt priority's turn-over term (docs/turn-over.md), chosen after the search: the optimum
-    // flown with each share, the lowest objective that meets every constraint kept (0, the
-    // search's own design, competes too). The other gains stay the search's, re-derived with
-    // the term on top of the levels.
-    let turn_over_search = match law {
-        AttitudeLaw::Paper => Vec::new(),
-        AttitudeLaw::TiltPriority => TURN_OVER_SHARES
-            .iter()
-            .map(|&share| {
-                let with = Context {
-                    turn_over: share,
-                    ..ctx
-                };
-                let (objective, constraints_met) = match score(
-                    &vehicle,
-                    (&with, layout),
-                    &reference,
-                    (settings, SEARCH_BOXES),
-                    &optimum.x,
-                    false,
-                ) {
-                    Ok(s) => (s.evaluation.cost, s.evaluation.feasible),
-                    Err(c) => (c, false),
-                };
-                TurnOverTrial {
-                    share,
-                    objective,
-                    constraints_met,
-                    chosen: false,
-                }
-            })
-            .collect(),
-    };
-    let turn_over_search = chosen_turn_over(turn_over_search);
-    let ctx = Context {
-        turn_over: turn_over_search
-            .iter()
-            .find(|t| t.chosen)
-            .map_or(0.0, |t| t.share),
-        ..ctx
-    };
+    // Tilt priority's turn-over term, refined after the search and the local regime's
+    // (docs/turn-over.md, "In `design`"): never worse than the design before it.
+    let (optimum, layout, turn_over_refinement) =
+        refine_turn_over(&cost_in, optimum, layout, o.evaluations, o.seed)?;
     // The final design's tight bounds with the default budget: never looser than the search's.
     let final_boxes = crate::bounds::tight::TightOptions::default().max_boxes;
     // The optimum flown for the report (traced), with airmode's margin above the rotors' least
@@ -482,7 +446,7 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
         own.helix_tracking_error_m = Some(helix);
     }
     report.local_refinement = refinement;
-    report.turn_over_search = turn_over_search;
+    report.turn_over_refinement = turn_over_refinement;
     let choices = Choices::from_unit(&optimum.x, layout);
     report.what_binds = Some(super::binding::WhatBinds {
         saturation: super::binding::saturation_cap(
@@ -505,24 +469,6 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
         reference,
         period,
     })
-}
-
-/// The turn-over shares (`M_t / ι₁`) tried after the search, 0 (the search's design) first.
-pub const TURN_OVER_SHARES: [f64; 7] = [0.0, 0.05, 0.1, 0.15, 0.2, 0.3, 0.5];
-
-/// Marks the trial with the lowest objective among those that meet every constraint (the
-/// first, share 0, when none does).
-fn chosen_turn_over(mut trials: Vec<TurnOverTrial>) -> Vec<TurnOverTrial> {
-    let best = trials
-        .iter()
-        .enumerate()
-        .filter(|(_, t)| t.constraints_met)
-        .min_by(|a, b| a.1.objective.total_cmp(&b.1.objective))
-        .map_or(0, |(i, _)| i);
-    if let Some(t) = trials.get_mut(best) {
-        t.chosen = true;
-    }
-    trials
 }
 
 /// The margin above the rotors' least thrust `with_idle_airmode` tries (fraction of the

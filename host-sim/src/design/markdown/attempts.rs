@@ -53,30 +53,21 @@ pub(super) fn write(s: &mut String, r: &Report) {
             }
         );
     }
-    if !r.turn_over_search.is_empty() {
-        let tried: Vec<String> = r
-            .turn_over_search
-            .iter()
-            .map(|t| {
-                format!(
-                    "{} {:.3}{}{}",
-                    t.share,
-                    t.objective,
-                    if t.constraints_met {
-                        ""
-                    } else {
-                        " (constraints not met)"
-                    },
-                    if t.chosen { " (chosen)" } else { "" }
-                )
-            })
-            .collect();
+    if let Some(f) = &r.turn_over_refinement {
         let _ = writeln!(
             s,
-            "Turn-over term chosen after the search (docs/turn-over.md): the search's design \
-             flown with the term at each share of roll's level `M_t / iota_1` (objective, lower is \
-             better): {}.\n",
-            tried.join(", ")
+            "Turn-over term refined after the search (docs/turn-over.md, \"In `design`\"): the \
+             position loop held, {} more evaluations over the turn-over share `M_t / iota_1` and \
+             the attitude variables, from the design without the term; objective {:.3} -> {:.3}: \
+             {}.\n",
+            f.evaluations,
+            f.searched,
+            f.refined,
+            if f.kept {
+                "kept, this design's attitude law"
+            } else {
+                "not kept, the design without the term scores lower"
+            }
         );
     }
 }

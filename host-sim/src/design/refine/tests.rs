@@ -9,6 +9,7 @@ fn layout() -> Layout {
         vertical: true,
         narrow_local: false,
         local_vertical: false,
+        turn_over: false,
     }
 }
 

@@ -14,7 +14,7 @@
 //! | 8 | position damping `ζ_p` | `[0.6, 1.5]` |
 //!
 //! With `--law tilt-priority` ([`AttitudeLaw::TiltPriority`], `docs/tilt-priority.md`) three
-//! more choose how the per-axis levels `ι_i` are spent; `ι` above is then roll's and pitch's
+//! more ([`TiltChoices`]) choose how the per-axis levels `ι_i` are spent; `ι` above is then roll's and pitch's
 //! level `ι₁ = ι₂`, the rotor fit's `ι_max` taken along the direction `(1, 1, ρ)`:
 //!
 //! | # | variable | maps to |
@@ -22,6 +22,7 @@
 //! | 9 | yaw share `ρ = ι₃/ι₁` | log scale on `[0.03, 1]` |
 //! | 10 | share of `ι₃` taken by the radial MRP term | `[0.2, 0.9]`; the rest of `ι₃` is split equally between `g₁ = g₂` and `M_ω,3` |
 //! | 11 | share of `ι₁ − (1+(1+δ)²)M_ϑ/4` taken by the trace term `½(g₁ + g₃)` | `[0.2, 0.9]`; `M_ω,1 = M_ω,2` is the rest |
+//! | 12 | turn-over share `M_t / ι₁` (docs/turn-over.md; [`Layout::turn_over`], the refinement's) | `[0, 0.5]`; its per-axis bounds on top of the levels, in the rotor fit and Theorem 2 |
 //!
 //! `g₃` is capped so that tilt priority's hysteresis-band condition holds with 10 % to spare,
 //! and kept `≥ g₁` (the body z axis turns first); per-axis damping
@@ -40,8 +41,7 @@
 //! `ζ_p = 1`).
 
 use controller_core::{
-    Gains, TiltPriorityGains, TorqueSet, TrajectoryConstants, TurnOver, Vehicle, VelocityLimit,
-    VerticalBraking,
+    Gains, TorqueSet, TrajectoryConstants, Vehicle, VelocityLimit, VerticalBraking,
 };
 use nalgebra::Vector3;
 
@@ -54,6 +54,7 @@ use super::binding::IotaCap;
 
 mod interval;
 mod local;
+mod tilt;
 mod vertical;
 
 use interval::{unit_in, value_in, Interval};
@@ -61,12 +62,16 @@ use interval::{unit_in, value_in, Interval};
 use local::local_gains;
 pub use local::{energy_out, LocalChoices, F32_SLACK};
 use local::{LOCAL_VERTICAL_NAME, LOCAL_VERTICAL_RANGE};
+use tilt::{tilt_gains, turn_over_shares};
+pub use tilt::{TiltChoices, TURN_OVER_ONSET};
 pub use vertical::VerticalChoices;
 
 /// Number of decision variables of the paper's attitude law.
 pub const DIMENSION: usize = 9;
 /// Number of decision variables with tilt priority (three more).
 pub const TILT_DIMENSION: usize = DIMENSION + 3;
+/// The index of tilt priority's turn-over share (module table), when [`Layout::turn_over`].
+pub const TURN_OVER: usize = TILT_DIMENSION;
 /// Number of decision variables the envelope design's local regime adds, after the vertical
 /// channel's ([`LocalChoices`]).
 pub const LOCAL_DIMENSION: usize = 6;
@@ -121,14 +126,24 @@ pub struct Layout {
     /// Whether the local regime's own vertical filters are searched too (one more local
     /// variable, `LocalChoices::vertical_kf_ratio`; with `vertical`): the refinement's.
     pub local_vertical: bool,
+    /// Whether tilt priority's turn-over share is searched too (variable [`TURN_OVER`], right
+    /// after the law's; with [`AttitudeLaw::TiltPriority`]): the turn-over refinement's
+    /// (`crate::design::refine::turn_over`). Without it the term is off.
+    pub turn_over: bool,
 }
 
 impl Layout {
     /// Number of decision variables.
     pub fn dimension(self) -> usize {
-        self.law.dimension()
+        self.attitude_dimension()
             + if self.vertical { VERTICAL_DIMENSION } else { 0 }
             + self.local_dimension()
+    }
+
+    /// Number of the attitude law's decision variables, the first of a point: the law's, and
+    /// the turn-over share with [`Layout::turn_over`] and tilt priority.
+    pub fn attitude_dimension(self) -> usize {
+        self.law.dimension() + usize::from(self.turn_over && self.law == AttitudeLaw::TiltPriority)
     }
 
     /// Number of the local regime's decision variables, the last of a point: none without it,
@@ -143,7 +158,7 @@ impl Layout {
 }
 
 /// The interval of each variable: `(low, high, logarithmic)`.
-const RANGES: [Interval; TILT_DIMENSION] = [
+const RANGES: [Interval; TILT_DIMENSION + 1] = [
     (0.1, 6.0, true),
     (1.5, 12.0, true),
     (0.05, 0.95, false),
@@ -156,10 +171,11 @@ const RANGES: [Interval; TILT_DIMENSION] = [
     (0.03, 1.0, true),
     (0.2, 0.9, false),
     (0.2, 0.9, false),
+    (0.0, 0.5, false),
 ];
 
 /// The names of [`RANGES`]' variables, as reports print them (module table).
-const NAMES: [&str; TILT_DIMENSION] = [
+const NAMES: [&str; TILT_DIMENSION + 1] = [
     "k_f [1/s]",
     "k_s / k_f",
     "M_p / M_p,max",
@@ -172,6 +188,7 @@ const NAMES: [&str; TILT_DIMENSION] = [
     "yaw share iota_3 / iota_1",
     "radial share of iota_3",
     "trace share of iota_1",
+    "turn-over share M_t / iota_1",
 ];
 
 /// The index of the MRP share of `ι` (module table), which tilt priority does not read.
@@ -195,7 +212,9 @@ impl Choices {
     /// `ι / ι_max` at 0.95). Tilt priority's gains do not read the MRP share (variable 4; its
     /// own three spend `ι`), so it is never reported with it. No errors.
     pub fn range_ends(&self, within: f64) -> Vec<RangeEnd> {
-        let tilt = self.tilt.map_or(0, |_| TILT_DIMENSION - DIMENSION);
+        let tilt = self.tilt.map_or(0, |t| {
+            TILT_DIMENSION - DIMENSION + usize::from(t.turn_over_share.is_some())
+        });
         let named = NAMES.iter().zip(RANGES).take(DIMENSION + tilt);
         let vertical = self.vertical.iter().flat_map(|_| {
             vertical::VERTICAL_NAMES
@@ -266,31 +285,10 @@ pub struct Choices {
     pub local: Option<LocalChoices>,
 }
 
-/// The three choices of tilt priority (variables 9-11 of the module table).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct TiltChoices {
-    /// `ρ = ι₃/ι₁`.
-    pub yaw_share: f64,
-    /// Share of `ι₃` in the radial MRP term.
-    pub yaw_radial_share: f64,
-    /// Share of `ι₁ − (1+(1+δ)²)M_ϑ/4` in the trace term.
-    pub roll_trace_share: f64,
-}
-
-impl TiltChoices {
-    /// The initial guess: yaw a tenth of roll, mostly radial, roll mostly trace.
-    pub fn initial_guess() -> Self {
-        Self {
-            yaw_share: 0.1,
-            yaw_radial_share: 0.6,
-            roll_trace_share: 0.6,
-        }
-    }
-}
-
 impl Choices {
     /// From a point of the unit box (clamped into it) laid out as `layout`: 9 coordinates for
-    /// the paper's law, 12 for tilt priority, then 5 for the local regime.
+    /// the paper's law, 12 for tilt priority (13 with its turn-over share), then the vertical
+    /// channel's and the local regime's.
     pub fn from_unit(x: &[f64], layout: Layout) -> Self {
         let v = |i: usize| to_value(i, x.get(i).copied().unwrap_or(0.5));
         let kf = v(0);
@@ -298,8 +296,9 @@ impl Choices {
             yaw_share: v(9),
             yaw_radial_share: v(10),
             roll_trace_share: v(11),
+            turn_over_share: (layout.attitude_dimension() > TILT_DIMENSION).then(|| v(TURN_OVER)),
         });
-        let base = layout.law.dimension();
+        let base = layout.attitude_dimension();
         let vertical = layout
             .vertical
             .then(|| VerticalChoices::from_unit(x.get(base..).unwrap_or(&[])));
@@ -337,6 +336,7 @@ impl Choices {
         let tilt = self
             .tilt
             .map(|t| [t.yaw_share, t.yaw_radial_share, t.roll_trace_share]);
+        let turn_over = self.tilt.and_then(|t| t.turn_over_share);
         [
             self.kf,
             self.ks / self.kf,
@@ -350,6 +350,7 @@ impl Choices {
         ]
         .iter()
         .chain(tilt.iter().flatten())
+        .chain(turn_over.iter())
         .enumerate()
         .map(|(i, &v)| to_unit(i, v))
         .chain(self.vertical.iter().flat_map(|v| v.to_unit()))
@@ -373,7 +374,10 @@ impl Choices {
             attitude_damping: 0.8,
             position_frequency_rad_s: 1.0,
             position_damping: 1.0,
-            tilt: (law == AttitudeLaw::TiltPriority).then(TiltChoices::initial_guess),
+            tilt: (law == AttitudeLaw::TiltPriority).then(|| TiltChoices {
+                turn_over_share: layout.turn_over.then_some(0.0),
+                ..TiltChoices::initial_guess()
+            }),
             vertical: layout.vertical.then(VerticalChoices::initial_guess),
             local: layout.local.then(|| LocalChoices {
                 vertical_kf_ratio: (layout.local_dimension() > LOCAL_DIMENSION).then_some(1.0),
@@ -407,28 +411,6 @@ pub struct Context<'a> {
     /// [`BRAKING_SHARE`] `× M_p` (and of `M_up`, `M_down` vertically with the vertical channel
     /// apart; `--speed-limit`, docs/velocity-limit.md).
     pub speed_limit: Option<f64>,
-    /// Tilt priority's turn-over term (docs/turn-over.md) as a share of roll's level `ι₁`:
-    /// `M_t = share × ι₁` on top of the levels, with the onset [`TURN_OVER_ONSET`]; 0: off.
-    /// `design` chooses it after the search (`crate::design::run`).
-    pub turn_over: f64,
-}
-
-/// The turn-over term's onset `ρ₀` in every design (a rotation by 4 atan 0.8 = 154.6° about a
-/// horizontal axis): lower onsets act over more of the turn, at a slightly larger yaw bound.
-pub const TURN_OVER_ONSET: f64 = 0.8;
-
-/// The turn-over term of `share` (of roll's level `iota` [N m]); `None` when `share` is 0.
-fn turn_over_of(share: f64, iota: f64) -> Option<TurnOver<f64>> {
-    (share > 0.0).then_some(TurnOver {
-        level: share * iota,
-        onset: TURN_OVER_ONSET,
-    })
-}
-
-/// The per-axis bounds of the turn-over term per newton metre of roll's level at `share`
-/// (dimensionless): what it adds to the levels `(1, 1, ρ)`.
-fn turn_over_shares(share: f64) -> Vector3<f64> {
-    turn_over_of(share, 1.0).map_or(Vector3::zeros(), |t| t.bounds(DELTA))
 }
 
 /// Braking acceleration of the velocity-limited feedback, as a share of `M_p`: the profile
@@ -456,48 +438,6 @@ pub fn position_law<'a>(ctx: &Context<'a>, c: &Choices) -> PositionLaw<'a> {
             .map(|v| (v.up_ratio, v.down_ratio, v.kf_ratio, v.ks_ratio)),
         ..ctx.position
     }
-}
-
-/// `((1 + δ)² − 1)(1 + δ)`: the factor of `tr G − min g` in tilt priority's hysteresis-band
-/// condition ([`TiltPriorityGains::hysteresis_band`]).
-fn band_factor() -> f64 {
-    ((1.0 + DELTA).powi(2) - 1.0) * (1.0 + DELTA)
-}
-
-/// Tilt priority's gains for roll/pitch level `iota` and yaw level `ρ iota` (module table),
-/// with the turn-over term of `turn_over` (share of `iota`) on top. Returns the gains and `M_ϑ`.
-fn tilt_gains(
-    t: &TiltChoices,
-    (iota, turn_over): (f64, f64),
-    k_mrp: f64,
-    inertia: &Vector3<f64>,
-    damping: f64,
-) -> (TiltPriorityGains<f64>, f64) {
-    let iota_yaw = t.yaw_share * iota;
-    let radial = t.yaw_radial_share * iota_yaw;
-    let mrp_saturation = radial / mrp_factor();
-    let g_tilt = 0.5 * (iota_yaw - radial);
-    // The band condition: M_ϑ k_ϑ/√(M_ϑ² + k_ϑ²) > (g₁ + g₃) · band_factor.
-    let band_lhs = mrp_saturation * k_mrp / mrp_saturation.hypot(k_mrp);
-    let g_yaw_cap = 0.9 * band_lhs / band_factor() - g_tilt;
-    let g_yaw = (2.0 * t.roll_trace_share * (iota - radial) - g_tilt)
-        .min(g_yaw_cap)
-        .max(g_tilt);
-    let g = Vector3::new(g_tilt, g_tilt, g_yaw);
-    let trace_level = Vector3::new(0.5 * (g.y + g.z), 0.5 * (g.x + g.z), 0.5 * (g.x + g.y));
-    let levels = Vector3::new(iota, iota, iota_yaw);
-    let omega_levels = levels - trace_level.add_scalar(radial);
-    let stiffness = trace_level.add_scalar(k_mrp / 16.0);
-    let omega_gains = stiffness.zip_map(inertia, |k, j| 2.0 * damping * (k * j).sqrt());
-    (
-        TiltPriorityGains {
-            trace_weights: g,
-            omega_gains,
-            omega_levels,
-            turn_over: turn_over_of(turn_over, iota),
-        },
-        mrp_saturation,
-    )
 }
 
 /// Maps `choices` to gains. `None` when no positive `ι` exists for `(k_f, k_s)` (the reference
@@ -530,7 +470,7 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
         (None, RotorFit::Set) => iota_max(ctx.rotors, &env, ctx.margin),
         (None, RotorFit::Airmode) => shadow_iota_max(ctx.rotors, &env, ctx.margin),
         (Some(t), fit) => {
-            let d = Vector3::new(1.0, 1.0, t.yaw_share) + turn_over_shares(ctx.turn_over);
+            let d = Vector3::new(1.0, 1.0, t.yaw_share) + turn_over_shares(t.turn_over());
             // A level known to fit: the box's on the thrust interval, or with airmode the
             // ball's through the shadow, shrunk so that the ball holds the box `ι d`.
             let lower = match fit {
@@ -538,13 +478,8 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
                 RotorFit::Airmode => shadow_iota_max(ctx.rotors, &env, ctx.margin) / d.norm(),
             };
             iota_max_by(ctx.rotors, &env, (ctx.margin, fit), lower, |iota| {
-                let (tilt, mrp_saturation) = tilt_gains(
-                    &t,
-                    (iota, ctx.turn_over),
-                    k_mrp,
-                    &ctx.vehicle.inertia,
-                    c.attitude_damping,
-                );
+                let (tilt, mrp_saturation) =
+                    tilt_gains(&t, iota, k_mrp, &ctx.vehicle.inertia, c.attitude_damping);
                 TorqueSet::tilt_priority(
                     Vector3::zeros(),
                     0.0,
@@ -560,7 +495,7 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     // norms, or the tight bounds'), cap the level too (the set's tighter norms no longer imply
     // them).
     let shares = c.tilt.map_or(Vector3::repeat(1.0), |t| {
-        Vector3::new(1.0, 1.0, t.yaw_share) + turn_over_shares(ctx.turn_over)
+        Vector3::new(1.0, 1.0, t.yaw_share) + turn_over_shares(t.turn_over())
     });
     let iota_cap = IotaCap {
         rotor_fit_Nm: i_max,
@@ -582,7 +517,7 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     if let Some(t) = &c.tilt {
         let (tilt, mrp_saturation) = tilt_gains(
             t,
-            (iota, ctx.turn_over),
+            iota,
             g.attitude.k_mrp,
             &ctx.vehicle.inertia,
             c.attitude_damping,

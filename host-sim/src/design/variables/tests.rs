@@ -9,6 +9,7 @@ fn unit_box_round_trips() {
         vertical: true,
         narrow_local: false,
         local_vertical: false,
+        turn_over: false,
     };
     let c = Choices::initial_guess(layout);
     let back = Choices::from_unit(&c.to_unit(), layout);
@@ -28,10 +29,10 @@ fn unit_box_round_trips() {
     assert!(back.tilt.is_none() && back.local.is_none() && back.vertical.is_none());
 }
 
-/// A uniform point of the unit box of `law`.
-fn random_point(rng: &mut impl rand::Rng, law: AttitudeLaw) -> Vec<f64> {
+/// A uniform point of the unit box of `layout`.
+fn random_point(rng: &mut impl rand::Rng, layout: Layout) -> Vec<f64> {
     use rand::RngExt;
-    (0..law.dimension())
+    (0..layout.dimension())
         .map(|_| rng.random_range(0.0..=1.0))
         .collect()
 }
@@ -90,7 +91,6 @@ pub(crate) fn context<'a>(
             heading: None,
         },
         speed_limit: None,
-        turn_over: 0.0,
     }
 }
 
@@ -115,15 +115,16 @@ fn every_point_of_the_box_is_certified() {
             shape,
             controller_core::Lemma1Form::Tangential,
         );
+        // Tilt priority with its turn-over share searched (`Layout::turn_over`): the term's
+        // bounds on top of the levels stay certified too.
+        let layout = Layout {
+            law,
+            turn_over: law == AttitudeLaw::TiltPriority,
+            ..Layout::default()
+        };
         for _ in 0..50 {
-            let x = random_point(&mut rng, law);
-            let choices = Choices::from_unit(
-                &x,
-                Layout {
-                    law,
-                    ..Layout::default()
-                },
-            );
+            let x = random_point(&mut rng, layout);
+            let choices = Choices::from_unit(&x, layout);
             let m = map(&ctx, &choices).expect("the paper helix is usable on the Crazyflie");
             assert_eq!(
                 m.gains.tilt_priority.is_some(),
@@ -141,8 +142,16 @@ fn every_point_of_the_box_is_certified() {
             assert!(c.margin >= 0.05 - 1e-6, "{}", c.margin);
             if let Some(t) = choices.tilt {
                 // The levels are spent as chosen: yaw's is ρ times roll's, roll's the
-                // chosen fraction of ι_max along (1, 1, ρ).
-                let levels = c.certificate.bounds.feedback_torque_axes;
+                // chosen fraction of ι_max along (1, 1, ρ), the turn-over term's bounds on top.
+                let tilt = m.gains.tilt_priority.unwrap();
+                let level = tilt.turn_over.map_or(0.0, |o| o.level);
+                let chosen = t.turn_over() * choices.iota_fraction * m.iota_max;
+                assert!(
+                    (level - chosen).abs() <= 1e-12 * chosen,
+                    "{level} vs {chosen}"
+                );
+                let levels =
+                    c.certificate.bounds.feedback_torque_axes - tilt.turn_over_bounds(super::DELTA);
                 let iota = choices.iota_fraction * m.iota_max;
                 assert!(
                     (levels.x - iota).abs() <= 1e-9 * iota,
@@ -177,23 +186,17 @@ fn every_point_is_certified_with_the_tight_bounds() {
         bounds: BoundsKind::Tight,
         position: PositionLaw::paper(),
         speed_limit: None,
-        turn_over: 0.0,
     };
     let mut rng = crate::runs::sampler::seeded_rng(12);
     for law in [AttitudeLaw::Paper, AttitudeLaw::TiltPriority] {
         for _ in 0..6 {
-            let x = random_point(&mut rng, law);
-            let m = map(
-                &ctx,
-                &Choices::from_unit(
-                    &x,
-                    Layout {
-                        law,
-                        ..Layout::default()
-                    },
-                ),
-            )
-            .expect("usable on the Crazyflie");
+            let layout = Layout {
+                law,
+                turn_over: law == AttitudeLaw::TiltPriority,
+                ..Layout::default()
+            };
+            let x = random_point(&mut rng, layout);
+            let m = map(&ctx, &Choices::from_unit(&x, layout)).expect("usable on the Crazyflie");
             let tight = tight_torque(&v.body, &m.gains, &constants, SEARCH_BOXES).unwrap();
             let c = certify_design_with(
                 &v.body,
@@ -213,8 +216,9 @@ fn every_point_is_certified_with_the_tight_bounds() {
 
 /// Given a point with every coordinate inside its range, when one coordinate is moved to an end
 /// of its range, then exactly that variable is reported at the end, named in the layout's
-/// order, with the end's value (except the MRP share, which tilt priority does not read); and
-/// the interior point reports none. With the paper's law the MRP share is reported.
+/// order, with the end's value (except the MRP share, which tilt priority does not read; the
+/// turn-over share, searched here, is reported); and the interior point reports none. With the
+/// paper's law the MRP share is reported.
 #[test]
 fn range_ends_name_the_variable_at_the_end() {
     use rand::RngExt;
@@ -224,6 +228,7 @@ fn range_ends_name_the_variable_at_the_end() {
         vertical: true,
         narrow_local: false,
         local_vertical: false,
+        turn_over: true,
     };
     let mut rng = crate::runs::sampler::seeded_rng(3);
     let names: Vec<&str> = NAMES
