@@ -31,6 +31,7 @@ pub mod reference;
 pub mod refine;
 pub mod report;
 pub mod run;
+pub mod score;
 pub mod thrust;
 pub mod tight;
 pub mod turn_over;

@@ -3,7 +3,8 @@
 //! (`host_sim`) knows nothing of it.
 //!
 //! [`run`] is the default (one scenario), `print-scenario` is handled here, [`sil`], [`pil`],
-//! [`campaign`], [`ablation`] and [`compare`] are the others; [`common`] holds the clap types
+//! [`campaign`], [`ablation`], [`compare`], [`design`], [`score`], [`bounds`] and [`rates`] are
+//! the others; [`common`] holds the clap types
 //! they share.
 
 mod ablation;
@@ -15,6 +16,7 @@ mod design;
 mod pil;
 mod rates;
 mod run;
+mod score;
 mod sil;
 
 use anyhow::Result;
@@ -64,6 +66,10 @@ pub enum Command {
     /// (T, tau) set fits the rotors with a margin, best on a simulated objective; writes
     /// design.json, design.md, scenario.toml and firmware.toml.
     Design(design::DesignArgs),
+    /// A scenario file (a design's scenario.toml, edited or not) judged as `design` judges its
+    /// candidates: the certificate against its rotors (violated conditions by name, the fit's
+    /// headroom) and the objective's runs (half turns, upside down, step, roll, disturbance).
+    Score(score::ScoreArgs),
     /// The a-priori bounds of a set-up three ways: the paper's (Lemma 1, Theorem 2), the tight
     /// ones (supremum of the law over its confining set, interval branch and bound) and the
     /// largest value found at an admissible state; Theorem 2's torque conditions with both.
@@ -91,6 +97,7 @@ impl Cli {
             Some(Command::Bounds(args)) => bounds::run(&args),
             Some(Command::Compare(args)) => compare::run(&args),
             Some(Command::Design(args)) => design::run(&args),
+            Some(Command::Score(args)) => score::run(&args),
             Some(Command::Rates(args)) => rates::run(&args),
         }
     }

@@ -1,0 +1,93 @@
+//! `host-sim score`: a scenario file judged as `design` judges its candidates.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+use host_sim::design::integral::IntegralSpec;
+use host_sim::design::score::score_scenario;
+use host_sim::model::scenario::Scenario;
+
+/// Options of `host-sim score`.
+#[derive(Debug, Args, Clone)]
+pub struct ScoreArgs {
+    /// Scenario file with a `[rotors]` table (a design's `scenario.toml`, edited or not).
+    #[arg(long, value_name = "FILE")]
+    pub scenario: PathBuf,
+    /// Fit margin: fraction of each rotor's thrust range kept free at both ends (`design`'s
+    /// `--margin`).
+    #[arg(long, default_value_t = 0.05)]
+    pub margin: f64,
+    /// Largest plant mass error of the disturbed hover, fraction of the vehicle's mass
+    /// (`design`'s `--integral-mass-error`; flown only when the scenario has
+    /// `[gains.integral]`).
+    #[arg(long, value_name = "FRACTION", default_value_t = 0.1)]
+    pub integral_mass_error: f64,
+    /// Largest constant force of the disturbed hover, fraction of the plant's weight
+    /// (`design`'s `--integral-force-fraction`).
+    #[arg(long, value_name = "FRACTION", default_value_t = 0.05)]
+    pub integral_force_fraction: f64,
+}
+
+/// Scores the scenario and prints the verdict and the objective's terms.
+pub fn run(args: &ScoreArgs) -> Result<()> {
+    let scenario = Scenario::load(&args.scenario)?;
+    let spec = scenario
+        .gains
+        .integral
+        .is_some()
+        .then(|| {
+            IntegralSpec::covering(
+                scenario.vehicle.gravity_m_s2,
+                args.integral_mass_error,
+                args.integral_force_fraction,
+            )
+        })
+        .transpose()
+        .map_err(anyhow::Error::msg)?;
+    let s = score_scenario(&scenario, spec.as_ref(), args.margin)?;
+    println!(
+        "Certified: {} (the firmware's gate: {}); smallest fit headroom {:.2} % of the rotor \
+         range (margin {:.2} %)",
+        s.certified,
+        s.gate_certified,
+        100.0 * s.fit_headroom,
+        100.0 * s.margin
+    );
+    if let Some(h) = s.local_fit_headroom {
+        println!("  the local regime's torque set: {:.2} %", 100.0 * h);
+    }
+    for v in &s.violated {
+        println!(
+            "  violated: {} ({:.6} > {:.6} does not hold)",
+            v.name, v.lhs, v.rhs
+        );
+    }
+    if !s.certified && s.violated.is_empty() {
+        println!("  every condition holds, but a certified set does not fit with the margin");
+    }
+    let e = &s.evaluation;
+    let secs = |t: Option<f64>| t.map_or("not settled".to_owned(), |t| format!("{t:.2} s"));
+    println!(
+        "Objective: {:.3} (lower is better; constraints met: {}, runs not converged: {})",
+        e.cost, e.feasible, e.failures
+    );
+    println!(
+        "  half turns, worst settling: {}; upside down at hover: {:.2} m lost",
+        secs(e.worst_settling_180_s),
+        e.altitude_loss_upside_down_m
+    );
+    println!(
+        "  1 m step: {}; 30 deg roll: {}",
+        secs(e.nominal_tasks.step_settling_time_s),
+        secs(e.nominal_tasks.tilt_settling_time_s)
+    );
+    if let Some(d) = &e.disturbed_hover {
+        println!(
+            "  covered disturbance from rest: {}, {:.3} m lost",
+            secs(d.settling_time_s),
+            d.altitude_loss_m
+        );
+    }
+    Ok(())
+}
