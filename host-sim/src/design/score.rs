@@ -10,7 +10,7 @@ use controller_core::Trajectory as _;
 use serde::Serialize;
 
 use super::authority::{set_margin, RotorFit, RotorSet};
-use super::certificate::{certify_design_with, Certified};
+use super::certificate::certify_design_with;
 use super::evaluate::{evaluate, Evaluation};
 use super::integral::IntegralSpec;
 use super::reference::Reference;
@@ -31,9 +31,9 @@ pub struct Violated {
 #[derive(Clone, Debug, Serialize)]
 pub struct ScenarioScore {
     /// Every condition holds and the certified set fits the rotors with the margin
-    /// ([`Certified::ok`]): what `design` requires of a design.
+    /// ([`super::certificate::Certified::ok`]): what `design` requires of a design.
     pub certified: bool,
-    /// What the firmware's gate re-checks on board ([`Certified::paper_certified`]).
+    /// What the firmware's gate re-checks on board ([`super::certificate::Certified::paper_certified`]).
     pub gate_certified: bool,
     /// The conditions that fail (global, integral, tilt priority, local regime), in the
     /// certificate's order; empty when every one holds.
@@ -103,32 +103,20 @@ pub fn score_scenario(
     Ok(ScenarioScore {
         certified: certified.ok(),
         gate_certified: certified.paper_certified(),
-        violated: violated(&certified),
+        violated: certified
+            .certificate
+            .violations()
+            .map(|k| Violated {
+                name: k.name,
+                lhs: k.lhs,
+                rhs: k.rhs,
+            })
+            .collect(),
         fit_headroom: certified.margin,
         local_fit_headroom,
         margin,
         evaluation,
     })
-}
-
-/// The failing conditions of `c`, every group of the certificate.
-fn violated(c: &Certified) -> Vec<Violated> {
-    let cert = &c.certificate;
-    let integral = cert.integral.iter().flat_map(|i| i.conditions.iter());
-    let tilt = cert.tilt_priority.iter().flatten();
-    let local = cert.local.iter().flat_map(|l| l.conditions.iter());
-    cert.conditions
-        .iter()
-        .chain(integral)
-        .chain(tilt)
-        .chain(local)
-        .filter(|k| !k.holds)
-        .map(|k| Violated {
-            name: k.name,
-            lhs: k.lhs,
-            rhs: k.rhs,
-        })
-        .collect()
 }
 
 #[cfg(test)]
