@@ -31,6 +31,9 @@ use crate::parameter_error::ParameterError;
 use crate::scalar::{to_f64, Scalar};
 use crate::torque_set::TorqueSet;
 
+mod binding;
+pub use binding::ShadowBinding;
+
 /// The rotors' `(T, τ)` set of an X quad (or any four rotors that all carry collective): rows
 /// `(w_k, c_k)` of the mixer `M = B⁻¹` (`f_k = w_k T + c_kᵀτ`; `w_k` dimensionless, `c_k` [1/m],
 /// body axes) and the per-rotor thrust range `[lo, hi]` \[N\] (shrunk by a margin where the
@@ -124,20 +127,7 @@ impl<T: Scalar> RotorEnvelope<T> {
     /// (module documentation). Negative when some torque of `set` is beyond the rotors at any
     /// thrust. Source: extension of Theorem 2 (docs/airmode.md).
     pub fn shadow_margin(&self, set: &TorqueSet<T>) -> T {
-        let (lo, hi) = self.range;
-        let mut margin = T::max_value().unwrap_or_else(T::one);
-        for k in 0..4 {
-            for l in 0..4 {
-                if k == l {
-                    continue;
-                }
-                let (wk, wl) = (self.collective[k], self.collective[l]);
-                let d = self.torque[l] * wk - self.torque[k] * wl;
-                let slack = wk * hi - wl * lo - set.support(&d);
-                margin = margin.min(slack / ((wk + wl) * (hi - lo)));
-            }
-        }
-        margin
+        self.shadow_binding(set).margin
     }
 
     /// The largest `|τ_i|` [N m] the rotors realise on body axis `axis` (0, 1, 2: roll, pitch,

@@ -37,6 +37,9 @@ use nalgebra::{Vector2, Vector3};
 
 use crate::scalar::{lit, Scalar};
 
+mod parts;
+pub use parts::SupportParts;
+
 /// The certified torque set `S` [N m], body frame: the Minkowski sum of the feedforward's
 /// ellipsoid, the gyroscopic box, the feedback's ball and the feedback's box (module
 /// documentation). Built by `certify` (`Bounds::torque_set`).

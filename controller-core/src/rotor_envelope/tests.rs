@@ -11,7 +11,7 @@ use crate::torque_set::TorqueSet;
 
 /// An X quad: arm `l` [m] on the diagonals, spins alternating, yaw torque `c` [m] per newton;
 /// `B` maps rotor thrusts to `(T, τ)` (body FLU), the envelope holds the rows of `B⁻¹`.
-fn quad(l: f64, c: f64, lo: f64, hi: f64) -> (Matrix4<f64>, RotorEnvelope<f64>) {
+pub(super) fn quad(l: f64, c: f64, lo: f64, hi: f64) -> (Matrix4<f64>, RotorEnvelope<f64>) {
     let pos = [(l, l), (l, -l), (-l, -l), (-l, l)];
     let spin = [-1.0, 1.0, -1.0, 1.0];
     let mut b = Matrix4::zeros();
@@ -32,7 +32,7 @@ fn rotors(e: &RotorEnvelope<f64>, t: f64, tau: &Vector3<f64>) -> Vector4<f64> {
 }
 
 /// A set like the law's: ellipsoid `U_ω̇d`, gyroscopic box, ball, disks and box scaled by `s`.
-fn set(s: f64) -> TorqueSet<f64> {
+pub(super) fn set(s: f64) -> TorqueSet<f64> {
     let mut t = TorqueSet::new(
         Vector3::new(0.0036, 0.0037, 0.007),
         2.0 * s,
@@ -62,7 +62,7 @@ fn point(t: &TorqueSet<f64>, p: [Vector3<f64>; 5]) -> Vector3<f64> {
 }
 
 /// The point of `set` where `dᵀτ` is largest (each summand's own maximiser).
-fn support_point(t: &TorqueSet<f64>, d: &Vector3<f64>) -> Vector3<f64> {
+pub(super) fn support_point(t: &TorqueSet<f64>, d: &Vector3<f64>) -> Vector3<f64> {
     let jd = t.inertia.component_mul(d);
     let mut planar = *d;
     planar.z = 0.0;

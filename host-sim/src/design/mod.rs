@@ -21,6 +21,7 @@ pub mod bisect;
 pub mod certificate;
 pub mod evaluate;
 pub mod feasibility;
+pub mod fit_binding;
 pub mod flight;
 pub mod integral;
 pub mod markdown;

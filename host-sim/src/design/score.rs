@@ -12,6 +12,7 @@ use serde::Serialize;
 use super::authority::{set_margin, RotorFit, RotorSet};
 use super::certificate::certify_design_with;
 use super::evaluate::{evaluate, Evaluation};
+use super::fit_binding::{fit_binding, FitBinding};
 use super::integral::IntegralSpec;
 use super::reference::Reference;
 use crate::model::scenario::Scenario;
@@ -46,6 +47,12 @@ pub struct ScenarioScore {
     pub local_fit_headroom: Option<f64>,
     /// The margin the fit is judged with (fraction of each rotor's range).
     pub margin: f64,
+    /// With airmode, the rotor pair that binds the certified set's shadow fit and what each
+    /// part of the set takes of it (docs/design.md, "Scoring an edited design"); `None`
+    /// without airmode (the set fit binds a single rotor at an end of the thrust interval).
+    pub binding: Option<FitBinding>,
+    /// The same for the local regime's set; `None` without airmode or a local regime.
+    pub local_binding: Option<FitBinding>,
     /// The objective's runs and its value (lower is better; `≥ PENALTY` when a run does not
     /// converge).
     pub evaluation: Evaluation,
@@ -88,6 +95,15 @@ pub fn score_scenario(
         RotorFit::Set => set_margin(&set, (b.thrust_min, b.thrust_max), &l.torque_set),
         RotorFit::Airmode => set.envelope(0.0).shadow_margin(&l.torque_set),
     });
+    let envelope = set.envelope(0.0);
+    let airmode = fit == RotorFit::Airmode;
+    let binding = airmode.then(|| fit_binding(&envelope, &b.torque_set));
+    let local_binding = certified
+        .certificate
+        .local
+        .as_ref()
+        .filter(|_| airmode)
+        .map(|l| fit_binding(&envelope, &l.torque_set));
     let reference = Reference {
         trajectory: scenario.trajectory.clone(),
         initial: scenario.initial.clone(),
@@ -115,6 +131,8 @@ pub fn score_scenario(
         fit_headroom: certified.margin,
         local_fit_headroom,
         margin,
+        binding,
+        local_binding,
         evaluation,
     })
 }

@@ -87,3 +87,56 @@ fn a_scenario_without_rotors_is_refused() {
     let e = score_scenario(&Scenario::paper(), None, 0.05).unwrap_err();
     assert!(e.to_string().contains("[rotors]"), "{e}");
 }
+
+/// Given the committed x500 design (airmode), when it is scored, then the certified set's and
+/// the local set's binding pairs carry the fits' own headrooms, each asks the sum of its parts
+/// and no more than the pair's capacity less the margin, the pair is one of opposite spins
+/// (rotors 1 and 3 of the file, ccw and cw: yaw splits them), and the certified set's
+/// feedforward spends most of its share on the yaw axis (the desired tilt acceleration turned
+/// onto yaw, docs/results.md), while the local set's budget is mostly its aligned feedforward.
+#[test]
+fn the_x500s_binding_pairs_split_their_budget() {
+    let (scenario, json) = x500();
+    let margin = json["rotor_fit"]["requested_margin"].as_f64().unwrap();
+    let s = score_scenario(&scenario, None, margin).unwrap();
+    let spins = &scenario.rotors.as_ref().unwrap().spin;
+    for (b, headroom) in [
+        (s.binding.as_ref().unwrap(), s.fit_headroom),
+        (
+            s.local_binding.as_ref().unwrap(),
+            s.local_fit_headroom.unwrap(),
+        ),
+    ] {
+        assert!(
+            (b.margin - headroom).abs() < 1e-12,
+            "{} vs {headroom}",
+            b.margin
+        );
+        let p = &b.parts;
+        let sum = p.feedforward_n
+            + p.gyroscopic_n
+            + p.feedback_ball_n
+            + p.feedback_box_n
+            + p.feedback_disks_n
+            + p.aligned_n;
+        assert!(
+            (sum - b.asked_n).abs() < 1e-12 * b.asked_n,
+            "{sum} vs {}",
+            b.asked_n
+        );
+        assert!(b.asked_n <= b.capacity_n - margin * b.margin_unit_n);
+        // The margin is the slack in units of the pair's range, recomputed from the fields.
+        let slack = (b.capacity_n - b.asked_n) / b.margin_unit_n;
+        assert!((slack - b.margin).abs() < 1e-12, "{slack} vs {}", b.margin);
+        assert_ne!(
+            spins[b.rotors.0 - 1],
+            spins[b.rotors.1 - 1],
+            "{:?}",
+            b.rotors
+        );
+    }
+    let g = &s.binding.as_ref().unwrap().parts;
+    assert!(g.feedforward_yaw_n > 0.9 * g.feedforward_n, "{g:?}");
+    let l = s.local_binding.as_ref().unwrap();
+    assert!(l.parts.aligned_n > 0.8 * l.asked_n, "{:?}", l.parts);
+}

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
+use host_sim::design::fit_binding::FitBinding;
 use host_sim::design::integral::IntegralSpec;
 use host_sim::design::score::score_scenario;
 use host_sim::model::scenario::Scenario;
@@ -57,6 +58,15 @@ pub fn run(args: &ScoreArgs) -> Result<()> {
     if let Some(h) = s.local_fit_headroom {
         println!("  the local regime's torque set: {:.2} %", 100.0 * h);
     }
+    let named = [
+        ("certified set", &s.binding),
+        ("local regime's set", &s.local_binding),
+    ];
+    for (name, b) in named {
+        if let Some(b) = b {
+            print_binding(name, b, s.margin);
+        }
+    }
     for v in &s.violated {
         println!(
             "  violated: {} ({:.6} > {:.6} does not hold)",
@@ -90,4 +100,35 @@ pub fn run(args: &ScoreArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The binding rotor pair of one set and the newtons each part of the set takes of it.
+fn print_binding(name: &str, b: &FitBinding, margin: f64) {
+    let [r, p, y] = b.newtons_per_newton_metre;
+    let q = &b.parts;
+    println!(
+        "  the {name} binds rotors {} and {} (shadow fit, headroom {:.2} %): it asks {:.3} N of \
+         their {:.3} N ({:.3} N with the margin); 1 N m of roll, pitch, yaw asks {:.3}, {:.3}, \
+         {:.3} N",
+        b.rotors.0,
+        b.rotors.1,
+        100.0 * b.margin,
+        b.asked_n,
+        b.capacity_n,
+        b.capacity_n - margin * b.margin_unit_n,
+        r.abs(),
+        p.abs(),
+        y.abs()
+    );
+    println!(
+        "    feedforward {:.3} N (its yaw axis {:.3} N), gyroscopic {:.3} N, feedback ball \
+         {:.3} N, box {:.3} N, disks {:.3} N, aligned feedforward {:.3} N",
+        q.feedforward_n,
+        q.feedforward_yaw_n,
+        q.gyroscopic_n,
+        q.feedback_ball_n,
+        q.feedback_box_n,
+        q.feedback_disks_n,
+        q.aligned_n
+    );
 }
