@@ -26,8 +26,10 @@ use crate::model::rotor_plant::RotorParameters;
 use crate::model::vehicle::{DragTable, RotorsTable, VehicleFile, VehicleTable};
 
 mod controller;
+mod edit;
 mod keys;
 pub use controller::{ControllerConfig, ControllerOverrides, ThrustKind};
+pub use edit::{apply_edits, KeyEdit};
 pub use keys::describe;
 use serde::{Deserialize, Serialize};
 

@@ -114,4 +114,40 @@ mod tests {
     fn the_command_line_is_consistent() {
         Cli::command().debug_assert();
     }
+
+    /// Given `score` with two `--set` edits and `--json`, when the command line is parsed, then
+    /// the edits arrive in order with their paths and TOML values, and a malformed edit is
+    /// refused by clap with the expected form.
+    #[test]
+    fn score_takes_key_edits() {
+        let cli = Cli::try_parse_from([
+            "host-sim",
+            "score",
+            "--scenario",
+            "s.toml",
+            "--set",
+            "gains.local.kp=36",
+            "--set",
+            "gains.tilt_priority.omega_levels_Nm=[0.5, 0.5, 0.01]",
+            "--json",
+            "out.json",
+        ])
+        .unwrap();
+        let Some(Command::Score(args)) = cli.command else {
+            panic!("not score");
+        };
+        assert_eq!(args.set.len(), 2);
+        assert_eq!(args.set[0].path, ["gains", "local", "kp"]);
+        assert_eq!(args.set[0].value, toml::Value::Integer(36));
+        assert_eq!(
+            args.set[1].value.as_array().map(|a| a.len()),
+            Some(3),
+            "{:?}",
+            args.set[1]
+        );
+        assert_eq!(args.json.as_deref(), Some(std::path::Path::new("out.json")));
+        let bad = Cli::try_parse_from(["host-sim", "score", "--scenario", "s", "--set", "kp"]);
+        let message = bad.err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(message.contains("TABLE.KEY=VALUE"), "{message}");
+    }
 }

@@ -2,12 +2,12 @@
 
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Args;
 use host_sim::design::fit_binding::FitBinding;
 use host_sim::design::integral::IntegralSpec;
 use host_sim::design::score::score_scenario;
-use host_sim::model::scenario::Scenario;
+use host_sim::model::scenario::{KeyEdit, Scenario};
 
 /// Options of `host-sim score`.
 #[derive(Debug, Args, Clone)]
@@ -28,11 +28,18 @@ pub struct ScoreArgs {
     /// (`design`'s `--integral-force-fraction`).
     #[arg(long, value_name = "FRACTION", default_value_t = 0.05)]
     pub integral_force_fraction: f64,
+    /// Edit a key of the scenario before scoring it, `TABLE.KEY=VALUE` (repeatable; e.g.
+    /// `--set gains.local.kp=36 --set gains.local.kv=12`): the file is not changed.
+    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
+    pub set: Vec<KeyEdit>,
+    /// Also write the whole score (certificate, binding pairs, every run's figures) as JSON.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
 }
 
 /// Scores the scenario and prints the verdict and the objective's terms.
 pub fn run(args: &ScoreArgs) -> Result<()> {
-    let scenario = Scenario::load(&args.scenario)?;
+    let scenario = Scenario::load_with_edits(&args.scenario, &args.set)?;
     let spec = scenario
         .gains
         .integral
@@ -47,6 +54,11 @@ pub fn run(args: &ScoreArgs) -> Result<()> {
         .transpose()
         .map_err(anyhow::Error::msg)?;
     let s = score_scenario(&scenario, spec.as_ref(), args.margin)?;
+    if let Some(path) = &args.json {
+        let text = serde_json::to_string_pretty(&s)?;
+        std::fs::write(path, text + "\n")
+            .with_context(|| format!("cannot write {}", path.display()))?;
+    }
     println!(
         "Certified: {} (the firmware's gate: {}); smallest fit headroom {:.2} % of the rotor \
          range (margin {:.2} %)",
