@@ -95,17 +95,29 @@ impl Scenario {
         }
         let text = std::fs::read_to_string(path)
             .map_err(|e| anyhow!("cannot read scenario file {}: {e}", path.display()))?;
-        let edited =
-            apply_edits(&text, edits).map_err(|e| anyhow!("scenario {}: {e}", path.display()))?;
-        let named: Vec<String> = edits
-            .iter()
-            .map(|e| format!("{}={}", e.path.join("."), e.value))
-            .collect();
-        Self::parse(
-            &edited,
-            &format!("{} with {}", path.display(), named.join(", ")),
-        )
+        Self::parse_with_edits(&text, &path.display().to_string(), edits)
     }
+
+    /// Scenario text `text` (named `origin` in errors) with `edits` applied, validated as
+    /// [`Scenario::parse`] validates it; without edits, exactly [`Scenario::parse`]. Errors: an
+    /// edit's path runs through a value; the edited scenario is refused, named with `origin` and
+    /// the edits.
+    pub fn parse_with_edits(text: &str, origin: &str, edits: &[KeyEdit]) -> Result<Self> {
+        if edits.is_empty() {
+            return Self::parse(text, origin);
+        }
+        let edited = apply_edits(text, edits).map_err(|e| anyhow!("scenario {origin}: {e}"))?;
+        Self::parse(&edited, &format!("{origin} with {}", describe_edits(edits)))
+    }
+}
+
+/// `edits` as the command line gave them, `a.b=1, c.d="x"`.
+pub fn describe_edits(edits: &[KeyEdit]) -> String {
+    edits
+        .iter()
+        .map(|e| format!("{}={}", e.path.join("."), e.value))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 #[cfg(test)]

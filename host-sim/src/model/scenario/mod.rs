@@ -29,7 +29,7 @@ mod controller;
 mod edit;
 mod keys;
 pub use controller::{ControllerConfig, ControllerOverrides, ThrustKind};
-pub use edit::{apply_edits, KeyEdit};
+pub use edit::{apply_edits, describe_edits, KeyEdit};
 pub use keys::describe;
 use serde::{Deserialize, Serialize};
 

@@ -146,6 +146,8 @@ mod tests {
             args.set[1]
         );
         assert_eq!(args.json.as_deref(), Some(std::path::Path::new("out.json")));
+        let run = Cli::try_parse_from(["host-sim", "--set", "gains.M_p=2"]).unwrap();
+        assert_eq!(run.run.set[0].path, ["gains", "M_p"]);
         let bad = Cli::try_parse_from(["host-sim", "score", "--scenario", "s", "--set", "kp"]);
         let message = bad.err().map(|e| e.to_string()).unwrap_or_default();
         assert!(message.contains("TABLE.KEY=VALUE"), "{message}");

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 use host_sim::fly::files::console::human_summary;
-use host_sim::model::scenario::Scenario;
+use host_sim::model::scenario::{describe_edits, KeyEdit, Scenario, PAPER_SCENARIO};
 
 use super::common::{PlantArgs, PrecisionArg, ThrustArgs};
 
@@ -35,6 +35,11 @@ pub struct RunArgs {
     /// Thrust law.
     #[command(flatten)]
     pub thrust: ThrustArgs,
+    /// Edit a key of the scenario (the embedded paper's or `--scenario`'s) before flying it,
+    /// `TABLE.KEY=VALUE` (repeatable; e.g. `--set gains.M_p=2 --set initial.euler_deg=[170,0,0]`):
+    /// the file is not changed.
+    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
+    pub set: Vec<KeyEdit>,
 }
 
 /// Runs one scenario: prints its summary and writes its time series, plots and summary.
@@ -44,7 +49,7 @@ pub struct RunArgs {
 pub fn run(args: &RunArgs) -> Result<()> {
     let (mut scenario, name, title) = match &args.scenario {
         None => (
-            Scenario::paper(),
+            Scenario::parse_with_edits(PAPER_SCENARIO, "<embedded paper scenario>", &args.set)?,
             "paper".to_string(),
             "the paper's Section VI scenario (embedded)".to_string(),
         ),
@@ -52,8 +57,17 @@ pub fn run(args: &RunArgs) -> Result<()> {
             let stem = path
                 .file_stem()
                 .map_or_else(|| "scenario".into(), |s| s.to_string_lossy().into_owned());
-            (Scenario::load(path)?, stem, path.display().to_string())
+            (
+                Scenario::load_with_edits(path, &args.set)?,
+                stem,
+                path.display().to_string(),
+            )
         }
+    };
+    let title = if args.set.is_empty() {
+        title
+    } else {
+        format!("{title} with {}", describe_edits(&args.set))
     };
     if let Some(p) = args.precision {
         scenario.simulation.precision = p.into();

@@ -81,3 +81,18 @@ fn bad_edits_are_refused_by_name() {
         "{typo}"
     );
 }
+
+/// Given the embedded paper scenario, when it is parsed with no edits, then it is the paper's
+/// scenario itself (the default run stays bit for bit), and with an edit only the edited key
+/// differs.
+#[test]
+fn no_edit_is_the_scenario_itself() {
+    let paper = super::super::PAPER_SCENARIO;
+    let plain = Scenario::parse_with_edits(paper, "paper", &[]).unwrap();
+    assert_eq!(plain, Scenario::paper());
+    let edited = Scenario::parse_with_edits(paper, "paper", &edits(&["gains.M_p=2"])).unwrap();
+    assert_eq!(edited.gains.M_p, 2.0);
+    let mut back = edited.clone();
+    back.gains.M_p = plain.gains.M_p;
+    assert_eq!(back, plain);
+}
