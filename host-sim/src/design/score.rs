@@ -47,6 +47,12 @@ pub struct ScenarioScore {
     pub local_fit_headroom: Option<f64>,
     /// The margin the fit is judged with (fraction of each rotor's range).
     pub margin: f64,
+    /// With airmode, the aligned fit's headroom: the feedforward at zero attitude error over
+    /// Theorem 1's whole thrust interval, fraction of the rotor range. At least `margin`:
+    /// airmode leaves the thrust alone near convergence and the position loop's convergence is
+    /// proven (docs/airmode.md, "What is proven", step 3); below it, shown by simulation only.
+    /// `None` without airmode.
+    pub aligned_fit_headroom: Option<f64>,
     /// With airmode, the rotor pair that binds the certified set's shadow fit and what each
     /// part of the set takes of it (docs/design.md, "Scoring an edited design"); `None`
     /// without airmode (the set fit binds a single rotor at an end of the thrust interval).
@@ -131,6 +137,7 @@ pub fn score_scenario(
         fit_headroom: certified.margin,
         local_fit_headroom,
         margin,
+        aligned_fit_headroom: certified.aligned_margin,
         binding,
         local_binding,
         evaluation,

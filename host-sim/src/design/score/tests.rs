@@ -42,6 +42,14 @@ fn the_committed_x500_design_scores_as_design_scored_it() {
     );
     // The local set fits with the margin too (the gate's `rotor_fit.local_shadow`).
     assert!(s.local_fit_headroom.unwrap() >= margin);
+    // The aligned fit is the report's, and so is its verdict on airmode's convergence proof.
+    let aligned = json["rotor_fit"]["aligned_margin"].as_f64().unwrap();
+    let a = s.aligned_fit_headroom.unwrap();
+    assert!((a - aligned).abs() < 1e-12, "{a} vs {aligned}");
+    let proven = json["rotor_fit"]["airmode_convergence_proven"]
+        .as_bool()
+        .unwrap();
+    assert_eq!(a >= margin, proven);
     let o = &json["objective"];
     let e = &s.evaluation;
     assert!(e.feasible);

@@ -70,6 +70,20 @@ pub fn run(args: &ScoreArgs) -> Result<()> {
     if let Some(h) = s.local_fit_headroom {
         println!("  the local regime's torque set: {:.2} %", 100.0 * h);
     }
+    if let Some(a) = s.aligned_fit_headroom {
+        let case = if a >= s.margin {
+            "at least the margin: airmode leaves the thrust alone near convergence, and the \
+             position loop's convergence is proven"
+        } else {
+            "below the margin: the position loop's convergence under airmode is shown by \
+             simulation only"
+        };
+        println!(
+            "  the aligned feedforward over Theorem 1's thrust interval: {:.2} % ({case}; \
+             docs/airmode.md)",
+            100.0 * a
+        );
+    }
     let named = [
         ("certified set", &s.binding),
         ("local regime's set", &s.local_binding),
