@@ -221,17 +221,23 @@ impl<T: Scalar> TorqueSet<T> {
         }
     }
 
-    fn support_of_theorem2_parts(&self, c: &Vector3<T>) -> T {
-        let abs = c.abs();
-        let n2 = c.norm_squared();
-        let disks = (0..3).fold(T::zero(), |acc, k| {
+    /// The feedback disks' support `Σ_k d_k |c − c_k e_k|` at `c` (`n2 = |c|²`): each disk's
+    /// radius times the length of `c` projected on its plane.
+    fn disks_support(&self, c: &Vector3<T>, n2: T) -> T {
+        (0..3).fold(T::zero(), |acc, k| {
             let d = self.feedback_disks[k];
             if d > T::zero() {
                 acc + d * (n2 - c[k] * c[k]).sqrt()
             } else {
                 acc
             }
-        });
+        })
+    }
+
+    fn support_of_theorem2_parts(&self, c: &Vector3<T>) -> T {
+        let abs = c.abs();
+        let n2 = c.norm_squared();
+        let disks = self.disks_support(c, n2);
         self.angular_acceleration * self.inertia.component_mul(c).norm()
             + abs.dot(&(self.gyroscopic + self.feedback_box))
             + self.feedback_radius * n2.sqrt()

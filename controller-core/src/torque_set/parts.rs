@@ -71,9 +71,7 @@ impl<T: Scalar> TorqueSet<T> {
             gyroscopic: abs.dot(&self.gyroscopic),
             feedback_ball: self.feedback_radius * n2.sqrt(),
             feedback_box: abs.dot(&self.feedback_box),
-            feedback_disks: (0..3).fold(T::zero(), |acc, k| {
-                acc + self.feedback_disks[k] * (n2 - c[k] * c[k]).max(T::zero()).sqrt()
-            }),
+            feedback_disks: self.disks_support(c, n2),
             aligned,
         }
     }
