@@ -122,9 +122,22 @@ impl IntegralSpec {
     pub fn gains_with_filters(
         &self,
         position: &PositionGains<f64>,
+        filters: (f64, f64),
+    ) -> Option<IntegralGains<f64>> {
+        self.gains_at(position.kp.sqrt(), position, filters)
+    }
+
+    /// [`Self::gains_with_filters`] sized at the frequency `wp` [rad/s] instead of
+    /// `√(position.k_p)`: `k_i` from `wp³/5`, the observer at `wp`, still halved until the
+    /// Liénard–Chipart conditions hold with `position`'s gains. Why: a loop stiffer than the
+    /// frequency its integral is sized at keeps the integral slow beside it (the local loop's
+    /// polish, `crate::design::refine::local_loop`). `None` as [`Self::gains`].
+    pub fn gains_at(
+        &self,
+        wp: f64,
+        position: &PositionGains<f64>,
         (kf, ks): (f64, f64),
     ) -> Option<IntegralGains<f64>> {
-        let wp = position.kp.sqrt();
         let mut g = IntegralGains {
             gain: wp.powi(3) / 5.0,
             observer: Some(ObserverGains {
@@ -230,6 +243,45 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// Given a stiff local loop (`ω_p` 8 rad/s, the top of the local range) and the integral
+    /// sized at a slower frequency `ω_i`, when the gains are found, then the observer runs at
+    /// `ω_i` (not at `ω_p`), `k_i` is the largest halving of `ω_i³/5` that passes the
+    /// Liénard–Chipart conditions *with the stiff loop's gains*, and sized at `ω_p` instead the
+    /// integral is the ordinary one (`gains_with_filters`).
+    #[test]
+    fn an_integral_held_apart_is_sized_at_its_own_frequency_and_stable_with_the_loop() {
+        let s = IntegralSpec::covering(9.81, 0.2, 0.1).unwrap();
+        for (wp, zeta, wi) in [(8.0, 0.9, 3.09), (8.0, 0.6, 0.5), (5.2, 1.5, 2.0)] {
+            let p = PositionGains {
+                kp: wp * wp,
+                kv: 2.0 * zeta * wp,
+                kf: 1.77,
+                ks: 3.0,
+                saturation: 0.84,
+                saturation_shape: controller_core::position_saturation::PositionSaturation::Norm,
+                vertical: None,
+            };
+            let g = s.gains_at(wi, &p, (0.88, 1.4)).expect("stable");
+            let o = g.observer.unwrap();
+            assert_eq!((o.velocity_gain, o.disturbance_gain), (2.0 * wi, wi * wi));
+            assert!(local_stability_conditions(&p, &g).iter().all(|c| c.holds));
+            let twice = IntegralGains {
+                gain: 2.0 * g.gain,
+                ..g
+            };
+            assert!(
+                g.gain == wi.powi(3) / 5.0
+                    || !local_stability_conditions(&p, &twice)
+                        .iter()
+                        .all(|c| c.holds)
+            );
+            assert_eq!(
+                s.gains_at(p.kp.sqrt(), &p, (0.88, 1.4)),
+                s.gains_with_filters(&p, (0.88, 1.4))
+            );
         }
     }
 }

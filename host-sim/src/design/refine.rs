@@ -20,6 +20,7 @@ use anyhow::Result;
 use super::optimise::{minimise, Optimum};
 use super::variables::Layout;
 
+pub mod local_loop;
 pub mod turn_over;
 
 /// Evaluations of the refinement: this share of the search's budget (at least one swarm); a

@@ -263,6 +263,10 @@ pub struct Report {
     /// (`crate::design::refine::turn_over`, docs/turn-over.md): the objectives before and
     /// after, and whether the refined design is this one; `null` with the paper's law.
     pub turn_over_refinement: Option<super::refine::Refinement>,
+    /// The local position loop's frequency and damping polished last on a grid
+    /// (`crate::design::refine::local_loop`, docs/envelope-design.md): the objectives before and
+    /// after, and whether the polished loop is this design's; `null` without a local regime.
+    pub local_loop_refinement: Option<super::refine::Refinement>,
     /// Gains (scenario `[gains]`).
     pub gains: GainsConfig,
     /// Limits (scenario `[limits]`): what the rotors deliver.
@@ -474,6 +478,7 @@ impl Report {
             what_binds: None,
             local_refinement: None,
             turn_over_refinement: None,
+            local_loop_refinement: None,
         }
     }
 }

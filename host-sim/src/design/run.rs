@@ -15,6 +15,7 @@ use super::optimise::minimise;
 use super::options::*;
 use super::outputs::write_outputs;
 use super::reference::{largest_certifiable_scale, Reference};
+use super::refine::local_loop::refine_local_loop;
 use super::refine::refine_local;
 use super::refine::turn_over::refine_turn_over;
 use super::report::{HeadingCandidate, Report};
@@ -367,6 +368,7 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
         narrow_local: false,
         local_vertical: false,
         turn_over: false,
+        local_integral: false,
     };
     let cost_in = |x: &[f64], layout: Layout| match score(
         &vehicle,
@@ -394,6 +396,9 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
     // (docs/turn-over.md, "In `design`"): never worse than the design before it.
     let (optimum, layout, turn_over_refinement) =
         refine_turn_over(&cost_in, optimum, layout, o.evaluations, o.seed)?;
+    // The local position loop's frequency and damping, on which no bound depends, polished last
+    // on a grid (docs/envelope-design.md, "What `design` searches"): never worse either.
+    let (optimum, layout, local_loop_refinement) = refine_local_loop(&cost_in, optimum, layout);
     // The final design's tight bounds with the default budget: never looser than the search's.
     let final_boxes = crate::bounds::tight::TightOptions::default().max_boxes;
     // The optimum flown for the report (traced), with airmode's margin above the rotors' least
@@ -447,6 +452,7 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
     }
     report.local_refinement = refinement;
     report.turn_over_refinement = turn_over_refinement;
+    report.local_loop_refinement = local_loop_refinement;
     let choices = Choices::from_unit(&optimum.x, layout);
     report.what_binds = Some(super::binding::WhatBinds {
         saturation: super::binding::saturation_cap(

@@ -23,6 +23,7 @@ fn the_reported_cap_is_where_the_search_stops() {
         narrow_local: false,
         local_vertical: false,
         turn_over: false,
+        local_integral: false,
     };
     let (mut thrust_fit, mut torque_fit, mut assumption) = (0, 0, 0);
     for name in PRESETS {

@@ -70,4 +70,20 @@ pub(super) fn write(s: &mut String, r: &Report) {
             }
         );
     }
+    if let Some(f) = &r.local_loop_refinement {
+        let _ = writeln!(
+            s,
+            "Local position loop polished last (docs/envelope-design.md, \"What `design` \
+             searches\"): everything else held, {} more evaluations on a grid over the local \
+             natural frequency and damping; objective {:.3} -> {:.3}: {}.\n",
+            f.evaluations,
+            f.searched,
+            f.refined,
+            if f.kept {
+                "kept, this design's local loop"
+            } else {
+                "not kept, the design before scores lower"
+            }
+        );
+    }
 }

@@ -10,6 +10,7 @@ fn layout() -> Layout {
         narrow_local: false,
         local_vertical: false,
         turn_over: false,
+        local_integral: false,
     }
 }
 

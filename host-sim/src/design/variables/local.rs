@@ -37,6 +37,11 @@ pub(super) const LOCAL_VERTICAL_RANGE: Interval = (1.0, 30.0, true);
 /// The name of [`LOCAL_VERTICAL_RANGE`]'s variable, as reports print it.
 pub(super) const LOCAL_VERTICAL_NAME: &str = "k_f,z,L / k_f,z";
 
+/// The name of the local integral frequency, one more variable after the others when the design
+/// holds it apart (`Layout::local_integral`; the range of `ω_p,L`, variable 2), as reports print
+/// it.
+pub(super) const LOCAL_INTEGRAL_NAME: &str = "local integral and observer frequency [rad/s]";
+
 /// The names of [`LOCAL_RANGES`]' variables, as reports print them.
 pub(super) const LOCAL_NAMES: [&str; LOCAL_DIMENSION] = [
     "k_f,L / k_f",
@@ -66,6 +71,12 @@ pub struct LocalChoices {
     /// filters times this (`None`, or 1: the global vertical filters in both regimes).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub vertical_kf_ratio: Option<f64>,
+    /// The frequency `ω_i` [rad/s] at which the integral action and its observer are sized
+    /// (`k_i = ω_i³/5`, observer gains `2ω_i`, `ω_i²`; `crate::design::integral`), apart from
+    /// the local loop's (`None`: at `ω_p,L`). The local loop's polish holds it at the design's
+    /// `ω_p,L` while the loop stiffens.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub integral_frequency_rad_s: Option<f64>,
     /// Whether the envelope is narrowed when nothing fits at the chosen one (`local_gains`);
     /// not a coordinate of the box (`Layout::narrow_local`).
     #[serde(skip)]
@@ -78,6 +89,7 @@ impl LocalChoices {
     pub fn initial_guess() -> Self {
         Self {
             vertical_kf_ratio: None,
+            integral_frequency_rad_s: None,
             kf_ratio: 2.0,
             ks_ratio: 3.0,
             position_frequency_rad_s: 5.0,
@@ -89,12 +101,16 @@ impl LocalChoices {
     }
 
     /// From the local coordinates `x` of a point: [`LOCAL_RANGES`]' six, then
-    /// [`LOCAL_VERTICAL_RANGE`]'s when `vertical`.
-    pub(super) fn from_unit(x: &[f64], narrow: bool, vertical: bool) -> Self {
+    /// [`LOCAL_VERTICAL_RANGE`]'s when `vertical`, then the integral frequency (in `ω_p,L`'s
+    /// range) when `integral`.
+    pub(super) fn from_unit(x: &[f64], narrow: bool, (vertical, integral): (bool, bool)) -> Self {
         let v = |i: usize| value_in(LOCAL_RANGES[i], x.get(i).copied().unwrap_or(0.5));
         let unit = x.get(LOCAL_RANGES.len()).copied().unwrap_or(0.0);
+        let next = LOCAL_RANGES.len() + usize::from(vertical);
+        let integral_unit = x.get(next).copied().unwrap_or(0.5);
         Self {
             vertical_kf_ratio: vertical.then(|| value_in(LOCAL_VERTICAL_RANGE, unit)),
+            integral_frequency_rad_s: integral.then(|| value_in(LOCAL_RANGES[2], integral_unit)),
             kf_ratio: v(0),
             ks_ratio: v(1),
             position_frequency_rad_s: v(2),
@@ -120,6 +136,10 @@ impl LocalChoices {
             .chain(
                 self.vertical_kf_ratio
                     .map(|r| unit_in(LOCAL_VERTICAL_RANGE, r)),
+            )
+            .chain(
+                self.integral_frequency_rad_s
+                    .map(|w| unit_in(LOCAL_RANGES[2], w)),
             )
             .collect()
     }

@@ -61,7 +61,7 @@ use interval::{unit_in, value_in, Interval};
 
 use local::local_gains;
 pub use local::{energy_out, LocalChoices, F32_SLACK};
-use local::{LOCAL_VERTICAL_NAME, LOCAL_VERTICAL_RANGE};
+use local::{LOCAL_INTEGRAL_NAME, LOCAL_VERTICAL_NAME, LOCAL_VERTICAL_RANGE};
 use tilt::{tilt_gains, turn_over_shares};
 pub use tilt::{TiltChoices, TURN_OVER_ONSET};
 pub use vertical::VerticalChoices;
@@ -130,6 +130,11 @@ pub struct Layout {
     /// after the law's; with [`AttitudeLaw::TiltPriority`]): the turn-over refinement's
     /// (`crate::design::refine::turn_over`). Without it the term is off.
     pub turn_over: bool,
+    /// Whether the integral action and its observer are sized at a frequency of their own, one
+    /// more local variable after the others (`LocalChoices::integral_frequency_rad_s`; with
+    /// `local`): the local loop's polish (`crate::design::refine::local_loop`). Without it they
+    /// are sized at the loop's `ω_p,L`.
+    pub local_integral: bool,
 }
 
 impl Layout {
@@ -147,12 +152,14 @@ impl Layout {
     }
 
     /// Number of the local regime's decision variables, the last of a point: none without it,
-    /// [`LOCAL_DIMENSION`], one more with its own vertical filters.
+    /// [`LOCAL_DIMENSION`], one more with its own vertical filters, one more with the integral
+    /// held apart ([`Layout::local_integral`]).
     pub fn local_dimension(self) -> usize {
         match (self.local, self.local_vertical && self.vertical) {
             (false, _) => 0,
-            (true, false) => LOCAL_DIMENSION,
-            (true, true) => LOCAL_DIMENSION + 1,
+            (true, vertical) => {
+                LOCAL_DIMENSION + usize::from(vertical) + usize::from(self.local_integral)
+            }
         }
     }
 }
@@ -225,10 +232,14 @@ impl Choices {
             let vertical = l
                 .vertical_kf_ratio
                 .map(|_| (&LOCAL_VERTICAL_NAME, LOCAL_VERTICAL_RANGE));
+            let integral = l
+                .integral_frequency_rad_s
+                .map(|_| (&LOCAL_INTEGRAL_NAME, local::LOCAL_RANGES[2]));
             local::LOCAL_NAMES
                 .iter()
                 .zip(local::LOCAL_RANGES)
                 .chain(vertical)
+                .chain(integral)
         });
         named
             .chain(vertical)
@@ -312,7 +323,10 @@ impl Choices {
             LocalChoices::from_unit(
                 x.get(base..).unwrap_or(&[]),
                 layout.narrow_local,
-                layout.local_dimension() > LOCAL_DIMENSION,
+                (
+                    layout.local_vertical && layout.vertical,
+                    layout.local_integral,
+                ),
             )
         });
         Self {
@@ -544,9 +558,14 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
     // filters, as the final ones).
     g.local = c.local.and_then(|l| local_gains(ctx, &g, &l));
     if let Some(spec) = law.integral {
-        // Stable with the position gains the loop settles with: the local ones when there are.
+        // Stable with the position gains the loop settles with: the local ones when there are;
+        // sized at the local loop's frequency unless the polish holds it apart.
         let settled = g.local.map_or(g.position, |l| l.position(&g.position));
-        g.integral = Some(spec.gains_with_filters(&settled, (c.kf, c.ks))?);
+        let frequency = c
+            .local
+            .and_then(|l| l.integral_frequency_rad_s)
+            .unwrap_or_else(|| settled.kp.sqrt());
+        g.integral = Some(spec.gains_at(frequency, &settled, (c.kf, c.ks))?);
     }
     Some(Mapped {
         gains: g,

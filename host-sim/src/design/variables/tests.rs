@@ -10,6 +10,7 @@ fn unit_box_round_trips() {
         narrow_local: false,
         local_vertical: false,
         turn_over: false,
+        local_integral: false,
     };
     let c = Choices::initial_guess(layout);
     let back = Choices::from_unit(&c.to_unit(), layout);
@@ -120,6 +121,7 @@ fn every_point_of_the_box_is_certified() {
         let layout = Layout {
             law,
             turn_over: law == AttitudeLaw::TiltPriority,
+            local_integral: false,
             ..Layout::default()
         };
         for _ in 0..50 {
@@ -193,6 +195,7 @@ fn every_point_is_certified_with_the_tight_bounds() {
             let layout = Layout {
                 law,
                 turn_over: law == AttitudeLaw::TiltPriority,
+                local_integral: false,
                 ..Layout::default()
             };
             let x = random_point(&mut rng, layout);
@@ -229,6 +232,7 @@ fn range_ends_name_the_variable_at_the_end() {
         narrow_local: false,
         local_vertical: false,
         turn_over: true,
+        local_integral: false,
     };
     let mut rng = crate::runs::sampler::seeded_rng(3);
     let names: Vec<&str> = NAMES

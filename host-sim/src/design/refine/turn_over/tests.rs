@@ -9,6 +9,7 @@ fn layout(law: AttitudeLaw) -> Layout {
         narrow_local: true,
         local_vertical: true,
         turn_over: false,
+        local_integral: false,
     }
 }
 
@@ -76,6 +77,7 @@ fn the_search_is_kept_unless_the_turn_over_refinement_scores_lower() {
     assert!(r.is_none() && l == layout(paper) && best.evaluations == 960);
     let with = Layout {
         turn_over: true,
+        local_integral: false,
         ..layout(law)
     };
     assert_eq!(with.attitude_dimension(), TILT_DIMENSION + 1);

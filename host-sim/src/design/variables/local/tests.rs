@@ -89,6 +89,7 @@ fn narrowed_local_regimes_certified_with(
         narrow_local: true,
         local_vertical: vertical,
         turn_over: false,
+        local_integral: false,
     };
     let mut rng = crate::runs::sampler::seeded_rng(21);
     let (mut with_local, mut narrowed_count, mut carrying) = (0, 0, 0);
