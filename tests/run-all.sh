@@ -130,13 +130,19 @@ step "a real MAVLink client: pymavlink (pinned, own virtual environment) as grou
 bash tests/mavlink-client/run.sh "$elf_mps2" "$target_dir/pil-trusted/firmware-mps2-an386"
 
 step "QGroundControl's connect sequence (pymavlink, qgc_connect.py: heartbeat, parameters, mission/fence/rally lists) against sil --gcs-udp and pil --gcs-udp"
-for mode in sil pil; do bash tests/mavlink-client/qgc_connect.sh "$mode" "$elf_mps2"; done
+# The host-sim the host tests built for themselves (CARGO_BIN_EXE_host-sim: the test profile,
+# which has the dev profile's settings); `--no-run` only makes sure it is the current one. A
+# `cargo build -p host-sim` would build the workspace's crates once more in the dev profile
+# (about 3 minutes on 2 cores) for the same program.
+cargo test --workspace --no-run -q
+host_sim_debug="$target_dir/debug/host-sim"
+for mode in sil pil; do
+  HOST_SIM="$host_sim_debug" bash tests/mavlink-client/qgc_connect.sh "$mode" "$elf_mps2"
+done
 
 step "MAVProxy (pinned, own virtual environment), scripted against the firmware in the loop (host-sim sil --gcs-udp): parameters fetched, a mission uploaded with its wp module, certified and accepted, downloaded, armed"
-# The dev build (opt-level 2): the session is paced to the wall clock, and the tests above have
-# compiled everything it needs.
-cargo build -p host-sim --bin host-sim
-bash tests/mavlink-client/mavproxy/run.sh "$target_dir/debug/host-sim"
+# The same host-sim (opt-level 2): the session is paced to the wall clock.
+bash tests/mavlink-client/mavproxy/run.sh "$host_sim_debug"
 
 step "Cortex-M4F instruction counts of the control step, f32 on ARM vs host, budget"
 bash firmware/qemu/bench.sh

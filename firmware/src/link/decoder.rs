@@ -282,35 +282,35 @@ fn examine(
         counters.frames_malformed = counters.frames_malformed.saturating_add(1);
         return Step::Consume(1, false);
     }
-    let payload_len = buf[1] as usize;
-    let signed = incompat & SIGNED_FLAG != 0;
-    let total = 1 + HEADER + payload_len + 2 + if signed { SIGNATURE } else { 0 };
-    if buf.len() < total {
-        return Step::NeedMore(total);
+    let total = frame_length(buf[1], incompat);
+    // A checked frame that starts inside this one and ends before it is what was sent: this
+    // marker was false, or its frame was cut short (a corrupted length byte, a truncated
+    // frame). Without this, its declared length would hold back the frames behind it (a
+    // kill, say) until that many more bytes arrived, which on a quiet link may be never.
+    match later_frame(buf, total) {
+        Ok(()) => {
+            counters.frames_malformed = counters.frames_malformed.saturating_add(1);
+            return Step::Consume(1, false);
+        }
+        Err(need) if buf.len() < total => return Step::NeedMore(need),
+        Err(_) => {}
     }
-    let msgid = u32::from_le_bytes([buf[7], buf[8], buf[9], 0]);
-    // The pose messages, the stream's usual frames, without the call into the dialect's
-    // table (the same constants).
-    let extra = match msgid {
-        ATT_POS_MOCAP_DATA::ID => ATT_POS_MOCAP_DATA::EXTRA_CRC,
-        ODOMETRY_DATA::ID => ODOMETRY_DATA::EXTRA_CRC,
-        _ => MavMessage::extra_crc(msgid),
-    };
-    if extra == 0 {
+    let msgid = frame_msgid(buf);
+    let Some(extra) = crc_extra(msgid) else {
         // Not in the common dialect: its CRC cannot be checked, so it may as well be a
         // false marker inside other data. Skipping only the marker keeps the frames behind
         // it (a real unknown frame is then rescanned, which costs at most a few spurious
         // malformed counts if its payload holds 0xFD).
         counters.frames_dropped = counters.frames_dropped.saturating_add(1);
         return Step::Consume(1, false);
-    }
-    let crc_at = 1 + HEADER + payload_len;
-    let crc = u16::from_le_bytes([buf[crc_at], buf[crc_at + 1]]);
-    if super::crc::frame_crc(&buf[1..crc_at], extra) != crc {
+    };
+    if !crc_holds(&buf[..total], extra) {
         counters.frames_malformed = counters.frames_malformed.saturating_add(1);
         // A false marker or a corrupted frame: look again from the next byte.
         return Step::Consume(1, false);
     }
+    let signed = incompat & SIGNED_FLAG != 0;
+    let crc_at = 1 + HEADER + buf[1] as usize;
     let sender = Sender {
         system: buf[5],
         component: buf[6],
@@ -349,6 +349,88 @@ fn examine(
     }
     let interpretation = interpret::interpret(address, sender, msgid, payload, out);
     Step::Consume(total, count(counters, interpretation))
+}
+
+/// The length \[bytes\] of a frame whose header declares `payload_len` and flags `incompat`.
+#[inline(always)]
+fn frame_length(payload_len: u8, incompat: u8) -> usize {
+    let signed = incompat & SIGNED_FLAG != 0;
+    1 + HEADER + payload_len as usize + 2 + if signed { SIGNATURE } else { 0 }
+}
+
+/// The message id of the frame at the head of `buf` (which holds its header).
+#[inline(always)]
+fn frame_msgid(buf: &[u8]) -> u32 {
+    u32::from_le_bytes([buf[7], buf[8], buf[9], 0])
+}
+
+/// The CRC seed of message `msgid`, `None` outside the common dialect.
+#[inline(always)]
+fn crc_extra(msgid: u32) -> Option<u8> {
+    // The pose messages, the stream's usual frames, without the call into the dialect's
+    // table (the same constants).
+    let extra = match msgid {
+        ATT_POS_MOCAP_DATA::ID => ATT_POS_MOCAP_DATA::EXTRA_CRC,
+        ODOMETRY_DATA::ID => ODOMETRY_DATA::EXTRA_CRC,
+        _ => MavMessage::extra_crc(msgid),
+    };
+    (extra != 0).then_some(extra)
+}
+
+/// Whether the whole frame `frame` (marker to signature) carries the CRC of its header and
+/// payload seeded with `extra`.
+#[inline(always)]
+fn crc_holds(frame: &[u8], extra: u8) -> bool {
+    let crc_at = 1 + HEADER + frame[1] as usize;
+    let crc = u16::from_le_bytes([frame[crc_at], frame[crc_at + 1]]);
+    super::crc::frame_crc(&frame[1..crc_at], extra) == crc
+}
+
+/// Looks inside the head frame (`buf[0]` its marker, `total` its declared length; `buf` may
+/// hold less of it, or more than it) for a frame that starts after the head's marker, ends
+/// before the head does, and checks (a known message with a matching CRC; its signature is
+/// checked only once it is the head). `Ok(())` when there is one in the bytes held; else
+/// `Err(n)`: the least buffer length at which one could complete, at most `total` (where the
+/// head itself is judged).
+///
+/// The verdict at each buffer length depends only on the bytes up to it, and `n` is exact,
+/// so the byte-at-a-time decoder and one fed whole runs give the same messages and counts.
+/// A real frame whose payload carries a whole checked frame that ends before it is given up
+/// for that inner frame: a 16-bit CRC collision on data built for it, which buys a sender
+/// nothing it could not send plainly.
+fn later_frame(buf: &[u8], total: usize) -> Result<(), usize> {
+    const SHORTEST: usize = 1 + HEADER + 2;
+    let seen = buf.len().min(total);
+    // A marker not yet received (at `seen` or later) ends no earlier than this.
+    let mut need = seen + SHORTEST;
+    // A frame that ends before the head starts before `total - SHORTEST`.
+    for at in 1..seen.min(total.saturating_sub(SHORTEST)) {
+        if buf[at] != STX {
+            continue;
+        }
+        if at + 3 > seen {
+            // Its length is not in yet.
+            need = need.min(at + SHORTEST);
+            continue;
+        }
+        let incompat = buf[at + 2];
+        if incompat & !0x01 != 0 {
+            continue;
+        }
+        let end = at + frame_length(buf[at + 1], incompat);
+        if end >= total {
+            continue;
+        }
+        if end > seen {
+            need = need.min(end);
+            continue;
+        }
+        let frame = &buf[at..end];
+        if crc_extra(frame_msgid(frame)).is_some_and(|extra| crc_holds(frame, extra)) {
+            return Ok(());
+        }
+    }
+    Err(need.min(total))
 }
 
 /// Counts a frame that passed the CRC and signature checks by what its interpretation made of

@@ -96,8 +96,8 @@ pub fn scenario_certificate(scenario: &Scenario) -> Result<Certificate<f64>> {
 /// confining set, [`crate::bounds::tight::confining_set`]). Errors: the parameter errors of
 /// [`controller_core::certify`].
 ///
-/// The branch and bound takes about a second: a caller that needs the bounds more than once
-/// computes them once ([`crate::fly::setup::FlightSetup`], [`crate::runs::runner::bound_set`]).
+/// The branch and bound takes seconds; each set-up's bounds are computed once per process
+/// ([`crate::bounds::memo`]), so flying the same set-up again does not search again.
 pub fn scenario_tight_bounds(scenario: &Scenario) -> Result<TightBounds> {
     scenario_tight_bounds_with(scenario, &TightOptions::default())
 }
@@ -117,8 +117,15 @@ pub fn scenario_tight_bounds_with(
     {
         return certified_stand_in(scenario);
     }
-    tight_bounds(&vehicle, &gains, &constants, FilterStart::Zero, options)
-        .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))
+    // Every input of the search, spelled exactly: the same set-up flown again reuses the bounds.
+    let key = format!(
+        "{vehicle:?} {gains:?} {constants:?} {:?} {options:?}",
+        FilterStart::Zero
+    );
+    crate::bounds::memo::memoised(key, || {
+        tight_bounds(&vehicle, &gains, &constants, FilterStart::Zero, options)
+    })
+    .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))
 }
 
 /// The certificate's own bounds in the tight bounds' place, for the set-ups the branch and bound

@@ -3,5 +3,6 @@
 //! table ([`table`]).
 
 pub mod certificate;
+pub mod memo;
 pub mod table;
 pub mod tight;

@@ -209,7 +209,8 @@ pub struct HeadingCandidate {
     /// Whether it flies the compensated heading (docs/heading-compensator.md); `false`: the
     /// paper's desired frame.
     pub compensated: bool,
-    /// Its best design's objective (lower is better; graded penalty when unconverged).
+    /// Its best design's objective as compared, before the local position loop's polish,
+    /// which only the design kept gets (lower is better; graded penalty when unconverged).
     pub objective: f64,
     /// Whether that design met the convergence constraints.
     pub constraints_met: bool,
@@ -222,7 +223,8 @@ pub struct HeadingCandidate {
 pub struct LawCandidate {
     /// The law.
     pub law: super::variables::AttitudeLaw,
-    /// Its best design's objective (lower is better; graded penalty when unconverged).
+    /// Its best design's objective as compared, before the local position loop's polish,
+    /// which only the design kept gets (lower is better; graded penalty when unconverged).
     pub objective: f64,
     /// Its best design met the convergence constraints.
     pub constraints_met: bool,

@@ -4,20 +4,20 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{bail, Context as _, Result};
-use controller_core::{Bounds, TorqueSet};
+use controller_core::{Bounds, TorqueSet, TrajectoryConstants};
 
-use super::authority::PositionLaw;
+use super::authority::{PositionLaw, RotorSet};
 use super::certificate::Certified;
 use super::evaluate::{baseline_tasks, evaluate, largest_converging_lag, PENALTY};
 use super::feasibility::*;
 use super::flight::{scenarios, FlightSettings};
-use super::optimise::minimise;
+use super::optimise::{minimise, Optimum};
 use super::options::*;
 use super::outputs::write_outputs;
 use super::reference::{largest_certifiable_scale, Reference};
 use super::refine::local_loop::refine_local_loop;
-use super::refine::refine_local;
 use super::refine::turn_over::refine_turn_over;
+use super::refine::{refine_local, Refinement};
 use super::report::{HeadingCandidate, Report};
 use super::thrust::ThrustDesign;
 use super::tight::SEARCH_BOXES;
@@ -206,7 +206,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
     let searched: Vec<HeadingCandidate> = attempts
         .iter()
         .map(|a| HeadingCandidate {
-            compensated: a.design.report.gains.heading_compensator.is_some(),
+            compensated: a.design.best.mapped.gains.heading_compensator.is_some(),
             objective: a.design.best.evaluation.cost,
             constraints_met: a.design.best.evaluation.feasible,
             long_runs: a.long_runs,
@@ -228,9 +228,12 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
                 .partial_cmp(&key(b))
                 .unwrap_or(std::cmp::Ordering::Equal)
         })
-        .ok_or_else(|| anyhow::anyhow!("no heading to search (bug)"))?
-        .design;
-    let mut report = chosen.report;
+        .ok_or_else(|| anyhow::anyhow!("no heading to search (bug)"))?;
+    let law_search = chosen.law_search;
+    // Only the design kept is polished and reported.
+    let finished = chosen.design.finish()?;
+    let mut report = finished.report;
+    report.law_search = law_search;
     if searched.len() > 1 {
         report.heading_search = searched;
     }
@@ -238,10 +241,10 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
     let files = write_outputs(
         &o.out,
         &report,
-        &chosen.vehicle,
-        &chosen.best,
-        &chosen.reference,
-        chosen.period,
+        &finished.vehicle,
+        &finished.best,
+        &finished.reference,
+        finished.period,
     )?;
     Ok(DesignOutcome { report, files })
 }
@@ -268,9 +271,284 @@ fn check_options(o: &DesignOptions) -> Result<()> {
     Ok(())
 }
 
-/// One law's design, not yet written.
-struct Designed {
+/// What one law's search and the finish of its design share: the options, the vehicle, the
+/// reference certified (scaled when the requested one cannot be) and the runs' settings.
+struct Setup {
+    o: DesignOptions,
     law: AttitudeLaw,
+    /// When this law's design started (for the report's wall time).
+    started: Instant,
+    vehicle: DesignVehicle,
+    set: RotorSet,
+    /// The reference asked for (the heading held when the fallback asks).
+    asked: Reference,
+    /// The reference certified: `asked` slowed down by `scale` when it binds.
+    reference: Reference,
+    scale: f64,
+    /// Why `asked` could not be certified, if it could not.
+    binding: Option<String>,
+    constants: TrajectoryConstants<f64>,
+    period: f64,
+    settings: FlightSettings,
+}
+
+impl Setup {
+    /// Loads and checks `o`'s vehicle and reference for attitude law `law`, slowing the
+    /// reference down until it can be certified. Errors: as [`run_design`], except writing.
+    fn new(o: &DesignOptions, law: AttitudeLaw) -> Result<Self> {
+        let started = Instant::now();
+        let vehicle = DesignVehicle::load(&o.vehicle)?;
+        let set = refuse_impossible(&vehicle)?;
+        let (asked, period) = load_reference(o.reference.as_ref())?;
+        // The fallback's first step certifies the same path with the heading held (run_design
+        // only asks for it when the requested heading swings).
+        let requested = match o.heading_held {
+            Some(_) => asked.heading_held().unwrap_or_else(|| asked.clone()),
+            None => asked.clone(),
+        };
+        if let Some(spec) = o.integral.as_ref() {
+            refuse_uncoverable(&vehicle, &set, spec)?;
+        }
+        let position = position_law(o);
+        let binding = binding_condition(
+            &vehicle,
+            &set,
+            (o.margin, law, o.bounds, o.fit),
+            position,
+            &requested,
+        );
+        let (reference, scale) = match &binding {
+            None => (requested.clone(), 1.0),
+            Some(why) => {
+                eprintln!(
+                    "design ({}): the requested reference cannot be certified on {}: {why}",
+                    law.name(),
+                    vehicle.name
+                );
+                let s = largest_certifiable_scale(&requested, |r| {
+                    binding_condition(
+                        &vehicle,
+                        &set,
+                        (o.margin, law, o.bounds, o.fit),
+                        position,
+                        r,
+                    )
+                    .is_none()
+                })
+                .with_context(|| {
+                    format!(
+                        "{}: no design can be certified for {} even with the reference slowed down \
+                         (frequencies x 2^-30): {why}",
+                        vehicle.origin, vehicle.name
+                    )
+                })?;
+                eprintln!(
+                    "design ({}): designing for the same reference slowed down by {s:.4} (frequencies x {s:.4})",
+                    law.name()
+                );
+                (requested.scaled(s), s)
+            }
+        };
+        ThrustDesign::check_flown(o.thrust).map_err(anyhow::Error::msg)?;
+        let settings = FlightSettings {
+            duration_s: o.duration_s,
+            controller_period_s: period,
+            controller: ControllerConfig {
+                thrust: o.thrust,
+                ..ControllerConfig::default()
+            },
+        };
+        Ok(Self {
+            o: o.clone(),
+            law,
+            started,
+            constants: reference.constants(),
+            vehicle,
+            set,
+            asked,
+            reference,
+            scale,
+            binding,
+            period,
+            settings,
+        })
+    }
+
+    /// The search's context (borrows the set-up).
+    fn ctx(&self) -> Context<'_> {
+        Context {
+            vehicle: &self.vehicle.body,
+            constants: &self.constants,
+            rotors: &self.set,
+            margin: self.o.margin,
+            fit: self.o.fit,
+            bounds: self.o.bounds,
+            position: position_law(&self.o),
+            speed_limit: self.o.speed_limit,
+        }
+    }
+
+    /// The objective of point `x` of the unit box under `layout` (the refusal's cost when it
+    /// cannot be certified or flown), with the search's box budget.
+    fn cost_in(&self, x: &[f64], layout: Layout) -> f64 {
+        match score(
+            &self.vehicle,
+            (&self.ctx(), layout),
+            &self.reference,
+            (self.settings, SEARCH_BOXES),
+            x,
+            false,
+        ) {
+            Ok(s) => s.evaluation.cost,
+            Err(c) => c,
+        }
+    }
+
+    /// Point `x` under `layout` flown for the report (traced), with the final tight bounds'
+    /// default budget (never looser than the search's), and with airmode's margin above the
+    /// rotors' least thrust where that scores lower ([`with_idle_airmode`]). Errors: `x` cannot
+    /// be certified and flown (a bug: the search only keeps points that can).
+    fn final_score(&self, x: &[f64], layout: Layout) -> Result<Scored> {
+        let final_boxes = crate::bounds::tight::TightOptions::default().max_boxes;
+        // `low`: airmode's margin above the rotors' least thrust (`None`: the design margin).
+        let flown = |low: Option<f64>| {
+            let settings = FlightSettings {
+                controller: ControllerConfig {
+                    airmode_low_margin: low,
+                    ..self.settings.controller
+                },
+                ..self.settings
+            };
+            score(
+                &self.vehicle,
+                (&self.ctx(), layout),
+                &self.reference,
+                (settings, final_boxes),
+                x,
+                true,
+            )
+        };
+        let best = flown(None).map_err(|_| {
+            anyhow::anyhow!("the best design found could not be certified and flown (bug)")
+        })?;
+        Ok(with_idle_airmode(best, |low| flown(Some(low)).ok()))
+    }
+}
+
+/// The position law's options that enter the bounds, from `o`.
+fn position_law(o: &DesignOptions) -> PositionLaw<'_> {
+    PositionLaw {
+        integral: o.integral.as_ref(),
+        shape: o.position_saturation,
+        lemma1: o.lemma1,
+        vertical: None,
+        heading: o.heading.compensator(),
+    }
+}
+
+/// One law's design, searched and scored, not yet finished: the candidates are compared on
+/// `best` before the one kept is polished and reported ([`Designed::finish`]).
+struct Designed {
+    setup: Setup,
+    optimum: Optimum,
+    layout: Layout,
+    /// The local regime's refinement, when it ran.
+    refinement: Option<Refinement>,
+    /// The turn-over term's refinement, when it ran.
+    turn_over_refinement: Option<Refinement>,
+    /// `optimum` flown for the report.
+    best: Scored,
+}
+
+impl Designed {
+    /// The law designed.
+    fn law(&self) -> AttitudeLaw {
+        self.setup.law
+    }
+
+    /// The design kept, finished: the local position loop polished last (kept only where it
+    /// scores lower), then what the report shows beside the objective (the largest motor lag
+    /// that converges, the baselines' nominal tasks, the helix tracked), computed once, for
+    /// this design only. Errors: the polished point cannot be flown again (a bug), or the
+    /// baselines cannot be flown.
+    fn finish(self) -> Result<Finished> {
+        let Designed {
+            setup,
+            optimum,
+            layout,
+            refinement,
+            turn_over_refinement,
+            best,
+        } = self;
+        // The local position loop's frequency and damping, on which no bound depends, polished
+        // last on a grid (docs/envelope-design.md, "What `design` searches"): never worse.
+        let cost_in = |x: &[f64], layout: Layout| setup.cost_in(x, layout);
+        let (optimum, layout, local_loop_refinement) = refine_local_loop(&cost_in, optimum, layout);
+        let best = match &local_loop_refinement {
+            Some(r) if r.kept => setup.final_score(&optimum.x, layout)?,
+            _ => best,
+        };
+        let (vehicle, o, ctx) = (&setup.vehicle, &setup.o, setup.ctx());
+        let (scenario, _) = scenarios(
+            vehicle,
+            &best.certified.limits,
+            &best.mapped.gains,
+            &setup.reference,
+            FlightSettings {
+                controller: best.thrust.controller(),
+                ..setup.settings
+            },
+        )?;
+        let lag_max = largest_converging_lag(&scenario, vehicle.motor_time_constant_s);
+        let baselines = baseline_tasks(&scenario)?;
+        let helix = super::evaluate::design_helix_tracking(&scenario)?;
+        let choices = Choices::from_unit(&optimum.x, layout);
+        let mut report = Report::new(
+            vehicle,
+            (o, setup.law),
+            (
+                &setup.asked,
+                &setup.reference,
+                setup.scale,
+                setup.binding.as_deref(),
+            ),
+            choices,
+            &best,
+            (lag_max, baselines),
+            optimum.evaluations,
+            setup.started.elapsed().as_secs_f64(),
+        );
+        if let Some(own) = report.objective.nominal_tasks.first_mut() {
+            own.helix_tracking_error_m = Some(helix);
+        }
+        report.local_refinement = refinement;
+        report.turn_over_refinement = turn_over_refinement;
+        report.local_loop_refinement = local_loop_refinement;
+        report.what_binds = Some(super::binding::WhatBinds {
+            saturation: super::binding::saturation_cap(
+                ctx.bounds,
+                ctx.vehicle,
+                ctx.constants,
+                (ctx.rotors, ctx.margin, ctx.fit),
+                (best.mapped.saturation_max, choices.kf, choices.ks),
+                super::variables::position_law(&ctx, &choices),
+            ),
+            iota: best.mapped.iota_cap,
+            step: super::binding::StepFloor::of(&best.mapped.gains),
+            range_ends: choices.range_ends(super::binding::RANGE_END),
+        });
+        Ok(Finished {
+            report,
+            best,
+            reference: setup.reference,
+            period: setup.period,
+            vehicle: setup.vehicle,
+        })
+    }
+}
+
+/// The design kept, finished, not yet written.
+struct Finished {
     report: Report,
     vehicle: DesignVehicle,
     best: Scored,
@@ -279,88 +557,9 @@ struct Designed {
 }
 
 /// Designs with attitude law `law` under `o` (its `fallback` only names this attempt in the
-/// report). Errors: as [`run_design`], except writing.
+/// report), up to the comparison between candidates. Errors: as [`run_design`], except writing.
 fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
-    let started = Instant::now();
-    let vehicle = DesignVehicle::load(&o.vehicle)?;
-    let set = refuse_impossible(&vehicle)?;
-    let (asked, period) = load_reference(o.reference.as_ref())?;
-    // The fallback's first step certifies the same path with the heading held (run_design only
-    // asks for it when the requested heading swings).
-    let requested = match o.heading_held {
-        Some(_) => asked.heading_held().unwrap_or_else(|| asked.clone()),
-        None => asked.clone(),
-    };
-    let integral = o.integral.as_ref();
-    if let Some(spec) = integral {
-        refuse_uncoverable(&vehicle, &set, spec)?;
-    }
-    let position = PositionLaw {
-        integral,
-        shape: o.position_saturation,
-        lemma1: o.lemma1,
-        vertical: None,
-        heading: o.heading.compensator(),
-    };
-    let binding = binding_condition(
-        &vehicle,
-        &set,
-        (o.margin, law, o.bounds, o.fit),
-        position,
-        &requested,
-    );
-    let (reference, scale) = match &binding {
-        None => (requested.clone(), 1.0),
-        Some(why) => {
-            eprintln!(
-                "design ({}): the requested reference cannot be certified on {}: {why}",
-                law.name(),
-                vehicle.name
-            );
-            let s = largest_certifiable_scale(&requested, |r| {
-                binding_condition(
-                    &vehicle,
-                    &set,
-                    (o.margin, law, o.bounds, o.fit),
-                    position,
-                    r,
-                )
-                .is_none()
-            })
-            .with_context(|| {
-                format!(
-                    "{}: no design can be certified for {} even with the reference slowed down \
-                         (frequencies x 2^-30): {why}",
-                    vehicle.origin, vehicle.name
-                )
-            })?;
-            eprintln!(
-                "design ({}): designing for the same reference slowed down by {s:.4} (frequencies x {s:.4})",
-                law.name()
-            );
-            (requested.scaled(s), s)
-        }
-    };
-    let constants = reference.constants();
-    let ctx = Context {
-        vehicle: &vehicle.body,
-        constants: &constants,
-        rotors: &set,
-        margin: o.margin,
-        fit: o.fit,
-        bounds: o.bounds,
-        position,
-        speed_limit: o.speed_limit,
-    };
-    ThrustDesign::check_flown(o.thrust).map_err(anyhow::Error::msg)?;
-    let settings = FlightSettings {
-        duration_s: o.duration_s,
-        controller_period_s: period,
-        controller: ControllerConfig {
-            thrust: o.thrust,
-            ..ControllerConfig::default()
-        },
-    };
+    let setup = Setup::new(o, law)?;
     let searched = Layout {
         law,
         local: o.envelope,
@@ -370,17 +569,7 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
         turn_over: false,
         local_integral: false,
     };
-    let cost_in = |x: &[f64], layout: Layout| match score(
-        &vehicle,
-        (&ctx, layout),
-        &reference,
-        (settings, SEARCH_BOXES),
-        x,
-        false,
-    ) {
-        Ok(s) => s.evaluation.cost,
-        Err(c) => c,
-    };
+    let cost_in = |x: &[f64], layout: Layout| setup.cost_in(x, layout);
     let cost = |x: &[f64]| cost_in(x, searched);
     let guess = Choices::initial_guess(searched).to_unit();
     let optimum = minimise(&cost, &guess, o.evaluations, o.seed)?;
@@ -396,84 +585,14 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
     // (docs/turn-over.md, "In `design`"): never worse than the design before it.
     let (optimum, layout, turn_over_refinement) =
         refine_turn_over(&cost_in, optimum, layout, o.evaluations, o.seed)?;
-    // The local position loop's frequency and damping, on which no bound depends, polished last
-    // on a grid (docs/envelope-design.md, "What `design` searches"): never worse either.
-    let (optimum, layout, local_loop_refinement) = refine_local_loop(&cost_in, optimum, layout);
-    // The final design's tight bounds with the default budget: never looser than the search's.
-    let final_boxes = crate::bounds::tight::TightOptions::default().max_boxes;
-    // The optimum flown for the report (traced), with airmode's margin above the rotors' least
-    // thrust `low` (`None`: the design margin).
-    let final_score = |low: Option<f64>| {
-        let settings = FlightSettings {
-            controller: ControllerConfig {
-                airmode_low_margin: low,
-                ..settings.controller
-            },
-            ..settings
-        };
-        score(
-            &vehicle,
-            (&ctx, layout),
-            &reference,
-            (settings, final_boxes),
-            &optimum.x,
-            true,
-        )
-    };
-    let best = final_score(None).map_err(|_| {
-        anyhow::anyhow!("the best design found could not be certified and flown (bug)")
-    })?;
-    let best = with_idle_airmode(best, |low| final_score(Some(low)).ok());
-    let (scenario, _) = scenarios(
-        &vehicle,
-        &best.certified.limits,
-        &best.mapped.gains,
-        &reference,
-        FlightSettings {
-            controller: best.thrust.controller(),
-            ..settings
-        },
-    )?;
-    let lag_max = largest_converging_lag(&scenario, vehicle.motor_time_constant_s);
-    let baselines = baseline_tasks(&scenario)?;
-    let helix = super::evaluate::design_helix_tracking(&scenario)?;
-    let mut report = Report::new(
-        &vehicle,
-        (o, law),
-        (&asked, &reference, scale, binding.as_deref()),
-        Choices::from_unit(&optimum.x, layout),
-        &best,
-        (lag_max, baselines),
-        optimum.evaluations,
-        started.elapsed().as_secs_f64(),
-    );
-    if let Some(own) = report.objective.nominal_tasks.first_mut() {
-        own.helix_tracking_error_m = Some(helix);
-    }
-    report.local_refinement = refinement;
-    report.turn_over_refinement = turn_over_refinement;
-    report.local_loop_refinement = local_loop_refinement;
-    let choices = Choices::from_unit(&optimum.x, layout);
-    report.what_binds = Some(super::binding::WhatBinds {
-        saturation: super::binding::saturation_cap(
-            ctx.bounds,
-            ctx.vehicle,
-            ctx.constants,
-            (ctx.rotors, ctx.margin, ctx.fit),
-            (best.mapped.saturation_max, choices.kf, choices.ks),
-            super::variables::position_law(&ctx, &choices),
-        ),
-        iota: best.mapped.iota_cap,
-        step: super::binding::StepFloor::of(&best.mapped.gains),
-        range_ends: choices.range_ends(super::binding::RANGE_END),
-    });
+    let best = setup.final_score(&optimum.x, layout)?;
     Ok(Designed {
-        law,
-        report,
-        vehicle,
+        setup,
+        optimum,
+        layout,
+        refinement,
+        turn_over_refinement,
         best,
-        reference,
-        period,
     })
 }
 

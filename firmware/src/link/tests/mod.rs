@@ -74,6 +74,65 @@ fn resynchronises_after_garbage_and_corruption() {
     assert!(c.bytes_discarded >= 3);
 }
 
+/// Given a cut-off frame whose length byte claims more than what follows (a marker, a long
+/// length, no flags), when a kill and then nothing else arrive, then the kill is handled at its
+/// own last byte, in any chunking, and the cut-off frame is counted malformed; the same with a
+/// pose frame behind the kill, which also gets through.
+#[test]
+fn a_cut_off_frame_does_not_hold_back_the_frames_behind_it() {
+    let kill = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+        param2: FORCE_DISARM_PARAM2,
+        command: MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+        target_system: 1,
+        ..Default::default()
+    });
+    let (k, kn) = frame(&kill, 0);
+    let (p, pn) = frame(&mocap(1.0), 1);
+    for claimed in [kn as u8, 36, 200, 255] {
+        let mut stream = vec![STX, claimed, 0];
+        stream.extend_from_slice(&k[..kn]);
+        for chunk in [1usize, 2, 5, 64, 280] {
+            let mut d = Decoder::new(1);
+            let mut got = Vec::new();
+            for c in stream.chunks(chunk) {
+                got.extend(collect(&mut d, c));
+            }
+            assert_eq!(got.len(), 1, "claimed {claimed}, chunk {chunk}");
+            assert!(matches!(
+                got[0],
+                Inbound::Command {
+                    command: Command::Kill,
+                    ..
+                }
+            ));
+            assert!(d.holds_nothing(), "claimed {claimed}, chunk {chunk}");
+            assert_eq!(d.counters().frames_malformed, 1);
+            assert_eq!(d.counters().frames_ok, 1);
+            let behind = collect(&mut d, &p[..pn]);
+            assert_eq!(behind.len(), 1);
+        }
+    }
+}
+
+/// Given a good frame whose payload holds a marker byte (a false frame start inside it), when
+/// it arrives, then it is accepted whole: only a checked frame ends a held-back one early.
+#[test]
+fn a_marker_inside_a_payload_is_not_a_frame() {
+    // 0xFD inside `x`'s bytes: f32::from_le_bytes([0, 0, 0xFD, 0x3F]).
+    let x = f32::from_le_bytes([0, 0, STX, 0x3F]);
+    let (f, n) = frame(&mocap(x), 0);
+    assert!(f[1..n].contains(&STX));
+    for chunk in [1usize, 3, 280] {
+        let mut d = Decoder::new(1);
+        let mut got = Vec::new();
+        for c in f[..n].chunks(chunk) {
+            got.extend(collect(&mut d, c));
+        }
+        assert_eq!(got.len(), 1, "chunk {chunk}");
+        assert_eq!(d.counters().frames_malformed, 0);
+    }
+}
+
 /// Commands: arm, inverted arm, kill (21196 and flight termination), takeoff height, land,
 /// mission start; another target is dropped.
 #[test]
@@ -186,12 +245,12 @@ proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig::with_cases(512))]
     /// `push` (whole runs of bytes through `feed`) gives the same messages, in the same
     /// order, and the same counters as the byte-at-a-time `push_byte` + `poll` loop, for
-    /// any mix of valid frames, frames with one corrupted byte (length bytes included) and
-    /// junk, in any chunking.
+    /// any mix of valid frames, frames with one corrupted byte (length bytes included),
+    /// cut-off frames and junk, in any chunking.
     #[test]
     fn feed_equals_byte_by_byte(
         pieces in proptest::collection::vec(
-            (0u8..3, -1e3f32..1e3, proptest::collection::vec(proptest::prelude::any::<u8>(), 0..40),
+            (0u8..4, -1e3f32..1e3, proptest::collection::vec(proptest::prelude::any::<u8>(), 0..40),
              0usize..48, proptest::prelude::any::<u8>()),
             1..12,
         ),
@@ -203,6 +262,9 @@ proptest::proptest! {
             match kind {
                 0 => {}
                 1 => f[at % n] ^= flip | 1,
+                // A cut-off frame: a marker and a length, held back until a frame behind
+                // it checks or its own length is in.
+                2 => stream.extend_from_slice(&[STX, flip, 0]),
                 _ => stream.extend_from_slice(&junk),
             }
             stream.extend_from_slice(&f[..n]);

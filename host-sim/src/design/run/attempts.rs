@@ -17,6 +17,8 @@ pub(super) struct Attempts {
     pub(super) design: Designed,
     /// Whether it fell back to the long runs ([`FALLBACK_DURATION_S`]).
     pub(super) long_runs: bool,
+    /// Each law's design on the requested reference (for the report).
+    pub(super) law_search: Vec<LawCandidate>,
 }
 
 /// The laws searched under `o` (one heading), then the fallbacks when no design converges (the
@@ -30,7 +32,7 @@ pub(super) fn design_every_attempt(o: &DesignOptions, started: Instant) -> Resul
     let searched: Vec<LawCandidate> = designs
         .iter()
         .map(|d| LawCandidate {
-            law: d.law,
+            law: d.law(),
             objective: d.best.evaluation.cost,
             constraints_met: d.best.evaluation.feasible,
         })
@@ -60,14 +62,14 @@ pub(super) fn design_every_attempt(o: &DesignOptions, started: Instant) -> Resul
         eprintln!(
             "design: {why}; designing again for the same path with the heading held at its \
              initial value ({}, {} s runs)",
-            chosen.law.name(),
+            chosen.law().name(),
             o.duration_s
         );
         let held = DesignOptions {
             heading_held: Some(why),
             ..o.clone()
         };
-        let attempt = design_with(&held, chosen.law)?;
+        let attempt = design_with(&held, chosen.law())?;
         if attempt.best.evaluation.feasible {
             chosen = attempt;
         } else {
@@ -94,12 +96,12 @@ pub(super) fn design_every_attempt(o: &DesignOptions, started: Instant) -> Resul
             },
             ..o.clone()
         };
-        chosen = design_with(&again, chosen.law)?;
+        chosen = design_with(&again, chosen.law())?;
     }
-    chosen.report.law_search = searched;
     Ok(Attempts {
         design: chosen,
         long_runs,
+        law_search: searched,
     })
 }
 
