@@ -7,7 +7,7 @@
 # 1. builds the TCG plugin (firmware/qemu/build-plugin.sh: gcc);
 # 2. builds the step-bench ELF (`cargo fw-qemu`: thumbv7em-none-eabihf, release, board-mps2-an386;
 #    with the bench-fixtures feature);
-# 3. runs `m4f-bench` (host-sim, dev profile): QEMU + plugin, counts per step, ARM-vs-host comparison,
+# 3. runs `m4f-bench` (host-sim, test profile): QEMU + plugin, counts per step, ARM-vs-host comparison,
 #    table; exit 1 on a disagreement or when the largest full step exceeds the budget.
 #
 # Budget: a flight tick's full step (10 IMU samples, one ATT_POS_MOCAP frame, control_tick)
@@ -54,8 +54,11 @@ fi
 plugin="$(bash "$here/build-plugin.sh")"
 cargo fw-qemu --bin step-bench --features bench-fixtures
 elf="$CARGO_TARGET_DIR/thumbv7em-none-eabihf/release/step-bench"
-# The dev profile (opt-level 2): the host side only replays the fixtures to compare outputs (floats
-# do not depend on the optimisation level), and the test command has built that profile already;
-# a release build (fat LTO) would add minutes.
-cargo run -p host-sim --bin m4f-bench -- \
+# The test profile (the dev profile's opt-level 2) with the workspace's features: the host side
+# only replays the fixtures to compare outputs (floats do not depend on the optimisation level),
+# and the test command's `cargo test --workspace` has built exactly that already. `cargo run -p
+# host-sim` (other features, the dev profile) would build every dependency once more (2 1/2
+# minutes); a release build (fat LTO) would add more.
+cargo build --workspace --profile test --bin m4f-bench
+"$CARGO_TARGET_DIR/debug/m4f-bench" \
   --elf "$elf" --plugin "$plugin" --budget "$BUDGET" ${args[@]+"${args[@]}"}

@@ -4,7 +4,7 @@
 #   bash tests/mavlink-client/qgc_connect.sh sil|pil [firmware-mps2-an386 ELF, for pil]
 # Starts `host-sim sil|pil --gcs-udp 127.0.0.1:PORT` (PORT a free one) in the background, runs
 # the script listening on PORT, then stops host-sim (and, for pil, its QEMU). The exit status is
-# the script's. host-sim is $HOST_SIM if set, else the debug build (cargo builds it if needed);
+# the script's. host-sim is $HOST_SIM if set, else the test-profile build (cargo builds it if needed);
 # the ELF defaults to the target directory's mps2-an386 release build (cargo fw-qemu).
 #
 # The run must outlast the script: sil --gcs-udp is paced to the wall clock (1 s simulated per
@@ -25,7 +25,8 @@ python="$(bash "$here/venv.sh")"
 if [ -n "${HOST_SIM:-}" ]; then
   host_sim="$HOST_SIM"
 else
-  (cd "$root" && cargo build -q -p host-sim --bin host-sim)
+  # The test profile with the workspace's features: what `cargo test --workspace` built.
+  (cd "$root" && cargo build -q --workspace --profile test --bin host-sim)
   host_sim="$target/debug/host-sim"
 fi
 out="$(mktemp -d)"

@@ -398,39 +398,81 @@ fn crc_holds(frame: &[u8], extra: u8) -> bool {
 /// A real frame whose payload carries a whole checked frame that ends before it is given up
 /// for that inner frame: a 16-bit CRC collision on data built for it, which buys a sender
 /// nothing it could not send plainly.
+#[inline(never)]
 fn later_frame(buf: &[u8], total: usize) -> Result<(), usize> {
-    const SHORTEST: usize = 1 + HEADER + 2;
     let seen = buf.len().min(total);
     // A marker not yet received (at `seen` or later) ends no earlier than this.
-    let mut need = seen + SHORTEST;
-    // A frame that ends before the head starts before `total - SHORTEST`.
-    for at in 1..seen.min(total.saturating_sub(SHORTEST)) {
-        if buf[at] != STX {
-            continue;
+    let mut need = seen + SHORTEST_FRAME;
+    // A frame that ends before the head starts before `total - SHORTEST_FRAME`.
+    let starts = buf
+        .get(1..seen.min(total.saturating_sub(SHORTEST_FRAME)))
+        .unwrap_or(&[]);
+    if each_marker(starts, |offset| {
+        inner_frame(buf, offset + 1, (seen, total), &mut need)
+    }) {
+        Ok(())
+    } else {
+        Err(need.min(total))
+    }
+}
+
+/// The shortest frame \[bytes\]: marker, header and CRC, no payload.
+const SHORTEST_FRAME: usize = 1 + HEADER + 2;
+
+/// [`later_frame`] at the marker `buf[at]`: true when a frame starts there, ends before the
+/// head's `total`, is all in (`seen` bytes are) and checks; else lowers `need` to where it
+/// could complete. Out of line: most frames hold no marker byte, and the search stays short.
+#[cold]
+#[inline(never)]
+fn inner_frame(buf: &[u8], at: usize, (seen, total): (usize, usize), need: &mut usize) -> bool {
+    if at + 3 > seen {
+        // Its length is not in yet.
+        *need = (*need).min(at + SHORTEST_FRAME);
+        return false;
+    }
+    let incompat = buf[at + 2];
+    if incompat & !0x01 != 0 {
+        return false;
+    }
+    let end = at + frame_length(buf[at + 1], incompat);
+    if end >= total {
+        return false;
+    }
+    if end > seen {
+        *need = (*need).min(end);
+        return false;
+    }
+    let frame = &buf[at..end];
+    crc_extra(frame_msgid(frame)).is_some_and(|extra| crc_holds(frame, extra))
+}
+
+/// Calls `visit(i)` for each `i` with `bytes[i]` the start marker, in order, until one returns
+/// true; returns whether one did. Four bytes at a time (a word with no marker byte is passed
+/// over with a few instructions): every frame's bytes are searched, and they rarely hold one.
+#[inline(always)]
+fn each_marker(bytes: &[u8], mut visit: impl FnMut(usize) -> bool) -> bool {
+    const ONES: u32 = 0x0101_0101;
+    const MARKERS: u32 = ONES * STX as u32;
+    let mut words = bytes.chunks_exact(4);
+    let mut base = 0;
+    for word in &mut words {
+        let x = u32::from_le_bytes([word[0], word[1], word[2], word[3]]) ^ MARKERS;
+        // Non-zero exactly when a byte of `x` is zero, i.e. a byte of the word is the marker.
+        if x.wrapping_sub(ONES) & !x & (ONES << 7) != 0 {
+            for (i, &b) in word.iter().enumerate() {
+                if b == STX && visit(base + i) {
+                    return true;
+                }
+            }
         }
-        if at + 3 > seen {
-            // Its length is not in yet.
-            need = need.min(at + SHORTEST);
-            continue;
-        }
-        let incompat = buf[at + 2];
-        if incompat & !0x01 != 0 {
-            continue;
-        }
-        let end = at + frame_length(buf[at + 1], incompat);
-        if end >= total {
-            continue;
-        }
-        if end > seen {
-            need = need.min(end);
-            continue;
-        }
-        let frame = &buf[at..end];
-        if crc_extra(frame_msgid(frame)).is_some_and(|extra| crc_holds(frame, extra)) {
-            return Ok(());
+        base += 4;
+    }
+    for (i, &b) in words.remainder().iter().enumerate() {
+        if b == STX && visit(base + i) {
+            return true;
         }
     }
-    Err(need.min(total))
+    false
 }
 
 /// Counts a frame that passed the CRC and signature checks by what its interpretation made of
