@@ -54,11 +54,10 @@ fi
 plugin="$(bash "$here/build-plugin.sh")"
 cargo fw-qemu --bin step-bench --features bench-fixtures
 elf="$CARGO_TARGET_DIR/thumbv7em-none-eabihf/release/step-bench"
-# The test profile (the dev profile's opt-level 2) with the workspace's features: the host side
-# only replays the fixtures to compare outputs (floats do not depend on the optimisation level),
-# and the test command's `cargo test --workspace` has built exactly that already. `cargo run -p
-# host-sim` (other features, the dev profile) would build every dependency once more (2 1/2
-# minutes); a release build (fat LTO) would add more.
+# The test profile (the dev profile's opt-level 2) with the workspace's features, as the test
+# command's QGC step builds host-sim, so nothing is built again there: the host side only replays
+# the fixtures to compare outputs (floats do not depend on the optimisation level); a release
+# build (fat LTO) would add minutes.
 cargo build --workspace --profile test --bin m4f-bench
 "$CARGO_TARGET_DIR/debug/m4f-bench" \
   --elf "$elf" --plugin "$plugin" --budget "$BUDGET" ${args[@]+"${args[@]}"}

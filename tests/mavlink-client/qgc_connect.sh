@@ -25,7 +25,7 @@ python="$(bash "$here/venv.sh")"
 if [ -n "${HOST_SIM:-}" ]; then
   host_sim="$HOST_SIM"
 else
-  # The test profile with the workspace's features: what `cargo test --workspace` built.
+  # The test profile with the workspace's features, as the test command builds it.
   (cd "$root" && cargo build -q --workspace --profile test --bin host-sim)
   host_sim="$target/debug/host-sim"
 fi
