@@ -4,9 +4,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{bail, Context as _, Result};
-use controller_core::{Bounds, TorqueSet, TrajectoryConstants};
+use controller_core::{Bounds, TorqueSet};
 
-use super::authority::{PositionLaw, RotorSet};
 use super::certificate::Certified;
 use super::evaluate::{baseline_tasks, evaluate, largest_converging_lag, PENALTY};
 use super::feasibility::*;
@@ -14,13 +13,12 @@ use super::flight::{scenarios, FlightSettings};
 use super::optimise::{minimise, Optimum};
 use super::options::*;
 use super::outputs::write_outputs;
-use super::reference::{largest_certifiable_scale, Reference};
+use super::reference::Reference;
 use super::refine::local_loop::refine_local_loop;
 use super::refine::turn_over::refine_turn_over;
 use super::refine::{refine_local, Refinement};
 use super::report::{HeadingCandidate, Report};
 use super::thrust::ThrustDesign;
-use super::tight::SEARCH_BOXES;
 use super::variables::{map, AttitudeLaw, Choices, Context, Layout};
 use super::vehicle::DesignVehicle;
 use crate::model::scenario::{ControllerConfig, Scenario, ThrustKind};
@@ -28,6 +26,9 @@ use attempts::{design_every_attempt, Attempts};
 use firmware::mixer::Mixer;
 
 mod attempts;
+mod setup;
+
+use setup::Setup;
 
 /// Loads the requested reference and its controller period \[s\].
 fn load_reference(path: Option<&PathBuf>) -> Result<(Reference, f64)> {
@@ -269,181 +270,6 @@ fn check_options(o: &DesignOptions) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// What one law's search and the finish of its design share: the options, the vehicle, the
-/// reference certified (scaled when the requested one cannot be) and the runs' settings.
-struct Setup {
-    o: DesignOptions,
-    law: AttitudeLaw,
-    /// When this law's design started (for the report's wall time).
-    started: Instant,
-    vehicle: DesignVehicle,
-    set: RotorSet,
-    /// The reference asked for (the heading held when the fallback asks).
-    asked: Reference,
-    /// The reference certified: `asked` slowed down by `scale` when it binds.
-    reference: Reference,
-    scale: f64,
-    /// Why `asked` could not be certified, if it could not.
-    binding: Option<String>,
-    constants: TrajectoryConstants<f64>,
-    period: f64,
-    settings: FlightSettings,
-}
-
-impl Setup {
-    /// Loads and checks `o`'s vehicle and reference for attitude law `law`, slowing the
-    /// reference down until it can be certified. Errors: as [`run_design`], except writing.
-    fn new(o: &DesignOptions, law: AttitudeLaw) -> Result<Self> {
-        let started = Instant::now();
-        let vehicle = DesignVehicle::load(&o.vehicle)?;
-        let set = refuse_impossible(&vehicle)?;
-        let (asked, period) = load_reference(o.reference.as_ref())?;
-        // The fallback's first step certifies the same path with the heading held (run_design
-        // only asks for it when the requested heading swings).
-        let requested = match o.heading_held {
-            Some(_) => asked.heading_held().unwrap_or_else(|| asked.clone()),
-            None => asked.clone(),
-        };
-        if let Some(spec) = o.integral.as_ref() {
-            refuse_uncoverable(&vehicle, &set, spec)?;
-        }
-        let position = position_law(o);
-        let binding = binding_condition(
-            &vehicle,
-            &set,
-            (o.margin, law, o.bounds, o.fit),
-            position,
-            &requested,
-        );
-        let (reference, scale) = match &binding {
-            None => (requested.clone(), 1.0),
-            Some(why) => {
-                eprintln!(
-                    "design ({}): the requested reference cannot be certified on {}: {why}",
-                    law.name(),
-                    vehicle.name
-                );
-                let s = largest_certifiable_scale(&requested, |r| {
-                    binding_condition(
-                        &vehicle,
-                        &set,
-                        (o.margin, law, o.bounds, o.fit),
-                        position,
-                        r,
-                    )
-                    .is_none()
-                })
-                .with_context(|| {
-                    format!(
-                        "{}: no design can be certified for {} even with the reference slowed down \
-                         (frequencies x 2^-30): {why}",
-                        vehicle.origin, vehicle.name
-                    )
-                })?;
-                eprintln!(
-                    "design ({}): designing for the same reference slowed down by {s:.4} (frequencies x {s:.4})",
-                    law.name()
-                );
-                (requested.scaled(s), s)
-            }
-        };
-        ThrustDesign::check_flown(o.thrust).map_err(anyhow::Error::msg)?;
-        let settings = FlightSettings {
-            duration_s: o.duration_s,
-            controller_period_s: period,
-            controller: ControllerConfig {
-                thrust: o.thrust,
-                ..ControllerConfig::default()
-            },
-        };
-        Ok(Self {
-            o: o.clone(),
-            law,
-            started,
-            constants: reference.constants(),
-            vehicle,
-            set,
-            asked,
-            reference,
-            scale,
-            binding,
-            period,
-            settings,
-        })
-    }
-
-    /// The search's context (borrows the set-up).
-    fn ctx(&self) -> Context<'_> {
-        Context {
-            vehicle: &self.vehicle.body,
-            constants: &self.constants,
-            rotors: &self.set,
-            margin: self.o.margin,
-            fit: self.o.fit,
-            bounds: self.o.bounds,
-            position: position_law(&self.o),
-            speed_limit: self.o.speed_limit,
-        }
-    }
-
-    /// The objective of point `x` of the unit box under `layout` (the refusal's cost when it
-    /// cannot be certified or flown), with the search's box budget.
-    fn cost_in(&self, x: &[f64], layout: Layout) -> f64 {
-        match score(
-            &self.vehicle,
-            (&self.ctx(), layout),
-            &self.reference,
-            (self.settings, SEARCH_BOXES),
-            x,
-            false,
-        ) {
-            Ok(s) => s.evaluation.cost,
-            Err(c) => c,
-        }
-    }
-
-    /// Point `x` under `layout` flown for the report (traced), with the final tight bounds'
-    /// default budget (never looser than the search's), and with airmode's margin above the
-    /// rotors' least thrust where that scores lower ([`with_idle_airmode`]). Errors: `x` cannot
-    /// be certified and flown (a bug: the search only keeps points that can).
-    fn final_score(&self, x: &[f64], layout: Layout) -> Result<Scored> {
-        let final_boxes = crate::bounds::tight::TightOptions::default().max_boxes;
-        // `low`: airmode's margin above the rotors' least thrust (`None`: the design margin).
-        let flown = |low: Option<f64>| {
-            let settings = FlightSettings {
-                controller: ControllerConfig {
-                    airmode_low_margin: low,
-                    ..self.settings.controller
-                },
-                ..self.settings
-            };
-            score(
-                &self.vehicle,
-                (&self.ctx(), layout),
-                &self.reference,
-                (settings, final_boxes),
-                x,
-                true,
-            )
-        };
-        let best = flown(None).map_err(|_| {
-            anyhow::anyhow!("the best design found could not be certified and flown (bug)")
-        })?;
-        Ok(with_idle_airmode(best, |low| flown(Some(low)).ok()))
-    }
-}
-
-/// The position law's options that enter the bounds, from `o`.
-fn position_law(o: &DesignOptions) -> PositionLaw<'_> {
-    PositionLaw {
-        integral: o.integral.as_ref(),
-        shape: o.position_saturation,
-        lemma1: o.lemma1,
-        vertical: None,
-        heading: o.heading.compensator(),
-    }
 }
 
 /// One law's design, searched and scored, not yet finished: the candidates are compared on
