@@ -13,13 +13,28 @@ cd "$(dirname "$0")/.."
 # where its time went.
 step() { printf '\n==> [%d:%02d] %s\n' $((SECONDS / 60)) $((SECONDS % 60)) "$*"; }
 
+sudo_if_needed() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
+
+step "the null device: /dev/null must be the character device (1, 3)"
+# Seen on a CI machine: /dev/null a regular file. Every `2>/dev/null` then wrote into it, and every
+# program given "no input" read that text instead: cargo's rustc probe (clippy-driver) parsed it as
+# Rust source and the run stopped. Put the device back before anything else reads or writes it.
+if [ ! -c /dev/null ]; then
+  echo "/dev/null is not a character device ($(stat -c %F /dev/null)); recreating it"
+  sudo_if_needed rm -f /dev/null
+  sudo_if_needed mknod -m 666 /dev/null c 1 3
+fi
+[ -c /dev/null ] || {
+  echo "/dev/null is still not the null device: fix the machine (mknod -m 666 /dev/null c 1 3)" >&2
+  exit 1
+}
+
 step "toolchain: thumbv7em-none-eabihf target, clippy, rustfmt"
 rustup target add thumbv7em-none-eabihf
 rustup component add clippy rustfmt
 
 step "QEMU (qemu-system-arm, Debian package) for the mps2-an386 board"
 if ! command -v qemu-system-arm >/dev/null 2>&1; then
-  sudo_if_needed() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
   sudo_if_needed apt-get update -qq
   sudo_if_needed env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq qemu-system-arm
 fi
@@ -130,10 +145,11 @@ step "a real MAVLink client: pymavlink (pinned, own virtual environment) as grou
 bash tests/mavlink-client/run.sh "$elf_mps2" "$target_dir/pil-trusted/firmware-mps2-an386"
 
 step "QGroundControl's connect sequence (pymavlink, qgc_connect.py: heartbeat, parameters, mission/fence/rally lists) against sil --gcs-udp and pil --gcs-udp"
-# host-sim with the workspace's features in the test profile (the dev profile's settings). In a
-# fresh clone this still builds the dependencies once more (`cargo build` leaves out the
-# dev-dependencies' features: about 2 1/2 minutes on 2 cores), which the M4F bench below reuses.
-cargo build --workspace --profile test --bin host-sim
+# host-sim and m4f-bench as the host tests built them (`cargo test` builds a package's binaries for
+# its integration tests, into target/debug). `--no-run` only checks they are current: a
+# `cargo build` would resolve the features without the dev-dependencies' and build every
+# dependency again (about 2 1/2 minutes on 2 cores in a fresh clone).
+cargo test --workspace --no-run
 host_sim_debug="$target_dir/debug/host-sim"
 for mode in sil pil; do
   HOST_SIM="$host_sim_debug" bash tests/mavlink-client/qgc_connect.sh "$mode" "$elf_mps2"
@@ -144,6 +160,6 @@ step "MAVProxy (pinned, own virtual environment), scripted against the firmware 
 bash tests/mavlink-client/mavproxy/run.sh "$host_sim_debug"
 
 step "Cortex-M4F instruction counts of the control step, f32 on ARM vs host, budget"
-bash firmware/qemu/bench.sh
+M4F_BENCH="$target_dir/debug/m4f-bench" bash firmware/qemu/bench.sh
 
 step "all checks passed"

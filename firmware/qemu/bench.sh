@@ -7,7 +7,7 @@
 # 1. builds the TCG plugin (firmware/qemu/build-plugin.sh: gcc);
 # 2. builds the step-bench ELF (`cargo fw-qemu`: thumbv7em-none-eabihf, release, board-mps2-an386;
 #    with the bench-fixtures feature);
-# 3. runs `m4f-bench` (host-sim, test profile): QEMU + plugin, counts per step, ARM-vs-host comparison,
+# 3. runs `m4f-bench` (host-sim, test profile, or $M4F_BENCH): QEMU + plugin, counts per step, ARM-vs-host comparison,
 #    table; exit 1 on a disagreement or when the largest full step exceeds the budget.
 #
 # Budget: a flight tick's full step (10 IMU samples, one ATT_POS_MOCAP frame, control_tick)
@@ -54,10 +54,15 @@ fi
 plugin="$(bash "$here/build-plugin.sh")"
 cargo fw-qemu --bin step-bench --features bench-fixtures
 elf="$CARGO_TARGET_DIR/thumbv7em-none-eabihf/release/step-bench"
-# The test profile (the dev profile's opt-level 2) with the workspace's features, as the test
-# command's QGC step builds host-sim, so nothing is built again there: the host side only replays
-# the fixtures to compare outputs (floats do not depend on the optimisation level); a release
-# build (fat LTO) would add minutes.
-cargo build --workspace --profile test --bin m4f-bench
-"$CARGO_TARGET_DIR/debug/m4f-bench" \
+# m4f-bench is $M4F_BENCH if set (the test command passes the one its host tests built), else the
+# test profile's build (the dev profile's opt-level 2): the host side only replays the fixtures to
+# compare outputs (floats do not depend on the optimisation level); a release build (fat LTO)
+# would add minutes.
+if [ -n "${M4F_BENCH:-}" ]; then
+  bench="$M4F_BENCH"
+else
+  cargo build --workspace --profile test --bin m4f-bench
+  bench="$CARGO_TARGET_DIR/debug/m4f-bench"
+fi
+"$bench" \
   --elf "$elf" --plugin "$plugin" --budget "$BUDGET" ${args[@]+"${args[@]}"}
