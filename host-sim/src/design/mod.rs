@@ -15,6 +15,7 @@
 //! names what caps the design's levels; [`refine`] refines the envelope design's local regime
 //! after the search.
 
+pub mod attitude_terms;
 pub mod authority;
 pub mod binding;
 pub mod bisect;

@@ -92,6 +92,17 @@ pub fn run(args: &ScoreArgs) -> Result<()> {
         if let Some(b) = b {
             print_binding(name, b, s.margin);
         }
+        if name == "certified set" {
+            if let Some(a) = &s.attitude_terms {
+                let m = a.at_mrp;
+                println!(
+                    "    its attitude terms (radial, trace, turn-over) together: {:.3} N at most \
+                     on a grid of the flow set (at the MRP error ({:.3}, {:.3}, {:.3}); a \
+                     sample, not a bound) where the set charges them {:.3} N apart",
+                    a.sampled_n, m[0], m[1], m[2], a.charged_n
+                );
+            }
+        }
     }
     for v in &s.violated {
         println!(
