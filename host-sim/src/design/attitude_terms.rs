@@ -25,8 +25,9 @@ pub struct AttitudeTermsSample {
     /// The largest `dᵀA(ϑ̃)` found on the grid \[N\]: what the three terms ask at once (a lower
     /// bound of their joint support).
     pub sampled_n: f64,
-    /// What the certified set charges them along `d` \[N\]: the balls' `(ρ_MRP + g_min)|d|`, the
-    /// disks' `Σ_k ½(g_k − g_min)|d − d_k e_k|` and the turn-over box's `Σ_i |d_i| t_i`.
+    /// What the certified set charges them along `d` \[N\]: the balls' `(r + g_min)|d|` (`r` the
+    /// radial term's `(1 + (1 + δ)²) M_ϑ/4`), the disks' `Σ_k ½(g_k − g_min)|d − d_k e_k|` and the
+    /// turn-over box's `Σ_i |d_i| t_i` (`t` its per-axis bounds).
     pub charged_n: f64,
     /// The lifted MRP error where the sample peaked (dimensionless).
     pub at_mrp: [f64; 3],
@@ -36,9 +37,9 @@ pub struct AttitudeTermsSample {
 
 /// Samples tilt priority's attitude terms (radial MRP, trace, turn-over; no damping, no
 /// feedforward) along `direction` on a cubic grid of `points_per_half_axis` points per half
-/// axis over the flow set `|ϑ̃| ≤ 1 + δ`, the points outside it taken radially onto its boundary. `None` for the paper's law (its only attitude
-/// term is the ball, whose support the set already charges exactly) or with no grid points.
-/// No errors. Source: extension (docs/tilt-priority.md, docs/turn-over.md, docs/torque-set.md).
+/// axis over the flow set `|ϑ̃| ≤ 1 + δ`, the points outside it taken radially onto its
+/// boundary. `None` for the paper's law (its only attitude term is the ball, whose support the
+/// set already charges exactly) or with no grid points. No errors. Source: extension (docs/tilt-priority.md, docs/turn-over.md, docs/torque-set.md).
 pub fn sample_attitude_terms(
     gains: &Gains<f64>,
     direction: &Vector3<f64>,
