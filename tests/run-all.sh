@@ -149,7 +149,7 @@ step "QGroundControl's connect sequence (pymavlink, qgc_connect.py: heartbeat, p
 # its integration tests, into target/debug). `--no-run` only checks they are current: a
 # `cargo build` would resolve the features without the dev-dependencies' and build every
 # dependency again (about 2 1/2 minutes on 2 cores in a fresh clone).
-cargo test --workspace --no-run
+cargo test --workspace --no-run -q
 host_sim_debug="$target_dir/debug/host-sim"
 for mode in sil pil; do
   HOST_SIM="$host_sim_debug" bash tests/mavlink-client/qgc_connect.sh "$mode" "$elf_mps2"

@@ -17,6 +17,7 @@ use nalgebra::Vector3;
 use serde::Serialize;
 
 use controller_core::mrp::rotation_from_mrp;
+use controller_core::torque_set::TorqueSet;
 use controller_core::Gains;
 
 /// What the attitude terms ask along one direction `d` (a rotor pair's row, [N per N m]).
@@ -25,9 +26,9 @@ pub struct AttitudeTermsSample {
     /// The largest `dᵀA(ϑ̃)` found on the grid \[N\]: what the three terms ask at once (a lower
     /// bound of their joint support).
     pub sampled_n: f64,
-    /// What the certified set charges them along `d` \[N\]: the balls' `(r + g_min)|d|` (`r` the
-    /// radial term's `(1 + (1 + δ)²) M_ϑ/4`), the disks' `Σ_k ½(g_k − g_min)|d − d_k e_k|` and the
-    /// turn-over box's `Σ_i |d_i| t_i` (`t` its per-axis bounds).
+    /// What the certified set charges them along `d` \[N\]: its feedback ball and disks
+    /// ([`TorqueSet::support_parts`]) and the turn-over bounds' share of its box,
+    /// `Σ_i |d_i| t_i`.
     pub charged_n: f64,
     /// The lifted MRP error where the sample peaked (dimensionless).
     pub at_mrp: [f64; 3],
@@ -38,10 +39,12 @@ pub struct AttitudeTermsSample {
 /// Samples tilt priority's attitude terms (radial MRP, trace, turn-over; no damping, no
 /// feedforward) along `direction` on a cubic grid of `points_per_half_axis` points per half
 /// axis over the flow set `|ϑ̃| ≤ 1 + δ`, the points outside it taken radially onto its
-/// boundary. `None` for the paper's law (its only attitude term is the ball, whose support the
-/// set already charges exactly) or with no grid points. No errors. Source: extension (docs/tilt-priority.md, docs/turn-over.md, docs/torque-set.md).
+/// boundary; `set` is the certified torque set of `gains`, which gives the charge. `None` for the
+/// paper's law (its only attitude term is the ball, whose support the set already charges
+/// exactly) or with no grid points. No errors. Source: extension (docs/tilt-priority.md, docs/turn-over.md, docs/torque-set.md).
 pub fn sample_attitude_terms(
     gains: &Gains<f64>,
+    set: &TorqueSet<f64>,
     direction: &Vector3<f64>,
     points_per_half_axis: usize,
 ) -> Option<AttitudeTermsSample> {
@@ -83,23 +86,13 @@ pub fn sample_attitude_terms(
             }
         }
     }
-    let a = radius;
-    let radial = (1.0 + a * a) * gains.attitude.mrp_saturation * 0.25;
-    let g = tilt.trace_weights;
-    let g_min = g.min();
-    let disks: f64 = (0..3)
-        .map(|k| {
-            let mut off_axis = *direction;
-            off_axis[k] = 0.0;
-            0.5 * (g[k] - g_min) * off_axis.norm()
-        })
-        .sum();
+    let parts = set.support_parts(direction);
     let turn_over = direction
         .abs()
         .dot(&tilt.turn_over_bounds(gains.hysteresis));
     Some(AttitudeTermsSample {
         sampled_n: best.0,
-        charged_n: (radial + g_min) * direction.norm() + disks + turn_over,
+        charged_n: parts.feedback_ball + parts.feedback_disks + turn_over,
         at_mrp: best.1.into(),
         points_per_half_axis,
     })

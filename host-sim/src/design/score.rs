@@ -120,9 +120,9 @@ pub fn score_scenario(
         .as_ref()
         .filter(|_| airmode)
         .map(|l| fit_binding(&envelope, &l.torque_set));
-    let attitude_terms = binding.as_ref().and_then(|b| {
-        let d = b.newtons_per_newton_metre.into();
-        sample_attitude_terms(&scenario.gains::<f64>(), &d, ATTITUDE_GRID)
+    let attitude_terms = binding.as_ref().and_then(|pair| {
+        let d = pair.newtons_per_newton_metre.into();
+        sample_attitude_terms(&scenario.gains::<f64>(), &b.torque_set, &d, ATTITUDE_GRID)
     });
     let reference = Reference {
         trajectory: scenario.trajectory.clone(),

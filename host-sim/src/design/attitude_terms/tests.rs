@@ -1,6 +1,6 @@
 //! Given tilt priority's gains, when its attitude terms are sampled along a direction, then the
-//! sample never exceeds what the certified set charges them, the charge is the set's own, and a
-//! term alone is sampled up to its support.
+//! sample never exceeds what the certified set charges them, the charge is their share of the
+//! set (by hand), and a term alone is sampled up to its support.
 
 use approx::assert_relative_eq;
 use nalgebra::Vector3;
@@ -25,40 +25,57 @@ fn gains(g12: f64, g3: f64, mrp_saturation: f64, turn_over: Option<(f64, f64)>) 
     gains
 }
 
-#[test]
-fn the_papers_law_has_nothing_to_sample() {
-    let d = Vector3::new(0.7, 0.0, 7.8);
-    assert!(sample_attitude_terms(&Gains::paper(), &d, 4).is_none());
-    assert!(sample_attitude_terms(&gains(0.01, 0.8, 0.04, None), &d, 0).is_none());
+/// The certified set of `gains` as `certify` builds it for tilt priority, with the
+/// feedforward's norms `rates` (`U_ωd`, `U_ω̇d`) and the damping levels and turn-over bounds in
+/// its box.
+fn certified_set(gains: &Gains<f64>, rates: (f64, f64)) -> TorqueSet<f64> {
+    let tilt = gains.tilt_priority.expect("tilt priority");
+    let a = 1.0 + gains.hysteresis;
+    TorqueSet::tilt_priority(
+        Vector3::new(0.024, 0.024, 0.044),
+        rates.0,
+        rates.1,
+        (1.0 + a * a) * gains.attitude.mrp_saturation * 0.25,
+        tilt.trace_weights,
+        tilt.omega_levels + tilt.turn_over_bounds(gains.hysteresis),
+    )
 }
 
 #[test]
-fn the_charge_is_the_certified_sets_own() {
+fn the_papers_law_has_nothing_to_sample() {
+    let d = Vector3::new(0.7, 0.0, 7.8);
+    let tilt = gains(0.01, 0.8, 0.04, None);
+    let set = certified_set(&tilt, (1.0, 2.0));
+    assert!(sample_attitude_terms(&Gains::paper(), &set, &d, 4).is_none());
+    assert!(sample_attitude_terms(&tilt, &set, &d, 0).is_none());
+}
+
+#[test]
+fn the_charge_is_the_attitude_terms_share_of_the_set() {
+    // The balls `(r + g_min)|d|`, the disks `Σ_k ½(g_k − g_min)|d − d_k e_k|` and the turn-over
+    // box `Σ_i |d_i| t_i`, by hand: neither the feedforward's parts nor the damping levels.
     let g = gains(0.013, 0.8, 0.037, Some((0.2, 0.8)));
     let tilt = g.tilt_priority.expect("tilt priority");
     let a = 1.0 + g.hysteresis;
     let radial = (1.0 + a * a) * g.attitude.mrp_saturation * 0.25;
-    // The set with the turn-over bounds as its only box: its feedback parts are the charge.
-    let set = TorqueSet::tilt_priority(
-        Vector3::repeat(0.02),
-        0.0,
-        0.0,
-        radial,
-        tilt.trace_weights,
-        tilt.turn_over_bounds(g.hysteresis),
-    );
+    let w = tilt.trace_weights;
+    let turn = tilt.turn_over_bounds(g.hysteresis);
+    let set = certified_set(&g, (3.0, 5.0));
     for d in [
         Vector3::new(0.718, 0.0, 7.812),
         Vector3::new(-1.4, 1.4, 15.6),
         Vector3::new(0.0, 1.0, 0.0),
     ] {
-        let p = set.support_parts(&d);
-        let s = sample_attitude_terms(&g, &d, 4).expect("tilt priority");
-        assert_relative_eq!(
-            s.charged_n,
-            p.feedback_ball + p.feedback_box + p.feedback_disks,
-            max_relative = 1e-12
-        );
+        let disks: f64 = (0..3)
+            .map(|k| {
+                let mut off_axis = d;
+                off_axis[k] = 0.0;
+                0.5 * (w[k] - w.min()) * off_axis.norm()
+            })
+            .sum();
+        let by_hand = (radial + w.min()) * d.norm() + disks + d.abs().dot(&turn);
+        let s = sample_attitude_terms(&g, &set, &d, 4).expect("tilt priority");
+        assert_relative_eq!(s.charged_n, by_hand, max_relative = 1e-12);
     }
 }
 
@@ -68,7 +85,8 @@ fn the_trace_terms_disk_alone_is_sampled_up_to_its_support() {
     // reaches ½ g₃ |d_xy| at a 90° tilt about the right axis; the set's disk charges exactly that.
     let g = gains(0.0, 0.8, 1e-9, None);
     let d = Vector3::new(0.718, 0.3, 7.812);
-    let s = sample_attitude_terms(&g, &d, 24).expect("tilt priority");
+    let s =
+        sample_attitude_terms(&g, &certified_set(&g, (0.0, 0.0)), &d, 24).expect("tilt priority");
     assert_relative_eq!(s.charged_n, 0.4 * d.xy().norm(), max_relative = 1e-6);
     assert!(s.sampled_n <= s.charged_n);
     assert!(
@@ -93,7 +111,8 @@ proptest! {
         let turn_over = (level > 0.05).then_some((level, onset));
         let g = gains(g12, g3, mrp_saturation, turn_over);
         let d = Vector3::from(d);
-        let s = sample_attitude_terms(&g, &d, 6).expect("tilt priority");
+        let s = sample_attitude_terms(&g, &certified_set(&g, (2.0, 4.0)), &d, 6)
+            .expect("tilt priority");
         prop_assert!(
             s.sampled_n <= s.charged_n * (1.0 + 1e-12) + 1e-12,
             "sampled {} > charged {}", s.sampled_n, s.charged_n
