@@ -30,6 +30,11 @@
 //! That is what lets the rotor fit ([`TorqueSet`] with the mixer, firmware `Mixer::set_margin`)
 //! certify larger feedback levels on the same rotors.
 //!
+//! With tilt priority the three attitude terms (radial, trace, turn-over) are functions of one
+//! attitude error and peak at different attitudes, so the sum of their three sets overcharges
+//! them; [`attitude_joint`] bounds them together, and the support takes the smaller of the two
+//! bounds direction by direction.
+//!
 //! Source: extension of Theorem 2 (docs/torque-set.md); each term's set is the one Theorem 2's
 //! proof bounds, without the final per-component step.
 
@@ -37,7 +42,9 @@ use nalgebra::{Vector2, Vector3};
 
 use crate::scalar::{lit, Scalar};
 
+pub mod attitude_joint;
 mod parts;
+pub use attitude_joint::AttitudeJoint;
 pub use parts::SupportParts;
 
 /// The certified torque set `S` [N m], body frame: the Minkowski sum of the feedforward's
@@ -70,6 +77,11 @@ pub struct TorqueSet<T: Scalar> {
     /// (the envelope design's local regime, whose attitude error is bounded:
     /// `crate::bounds::local_torque_set`). Zero: the cylinder itself.
     pub aligned_turn: T,
+    /// Tilt priority's attitude terms bounded together ([`AttitudeJoint`]): where its support
+    /// along a direction is below what the ball, the disks and the turn-over term's share of
+    /// the box charge apart, [`TorqueSet::support`] takes it instead. `None`: the Minkowski
+    /// sum alone (the paper's law, and tilt priority with `g₁ ≠ g₂`).
+    pub attitude_joint: Option<AttitudeJoint<T>>,
 }
 
 impl<T: Scalar> TorqueSet<T> {
@@ -86,6 +98,7 @@ impl<T: Scalar> TorqueSet<T> {
             feedback_disks: Vector3::zeros(),
             aligned_acceleration: Vector2::zeros(),
             aligned_turn: T::zero(),
+            attitude_joint: None,
         }
     }
 
@@ -104,6 +117,7 @@ impl<T: Scalar> TorqueSet<T> {
             feedback_disks: Vector3::zeros(),
             aligned_acceleration: Vector2::new(tilt, yaw),
             aligned_turn: T::zero(),
+            attitude_joint: None,
         }
     }
 
@@ -168,18 +182,22 @@ impl<T: Scalar> TorqueSet<T> {
             feedback_disks: Vector3::zeros(),
             aligned_acceleration: Vector2::zeros(),
             aligned_turn: T::zero(),
+            attitude_joint: None,
         }
     }
 
     /// The support function `h(c) = sup_{τ ∈ S} cᵀτ` for a direction `c` (any length; units of
     /// `c` times N m): `U_ω̇d |J c| + Σ_i |c_i| (gyroscopic_i + feedback_box_i) + r |c|
     /// + Σ_k d_k |c − c_k e_k|` (plus `a |(J₁₁c₁, J₂₂c₂)| + b J₃₃|c₃|` for the aligned cylinder,
-    /// or [`TorqueSet::turned_cylinder_support`] of `J c` when it is turned).
+    /// or [`TorqueSet::turned_cylinder_support`] of `J c` when it is turned), less
+    /// [`TorqueSet::joint_saving`] where the attitude terms' joint bound is the smaller.
     /// `S` is symmetric, so `inf_{τ ∈ S} cᵀτ = −h(c)`. Exact for the
     /// Minkowski sum (the support function of a sum is the sum of the summands' support
-    /// functions; a disk's is its radius times the length of `c` projected on its plane).
+    /// functions; a disk's is its radius times the length of `c` projected on its plane); with
+    /// the joint bound, an upper bound of the law's torque along `c` that is no longer the
+    /// support of one convex set for all `c` at once, which is all the rotor fit reads.
     pub fn support(&self, c: &Vector3<T>) -> T {
-        let base = self.support_of_theorem2_parts(c);
+        let base = self.support_of_theorem2_parts(c) - self.joint_saving(c);
         let [a, b] = [self.aligned_acceleration.x, self.aligned_acceleration.y];
         if a > T::zero() || b > T::zero() {
             let jc = self.inertia.component_mul(c);
@@ -218,6 +236,25 @@ impl<T: Scalar> TorqueSet<T> {
         } else {
             let at = if peak < lo { lo } else { hi };
             length * (a * at.sin() + b * at.cos())
+        }
+    }
+
+    /// What [`TorqueSet::attitude_joint`] saves along `c` (`≥ 0`): the attitude terms' charge
+    /// apart (the ball `r|c|`, the disks and `|c|ᵀ` the turn-over box) minus their joint
+    /// support, where that is smaller; zero without a joint bound.
+    pub fn joint_saving(&self, c: &Vector3<T>) -> T {
+        let Some(joint) = &self.attitude_joint else {
+            return T::zero();
+        };
+        let n2 = c.norm_squared();
+        let apart = self.feedback_radius * n2.sqrt()
+            + self.disks_support(c, n2)
+            + c.abs().dot(&joint.turn_over_box);
+        let together = joint.support(c);
+        if together < apart {
+            apart - together
+        } else {
+            T::zero()
         }
     }
 

@@ -1,7 +1,8 @@
 //! Benchmarks: one controller step (f32 and f64) at a representative state, and the whole 30 s
 //! Section VI closed-loop simulation (f32 and f64 controller), without any file output: with a
 //! [`Record`](host_sim::fly::sim::Record) per sample handed to an observer (what the main run writes
-//! to `timeseries.csv`), and for the summary only.
+//! to `timeseries.csv`), and for the summary only; and the certified joint bound of tilt
+//! priority's attitude terms, which `certify` builds.
 //!
 //! Run with `cargo bench -p host-sim`; sample sizes and times are kept small so the run takes
 //! well under two minutes on two cores (after the build).
@@ -10,6 +11,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use controller_core::scalar::{lit, to_f64, Scalar};
+use controller_core::torque_set::attitude_joint::{AttitudeJoint, JOINT_SLABS};
 use controller_core::{
     ControlOutput, Controller, ReferenceSample, StepError, Trajectory, VehicleState,
 };
@@ -126,10 +128,55 @@ fn paper_scenario_summary(c: &mut Criterion) {
     group.finish();
 }
 
+/// The certified joint bound of tilt priority's attitude terms on the x500 design's gains
+/// (`certify` builds it once per certificate: at boot and on a `PARAM_SET` on the board), on the
+/// certified grid and on `design`'s bisection grid.
+fn attitude_joint(c: &mut Criterion) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("designs/x500/scenario.toml");
+    let s = Scenario::load(&path).expect("the x500 design's scenario loads");
+    let mut group = c.benchmark_group("attitude_joint");
+    group
+        .sample_size(20)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
+    for slabs in [JOINT_SLABS, JOINT_SLABS / 2] {
+        let g64 = s.gains::<f64>();
+        let g32 = s.gains::<f32>();
+        let (t64, t32) = (
+            g64.tilt_priority.expect("the x500 flies tilt priority"),
+            g32.tilt_priority.expect("the x500 flies tilt priority"),
+        );
+        group.bench_function(format!("f64_{slabs}"), |b| {
+            b.iter(|| {
+                AttitudeJoint::of(
+                    black_box(&t64),
+                    g64.attitude.mrp_saturation,
+                    g64.attitude.k_mrp,
+                    g64.hysteresis,
+                    slabs,
+                )
+            })
+        });
+        group.bench_function(format!("f32_{slabs}"), |b| {
+            b.iter(|| {
+                AttitudeJoint::of(
+                    black_box(&t32),
+                    g32.attitude.mrp_saturation,
+                    g32.attitude.k_mrp,
+                    g32.hysteresis,
+                    slabs,
+                )
+            })
+        });
+    }
+    group.finish();
+}
+
 criterion_group!(
     benches,
     controller_step,
     paper_scenario,
-    paper_scenario_summary
+    paper_scenario_summary,
+    attitude_joint
 );
 criterion_main!(benches);

@@ -155,6 +155,7 @@ pub fn local_torque_set<T: Scalar>(
         feedback_disks: Vector3::zeros(),
         aligned_acceleration: Vector2::new(a, b),
         aligned_turn: energy.angle,
+        attitude_joint: None,
     }
 }
 

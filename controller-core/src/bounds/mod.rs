@@ -19,7 +19,8 @@ use crate::parameter_error::ParameterError;
 use crate::position_saturation::PositionSaturation;
 use crate::reference::TrajectoryConstants;
 use crate::scalar::{lit, to_f64, Scalar};
-use crate::torque_set::TorqueSet;
+use crate::torque_set::attitude_joint::JOINT_SLABS;
+use crate::torque_set::{AttitudeJoint, TorqueSet};
 use crate::vehicle::{Limits, Vehicle};
 
 mod local;
@@ -84,6 +85,34 @@ pub(crate) fn integral_margin_error<T: Scalar>(total: T, limit: T) -> ParameterE
 /// Source: Assumption 1 (eq:ThrustConditions, eq:TorqueMaxCondition), Theorem 1
 /// (eq:BoundsT), Lemma 1, Theorem 2 (eq:TorqueMaxConditionsTheorem).
 pub fn certify<T: Scalar>(
+    vehicle: &Vehicle<T>,
+    limits: &Limits<T>,
+    gains: &Gains<T>,
+    constants: &TrajectoryConstants<T>,
+    filter_start: FilterStart,
+) -> Result<Certificate<T>, ParameterError> {
+    let mut certificate =
+        certify_without_joint_bound(vehicle, limits, gains, constants, filter_start)?;
+    // Tilt priority's attitude terms bounded together where that is tighter (docs/torque-set.md,
+    // "The attitude terms bounded together"); the same grid on the board.
+    if let Some(t) = &gains.tilt_priority {
+        certificate.bounds.torque_set.attitude_joint = AttitudeJoint::of(
+            t,
+            gains.attitude.mrp_saturation,
+            gains.attitude.k_mrp,
+            gains.hysteresis,
+            JOINT_SLABS,
+        );
+    }
+    Ok(certificate)
+}
+
+/// [`certify`] with the torque set's attitude terms charged apart only (its
+/// [`TorqueSet::attitude_joint`] is `None`): every other number is the same, at a fraction of
+/// the cost with tilt priority, for callers that read no support of the set (the thrust bounds,
+/// the per-axis bounds, the conditions). Errors: as [`certify`].
+/// Source: as [`certify`].
+pub fn certify_without_joint_bound<T: Scalar>(
     vehicle: &Vehicle<T>,
     limits: &Limits<T>,
     gains: &Gains<T>,

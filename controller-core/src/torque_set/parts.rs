@@ -15,8 +15,8 @@ use super::TorqueSet;
 use crate::scalar::Scalar;
 
 /// The summands of [`TorqueSet::support`] along one direction `c` (units of `c` times N m: N
-/// when `c` is a rotor's or a rotor pair's row of the mixer, [1/m]). Each part is `≥ 0` and
-/// their sum is `support(c)` up to rounding.
+/// when `c` is a rotor's or a rotor pair's row of the mixer, [1/m]). Each part is `≥ 0`, and
+/// their sum less the joint bound's saving is `support(c)` up to rounding.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SupportParts<T: Scalar> {
     /// The feedforward's ellipsoid `U_ω̇d |J c|` (Lemma 1's bound on `|ω̇_d|`, turned by any
@@ -38,6 +38,9 @@ pub struct SupportParts<T: Scalar> {
     /// The aligned feedforward's cylinder, turned or not (the local regime and airmode's
     /// aligned set; zero in Theorem 2's set).
     pub aligned: T,
+    /// What the joint bound of the attitude terms frees ([`TorqueSet::joint_saving`], `≥ 0`):
+    /// subtracted from the sum of the parts above.
+    pub joint_saving: T,
 }
 
 impl<T: Scalar> SupportParts<T> {
@@ -49,6 +52,7 @@ impl<T: Scalar> SupportParts<T> {
             + self.feedback_box
             + self.feedback_disks
             + self.aligned
+            - self.joint_saving
     }
 }
 
@@ -73,6 +77,7 @@ impl<T: Scalar> TorqueSet<T> {
             feedback_box: abs.dot(&self.feedback_box),
             feedback_disks: self.disks_support(c, n2),
             aligned,
+            joint_saving: self.joint_saving(c),
         }
     }
 }

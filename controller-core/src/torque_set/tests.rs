@@ -20,11 +20,28 @@ fn tilt_priority() -> TiltPriorityGains<f64> {
     }
 }
 
-fn set_up(tilt: bool) -> (Gains<f64>, crate::Bounds<f64>) {
-    let mut gains = Gains::<f64>::paper();
-    if tilt {
-        gains.tilt_priority = Some(tilt_priority());
+/// Tilt priority with `g₁ = g₂` and the turn-over term: the set takes the attitude terms'
+/// joint bound.
+fn tilt_priority_joint() -> TiltPriorityGains<f64> {
+    TiltPriorityGains {
+        trace_weights: Vector3::new(0.05, 0.05, 0.4),
+        turn_over: Some(crate::TurnOver {
+            level: 0.1,
+            onset: 0.8,
+        }),
+        ..tilt_priority()
     }
+}
+
+/// The set-up of law `law`: 0 (or `false`) the paper's, 1 (or `true`) tilt priority with
+/// `g₁ ≠ g₂` (no joint bound), 2 tilt priority with the joint bound.
+fn set_up(law: impl Into<u8>) -> (Gains<f64>, crate::Bounds<f64>) {
+    let mut gains = Gains::<f64>::paper();
+    gains.tilt_priority = match law.into() {
+        0 => None,
+        1 => Some(tilt_priority()),
+        _ => Some(tilt_priority_joint()),
+    };
     let c = certify(
         &Vehicle::paper(),
         &Limits::paper(),
@@ -112,18 +129,19 @@ proptest! {
 
     /// Given any state inside Theorem 2's hypotheses (`|ϑ̃| ≤ 1 + δ`, `|ω_d|` and `|ω̇_d|` within
     /// the norms the set takes, any `ω`) and any direction `c`, when the law's torque is
-    /// evaluated (the paper's law or tilt priority), then `cᵀτ ≤ h(c)`: the torque never leaves
-    /// the set.
+    /// evaluated (the paper's law, or tilt priority with its attitude terms charged apart or
+    /// bounded together), then `cᵀτ ≤ h(c)`: the torque never leaves the set.
     #[test]
     fn the_law_never_leaves_the_set(
-        tilt in any::<bool>(),
+        law in 0u8..3,
         mrp in (0.0..=1.0f64, 0.0..std::f64::consts::PI, 0.0..std::f64::consts::TAU),
         omega in (0.0..50.0f64, 0.0..std::f64::consts::PI, 0.0..std::f64::consts::TAU),
         w_d in (0.0..=1.0f64, 0.0..std::f64::consts::PI, 0.0..std::f64::consts::TAU),
         w_d_dot in (0.0..=1.0f64, 0.0..std::f64::consts::PI, 0.0..std::f64::consts::TAU),
         c in (0.0..std::f64::consts::PI, 0.0..std::f64::consts::TAU),
     ) {
-        let (g, b) = set_up(tilt);
+        let (g, b) = set_up(law);
+        prop_assert_eq!(b.torque_set.attitude_joint.is_some(), law == 2);
         let inertia = Vehicle::<f64>::paper().inertia;
         // Radii up to the bound, pushed to it for half the range (the worst cases are on it).
         let radius = |r: f64, max: f64| (2.0 * r).min(1.0) * max;
@@ -148,8 +166,8 @@ proptest! {
 
     /// The set lies in the paper's box: along any direction its support is at most the box's.
     #[test]
-    fn the_set_is_inside_the_box(tilt in any::<bool>(), c in (0.0..std::f64::consts::PI, 0.0..std::f64::consts::TAU)) {
-        let (_, b) = set_up(tilt);
+    fn the_set_is_inside_the_box(law in 0u8..3, c in (0.0..std::f64::consts::PI, 0.0..std::f64::consts::TAU)) {
+        let (_, b) = set_up(law);
         let dir = unit(c.0, c.1);
         prop_assert!(b.torque_set.support(&dir) <= dir.abs().dot(&b.torque_max) * (1.0 + 1e-14));
     }

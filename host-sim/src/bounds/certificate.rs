@@ -81,7 +81,26 @@ pub struct TightRatios {
 ///
 /// Errors: the scenario's parameters are refused (named by scenario key).
 pub fn scenario_certificate(scenario: &Scenario) -> Result<Certificate<f64>> {
-    certify(
+    certificate_by(scenario, certify)
+}
+
+/// [`scenario_certificate`] with the torque set's attitude terms charged apart only
+/// ([`controller_core::bounds::certify_without_joint_bound`]): the same numbers at a fraction of
+/// the cost with tilt priority, for callers that read no support of the set along the rotors,
+/// or that may take the Minkowski sum's larger one (a narrower airmode interval).
+///
+/// Errors: the scenario's parameters are refused (named by scenario key).
+pub fn scenario_certificate_without_joint_bound(scenario: &Scenario) -> Result<Certificate<f64>> {
+    certificate_by(
+        scenario,
+        controller_core::bounds::certify_without_joint_bound,
+    )
+}
+
+/// The certificate of `scenario` by `certify_fn` (one of the core's two), in f64 with the
+/// filters starting at zero, its refusal named by scenario key.
+fn certificate_by(scenario: &Scenario, certify_fn: CertifyFn) -> Result<Certificate<f64>> {
+    certify_fn(
         &scenario.vehicle(),
         &scenario.limits(),
         &scenario.gains(),
@@ -90,6 +109,15 @@ pub fn scenario_certificate(scenario: &Scenario) -> Result<Certificate<f64>> {
     )
     .map_err(|e| anyhow!("{}", crate::model::scenario::describe(&e)))
 }
+
+/// The signature of the core's `certify` and `certify_without_joint_bound` in f64.
+type CertifyFn = fn(
+    &controller_core::Vehicle<f64>,
+    &controller_core::Limits<f64>,
+    &controller_core::Gains<f64>,
+    &controller_core::TrajectoryConstants<f64>,
+    FilterStart,
+) -> Result<Certificate<f64>, controller_core::ParameterError>;
 
 /// The tight bounds of `scenario` (the law's gains, vehicle and trajectory; the filters start at
 /// zero as in Section VI; with the integral action on, its estimate's level and rate widen the

@@ -9,9 +9,9 @@
 //! `A(ϑ̃) = −(1 + |ϑ̃|²)/4 · s_ϑ(k_ϑ ϑ̃) − ½ vee(G R̃ − R̃ᵀG) + τ_t(ϑ̃)` can ask far less of a
 //! rotor pair than the sum of the three. This module *measures* that: the largest `dᵀA(ϑ̃)` on a
 //! grid of the flow set `|ϑ̃| ≤ 1 + δ`. A sample is a lower bound of the joint support, never a
-//! certified upper one: nothing here enters a certificate, the fit or the firmware's gate
-//! (docs/results.md, "The attitude terms charged apart", says what a certified joint bound would
-//! need).
+//! certified upper one: nothing here enters a certificate, the fit or the firmware's gate. It is
+//! reported beside the certified joint bound the set does use
+//! (`controller_core::torque_set::attitude_joint`), so the bound's slack is visible.
 
 use nalgebra::Vector3;
 use serde::Serialize;
@@ -30,6 +30,10 @@ pub struct AttitudeTermsSample {
     /// ([`TorqueSet::support_parts`]) and the turn-over bounds' share of its box,
     /// `Σ_i |d_i| t_i`.
     pub charged_n: f64,
+    /// The certified joint bound of the three along `d` \[N\]
+    /// ([`controller_core::torque_set::AttitudeJoint::support`]): between the sample and the
+    /// charge; `None` when the set has none (`g₁ ≠ g₂`).
+    pub joint_bound_n: Option<f64>,
     /// The lifted MRP error where the sample peaked (dimensionless).
     pub at_mrp: [f64; 3],
     /// Grid points per half axis of the cube `[−(1 + δ), 1 + δ]³` the sample took.
@@ -93,6 +97,7 @@ pub fn sample_attitude_terms(
     Some(AttitudeTermsSample {
         sampled_n: best.0,
         charged_n: parts.feedback_ball + parts.feedback_disks + turn_over,
+        joint_bound_n: set.attitude_joint.map(|j| j.support(direction)),
         at_mrp: best.1.into(),
         points_per_half_axis,
     })

@@ -13,6 +13,7 @@
 //! bounds against the same limits.
 
 use anyhow::{anyhow, Result};
+use controller_core::torque_set::AttitudeJoint;
 use controller_core::{
     certify, Certificate, FilterStart, Gains, Limits, TorqueSet, TrajectoryConstants, Vehicle,
 };
@@ -135,6 +136,13 @@ pub fn set_f32(s: &TorqueSet<f64>) -> TorqueSet<f32> {
         feedback_disks: s.feedback_disks.map(|x| x as f32),
         aligned_acceleration: s.aligned_acceleration.map(|x| x as f32),
         aligned_turn: s.aligned_turn as f32,
+        // Rounded up by a few ulp: the f32 values stay above the f64 bound they copy.
+        attitude_joint: s.attitude_joint.map(|j| AttitudeJoint {
+            support_values: j
+                .support_values
+                .map(|v| v as f32 * (1.0 + 4.0 * f32::EPSILON)),
+            turn_over_box: j.turn_over_box.map(|x| x as f32),
+        }),
     }
 }
 

@@ -50,6 +50,10 @@ pub struct BindingParts {
     pub feedback_disks_n: f64,
     /// The aligned feedforward's cylinder (the local regime's set) \[N\].
     pub aligned_n: f64,
+    /// What the joint bound of tilt priority's attitude terms frees of the ball, the disks and
+    /// the turn-over term's share of the box \[N\], subtracted from the sum of the parts above
+    /// ([`TorqueSet::joint_saving`]).
+    pub joint_saving_n: f64,
 }
 
 /// The binding pair of `set` on `envelope` (the rotors' whole range) and the split of what it
@@ -75,6 +79,7 @@ pub fn fit_binding(envelope: &RotorEnvelope<f64>, set: &TorqueSet<f64>) -> FitBi
             feedback_box_n: p.feedback_box,
             feedback_disks_n: p.feedback_disks,
             aligned_n: p.aligned,
+            joint_saving_n: p.joint_saving,
         },
     }
 }

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{bail, Context as _, Result};
+use controller_core::torque_set::AttitudeJoint;
 use controller_core::{Bounds, TorqueSet};
 
 use super::certificate::Certified;
@@ -174,6 +175,17 @@ fn thrust_of(
             feedback_disks: d.feedback_disks.sup(&f.feedback_disks),
             aligned_acceleration: d.aligned_acceleration.sup(&f.aligned_acceleration),
             aligned_turn: d.aligned_turn.max(f.aligned_turn),
+            // The larger joint values with the smaller turn-over box: the attitude terms'
+            // bound and what is left of the box beside it both grow (docs/torque-set.md).
+            attitude_joint: match (d.attitude_joint, f.attitude_joint) {
+                (Some(a), Some(b)) => Some(AttitudeJoint {
+                    support_values: core::array::from_fn(|j| {
+                        a.support_values[j].max(b.support_values[j])
+                    }),
+                    turn_over_box: a.turn_over_box.inf(&b.turn_over_box),
+                }),
+                _ => None,
+            },
         }
     } else {
         // Only the tight bounds' set fits (`--bounds tight`): the floor keeps that set inside.

@@ -144,7 +144,15 @@ impl ThrustDesign {
         } else {
             floor
         };
-        let (a, b) = envelope.airmode_interval(low, bounds.thrust_max, &bounds.torque_set);
+        // The interval of the Minkowski sum, without the attitude terms' joint bound: a
+        // narrower interval than the joint bound allows, so still airmode's. With the joint
+        // bound here and in the search's `ι_max`, the x500's search met no constraint on 30 s
+        // runs (docs/design.md, "Scoring an edited design").
+        let sum = TorqueSet {
+            attitude_joint: None,
+            ..bounds.torque_set
+        };
+        let (a, b) = envelope.airmode_interval(low, bounds.thrust_max, &sum);
         Ok(Self {
             mode: kind.name(),
             floor_N: floor,

@@ -27,6 +27,7 @@ fn any_set() -> impl Strategy<Value = TorqueSet<f64>> {
             feedback_disks: Vector3::from(disks),
             aligned_acceleration: Vector2::new(a, b),
             aligned_turn: turn,
+            attitude_joint: None,
         })
 }
 

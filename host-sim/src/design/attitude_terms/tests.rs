@@ -1,5 +1,5 @@
 //! Given tilt priority's gains, when its attitude terms are sampled along a direction, then the
-//! sample never exceeds what the certified set charges them, the charge is their share of the
+//! sample never exceeds what the certified set charges them nor their certified joint bound, the charge is their share of the
 //! set (by hand), and a term alone is sampled up to its support.
 
 use approx::assert_relative_eq;
@@ -7,6 +7,7 @@ use nalgebra::Vector3;
 use proptest::prelude::*;
 
 use controller_core::tilt_priority::TiltPriorityGains;
+use controller_core::torque_set::attitude_joint::{AttitudeJoint, JOINT_SLABS};
 use controller_core::torque_set::TorqueSet;
 use controller_core::turn_over::TurnOver;
 use controller_core::Gains;
@@ -26,19 +27,28 @@ fn gains(g12: f64, g3: f64, mrp_saturation: f64, turn_over: Option<(f64, f64)>) 
 }
 
 /// The certified set of `gains` as `certify` builds it for tilt priority, with the
-/// feedforward's norms `rates` (`U_ωd`, `U_ω̇d`) and the damping levels and turn-over bounds in
-/// its box.
+/// feedforward's norms `rates` (`U_ωd`, `U_ω̇d`), the damping levels and turn-over bounds in
+/// its box and the attitude terms' joint bound.
 fn certified_set(gains: &Gains<f64>, rates: (f64, f64)) -> TorqueSet<f64> {
     let tilt = gains.tilt_priority.expect("tilt priority");
     let a = 1.0 + gains.hysteresis;
-    TorqueSet::tilt_priority(
-        Vector3::new(0.024, 0.024, 0.044),
-        rates.0,
-        rates.1,
-        (1.0 + a * a) * gains.attitude.mrp_saturation * 0.25,
-        tilt.trace_weights,
-        tilt.omega_levels + tilt.turn_over_bounds(gains.hysteresis),
-    )
+    TorqueSet {
+        attitude_joint: AttitudeJoint::of(
+            &tilt,
+            gains.attitude.mrp_saturation,
+            gains.attitude.k_mrp,
+            gains.hysteresis,
+            JOINT_SLABS,
+        ),
+        ..TorqueSet::tilt_priority(
+            Vector3::new(0.024, 0.024, 0.044),
+            rates.0,
+            rates.1,
+            (1.0 + a * a) * gains.attitude.mrp_saturation * 0.25,
+            tilt.trace_weights,
+            tilt.omega_levels + tilt.turn_over_bounds(gains.hysteresis),
+        )
+    }
 }
 
 #[test]
@@ -100,7 +110,7 @@ fn the_trace_terms_disk_alone_is_sampled_up_to_its_support() {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(48))]
     #[test]
-    fn the_sample_never_exceeds_the_charge(
+    fn the_sample_never_exceeds_the_charge_nor_the_joint_bound(
         g12 in 0.0..0.5f64,
         g3 in 0.0..2.0f64,
         mrp_saturation in 1e-3..0.5f64,
@@ -116,6 +126,11 @@ proptest! {
         prop_assert!(
             s.sampled_n <= s.charged_n * (1.0 + 1e-12) + 1e-12,
             "sampled {} > charged {}", s.sampled_n, s.charged_n
+        );
+        let joint = s.joint_bound_n.expect("g₁ = g₂: a joint bound");
+        prop_assert!(
+            s.sampled_n <= joint * (1.0 + 1e-12) + 1e-12,
+            "sampled {} > the joint bound {joint}", s.sampled_n
         );
     }
 }

@@ -126,7 +126,8 @@ fn the_x500s_binding_pairs_split_their_budget() {
             + p.feedback_ball_n
             + p.feedback_box_n
             + p.feedback_disks_n
-            + p.aligned_n;
+            + p.aligned_n
+            - p.joint_saving_n;
         assert!(
             (sum - b.asked_n).abs() < 1e-12 * b.asked_n,
             "{sum} vs {}",

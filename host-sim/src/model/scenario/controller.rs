@@ -227,7 +227,8 @@ impl Scenario {
     /// Errors: the certificate cannot be computed (named by key).
     pub fn thrust_mode<T: Scalar>(&self) -> std::result::Result<ThrustMode<T>, String> {
         let thrust_max = if self.controller.thrust == ThrustKind::VerticalPriority {
-            controller_core::certify(
+            // Only Theorem 1's `T_max` is read: the torque set's joint bound is not built.
+            controller_core::bounds::certify_without_joint_bound(
                 &self.vehicle::<f64>(),
                 &self.limits::<f64>(),
                 &self.gains::<f64>(),

@@ -101,6 +101,12 @@ pub fn run(args: &ScoreArgs) -> Result<()> {
                      sample, not a bound) where the set charges them {:.3} N apart",
                     a.sampled_n, m[0], m[1], m[2], a.charged_n
                 );
+                if let Some(j) = a.joint_bound_n {
+                    println!(
+                        "    the certified joint bound of the three takes {j:.3} N (what the \
+                         set's support uses where it is below the charge apart)"
+                    );
+                }
             }
         }
     }
@@ -159,13 +165,15 @@ fn print_binding(name: &str, b: &FitBinding, margin: f64) {
     );
     println!(
         "    feedforward {:.3} N (its yaw axis {:.3} N), gyroscopic {:.3} N, feedback ball \
-         {:.3} N, box {:.3} N, disks {:.3} N, aligned feedforward {:.3} N",
+         {:.3} N, box {:.3} N, disks {:.3} N, aligned feedforward {:.3} N, less {:.3} N the \
+         joint bound of the attitude terms frees",
         q.feedforward_n,
         q.feedforward_yaw_n,
         q.gyroscopic_n,
         q.feedback_ball_n,
         q.feedback_box_n,
         q.feedback_disks_n,
-        q.aligned_n
+        q.aligned_n,
+        q.joint_saving_n
     );
 }
