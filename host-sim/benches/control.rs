@@ -130,7 +130,7 @@ fn paper_scenario_summary(c: &mut Criterion) {
 
 /// The certified joint bound of tilt priority's attitude terms on the x500 design's gains
 /// (`certify` builds it once per certificate: at boot and on a `PARAM_SET` on the board), on the
-/// certified grid and on `design`'s bisection grid.
+/// certified grid and on the grid of `design`'s turn-over refinement (a quarter as fine).
 fn attitude_joint(c: &mut Criterion) {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("designs/x500/scenario.toml");
     let s = Scenario::load(&path).expect("the x500 design's scenario loads");
@@ -139,7 +139,7 @@ fn attitude_joint(c: &mut Criterion) {
         .sample_size(20)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(2));
-    for slabs in [JOINT_SLABS, JOINT_SLABS / 2] {
+    for slabs in [JOINT_SLABS, JOINT_SLABS / 4] {
         let g64 = s.gains::<f64>();
         let g32 = s.gains::<f32>();
         let (t64, t32) = (

@@ -12,7 +12,7 @@
 # (default OUT_DIR out/designs, presets crazyflie-2.1 hummingbird x500). Every preset is designed
 # with `design`'s defaults (both attitude laws and both headings searched, the norm-saturated, velocity-limited
 # position feedback, airmode, the vertical channel apart and the envelope design's local regime,
-# 30 s runs): five to nine minutes of design and a few seconds of campaigns per preset on 2 cores,
+# 30 s runs): four to ten minutes of design and a few seconds of campaigns per preset on 2 cores,
 # after the release build. Where no design converges on 30 s runs, `design` designs again for the
 # same path with the heading held (the x500), then on 300 s runs (docs/design.md), and says so.
 set -euo pipefail

@@ -311,6 +311,7 @@ pub fn iota_max_by(
             feedback_radius: fb.feedback_radius,
             feedback_box: fb.feedback_box,
             feedback_disks: fb.feedback_disks,
+            attitude_joint: fb.attitude_joint,
             ..ff
         };
         match fit {

@@ -40,6 +40,7 @@
 //! `z̈₁ = ubar_p = −σ_p(k_p z₁ + k_v ż₁)`, so `k_p = ω_p²`, `k_v = 2 ζ_p ω_p` (Table I: `ω_p = 3`,
 //! `ζ_p = 1`).
 
+use controller_core::torque_set::AttitudeJoint;
 use controller_core::{
     Gains, TorqueSet, TrajectoryConstants, Vehicle, VelocityLimit, VerticalBraking,
 };
@@ -454,6 +455,13 @@ pub fn position_law<'a>(ctx: &Context<'a>, c: &Choices) -> PositionLaw<'a> {
     }
 }
 
+/// The joint bound's grid in the turn-over refinement's `ι_max` bisection: a quarter of the
+/// certificate's [`controller_core::torque_set::attitude_joint::JOINT_SLABS`] (which it
+/// divides), so each of its boxes holds sixteen of the certificate's and its bound is never the
+/// smaller, at about a quarter of the cost (the quadtree skips most boxes on either grid; `cargo bench -p host-sim --bench control
+/// -- attitude_joint`).
+const SEARCH_JOINT_SLABS: usize = 32;
+
 /// Maps `choices` to gains. `None` when no positive `ι` exists for `(k_f, k_s)` (the reference
 /// is not certifiable on this vehicle), or when with the integral action no `k_i` makes the
 /// linearised loop stable ([`super::integral::IntegralSpec::gains`]).
@@ -494,14 +502,22 @@ pub fn map(ctx: &Context<'_>, c: &Choices) -> Option<Mapped> {
             iota_max_by(ctx.rotors, &env, (ctx.margin, fit), lower, |iota| {
                 let (tilt, mrp_saturation) =
                     tilt_gains(&t, iota, k_mrp, &ctx.vehicle.inertia, c.attitude_damping);
-                TorqueSet::tilt_priority(
+                let mut set = TorqueSet::tilt_priority(
                     Vector3::zeros(),
                     0.0,
                     0.0,
                     mrp_factor() * mrp_saturation,
                     tilt.trace_weights,
                     tilt.omega_levels + tilt.turn_over_bounds(DELTA),
-                )
+                );
+                // Where the turn-over term is searched, its level is paid for by the certified
+                // joint bound of the attitude terms (docs/torque-set.md), on a coarser grid:
+                // looser, never below the certificate's, so what fits here fits there.
+                if t.turn_over_share.is_some() {
+                    set.attitude_joint =
+                        AttitudeJoint::of(&tilt, mrp_saturation, k_mrp, DELTA, SEARCH_JOINT_SLABS);
+                }
+                set
             })
         }
     };

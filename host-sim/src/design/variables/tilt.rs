@@ -78,9 +78,11 @@ pub(super) fn tilt_gains(
     let iota_yaw = t.yaw_share * iota;
     let radial = t.yaw_radial_share * iota_yaw;
     let mrp_saturation = radial / mrp_factor();
-    let g_tilt = 0.5 * (iota_yaw - radial);
-    // The band condition: M_ϑ k_ϑ/√(M_ϑ² + k_ϑ²) > (g₁ + g₃) · band_factor.
+    // The band condition: M_ϑ k_ϑ/√(M_ϑ² + k_ϑ²) > (g₁ + g₃) · band_factor. With g₃ ≥ g₁ it
+    // needs g₁ below half the cap; a soft stiffness (the slope `k_ϑ` below `M_ϑ`) can leave
+    // less than yaw's share would give, and yaw's damping level takes the rest.
     let band_lhs = mrp_saturation * k_mrp / mrp_saturation.hypot(k_mrp);
+    let g_tilt = (0.5 * (iota_yaw - radial)).min(0.45 * band_lhs / band_factor());
     let g_yaw_cap = 0.9 * band_lhs / band_factor() - g_tilt;
     let g_yaw = (2.0 * t.roll_trace_share * (iota - radial) - g_tilt)
         .min(g_yaw_cap)
@@ -100,4 +102,43 @@ pub(super) fn tilt_gains(
         },
         mrp_saturation,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Given levels whose radial term's stiffness `k_ϑ` is far below its level `M_ϑ` (a soft,
+    /// slow attitude loop on a large level: the band condition's slope is then about `k_ϑ`,
+    /// whatever `ι`), when mapped to gains over a wide range of `ι`, then tilt priority's
+    /// hysteresis-band condition holds at every one, and the levels are spent as chosen.
+    #[test]
+    fn the_band_holds_when_the_stiffness_is_soft() {
+        let t = TiltChoices {
+            yaw_share: 0.3,
+            yaw_radial_share: 0.5,
+            roll_trace_share: 0.9,
+            turn_over_share: Some(0.3),
+        };
+        let inertia = Vector3::new(1.4e-5, 1.4e-5, 2.2e-5);
+        let k_mrp = 1e-4;
+        for iota in [1e-4, 1e-3, 1e-2, 0.1, 1.0] {
+            let (g, mrp_saturation) = tilt_gains(&t, iota, k_mrp, &inertia, 0.7);
+            let attitude = controller_core::attitude_control::AttitudeGains {
+                k_mrp,
+                k_omega: 1.0,
+                mrp_saturation,
+                omega_saturation: 1.0,
+            };
+            let (lhs, rhs) = g.hysteresis_band(&attitude, DELTA);
+            assert!(lhs > rhs, "iota {iota}: band {lhs} <= {rhs}");
+            assert!(g.omega_levels.min() >= 0.0, "{:?}", g.omega_levels);
+            let levels = g.feedback_levels(mrp_saturation, DELTA) - g.turn_over_bounds(DELTA);
+            let chosen = Vector3::new(iota, iota, t.yaw_share * iota);
+            assert!(
+                (levels - chosen).abs().max() <= 1e-12 * iota,
+                "iota {iota}: {levels:?} vs {chosen:?}"
+            );
+        }
+    }
 }
