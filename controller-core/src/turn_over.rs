@@ -62,8 +62,9 @@ impl<T: Scalar> TurnOver<T> {
         Ok(())
     }
 
-    /// `b(s) = clamp((s − ρ₀²)/(1 − ρ₀²), 0, 1)` for `s = ρ²`: the slope's share.
-    fn share(&self, s: T) -> T {
+    /// `b(s) = clamp((s − ρ₀²)/(1 − ρ₀²), 0, 1)` for `s = ρ²`: the slope's share (also read by
+    /// the attitude terms' joint bound, `crate::torque_set::attitude_joint`).
+    pub(crate) fn share(&self, s: T) -> T {
         let s0 = self.onset * self.onset;
         ((s - s0) / (T::one() - s0)).max(T::zero()).min(T::one())
     }

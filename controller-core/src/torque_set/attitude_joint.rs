@@ -41,6 +41,7 @@ use nalgebra::Vector3;
 
 use crate::scalar::{lit, Scalar};
 use crate::tilt_priority::TiltPriorityGains;
+use crate::turn_over::TurnOver;
 
 /// `K`: the directions of the plane `(|c_xy|, |c_z|)` at which the bound is stored are
 /// `w_j = (j/K, 1 − j/K)`, `j = 0..=K`.
@@ -131,22 +132,32 @@ struct Terms<T: Scalar> {
     /// `g = g₁ = g₂`, `Δ = g₃ − g` [N m].
     g: T,
     delta: T,
-    /// `M_t` [N m] and `ρ₀²` (zero level: the term off).
+    /// `M_t` [N m] (zero: the term off).
     turn_over: T,
-    onset2: T,
-    /// `1/(1 − ρ₀²)`.
-    onset_scale: T,
+    /// The turn-over term itself, whose share `b` the brackets read (`None`: off).
+    turn_over_term: Option<TurnOver<T>>,
 }
 
 impl<T: Scalar> Terms<T> {
-    /// `b(s)` of the turn-over term (`s = ρ²`), as [`crate::TurnOver`] defines it.
-    fn share(&self, s: T) -> T {
-        if self.turn_over <= T::zero() {
-            return T::zero();
+    /// The terms of tilt priority's gains `tilt` (read with `g = g₁`), the radial MRP term's
+    /// level `M_ϑ` and stiffness `k_ϑ` [N m].
+    fn new(tilt: &TiltPriorityGains<T>, mrp_saturation: T, k_mrp: T) -> Self {
+        let g = tilt.trace_weights;
+        Self {
+            radial: mrp_saturation * k_mrp * lit(0.25),
+            m2: mrp_saturation * mrp_saturation,
+            k2: k_mrp * k_mrp,
+            g: g.x,
+            delta: g.z - g.x,
+            turn_over: tilt.turn_over.map_or(T::zero(), |t| t.level),
+            turn_over_term: tilt.turn_over,
         }
-        ((s - self.onset2) * self.onset_scale)
-            .max(T::zero())
-            .min(T::one())
+    }
+
+    /// `b(s)` of the turn-over term (`s = ρ²`): the law's own ([`TurnOver`]), zero when off.
+    /// Nondecreasing in `s`, so a span of `s` maps to the span of its ends' shares.
+    fn share(&self, s: T) -> T {
+        self.turn_over_term.map_or(T::zero(), |t| t.share(s))
     }
 
     /// `(p, q)` with `p ≥ |A_xy|` and `q ≥ |A_z|` over the box `[x0, x1] × [z0, z1]`
@@ -332,16 +343,7 @@ impl<T: Scalar> AttitudeJoint<T> {
         if g.x != g.y || slabs == 0 || inputs.iter().any(|v| !(v.is_finite() && *v >= T::zero())) {
             return None;
         }
-        let terms = Terms {
-            radial: mrp_saturation * k_mrp * lit(0.25),
-            m2: mrp_saturation * mrp_saturation,
-            k2: k_mrp * k_mrp,
-            g: g.x,
-            delta: g.z - g.x,
-            turn_over: level,
-            onset2: onset * onset,
-            onset_scale: T::one() / (T::one() - onset * onset),
-        };
+        let terms = Terms::new(tilt, mrp_saturation, k_mrp);
         let mut sweep = Sweep::new(&terms, T::one() + hysteresis, slabs);
         sweep.bound();
         let values = sweep.values;

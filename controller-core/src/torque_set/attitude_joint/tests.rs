@@ -93,16 +93,8 @@ fn sampled(
 fn a_point_box_gives_the_law_at_the_point() {
     for level in [0.0, 0.2] {
         let (tilt, attitude, _) = x500_like(level);
-        let terms = Terms {
-            radial: attitude.mrp_saturation * attitude.k_mrp * 0.25,
-            m2: attitude.mrp_saturation.powi(2),
-            k2: attitude.k_mrp.powi(2),
-            g: tilt.trace_weights.x,
-            delta: tilt.trace_weights.z - tilt.trace_weights.x,
-            turn_over: level,
-            onset2: 0.64,
-            onset_scale: 1.0 / 0.36,
-        };
+        let terms = Terms::new(&tilt, attitude.mrp_saturation, attitude.k_mrp);
+        assert_eq!(terms.turn_over, level);
         for (x, z) in [
             (0.3, 0.4),
             (0.95, 0.1),
