@@ -4,8 +4,8 @@
 //!
 //! **The switch.** The controller flies the global gains until `E ≤ E_in`, then the local ones
 //! (`k_p, k_v, k_f, k_s` and the level `M_p,L`: faster filters, the shape is shared; with the
-//! vertical channel apart, optionally its own vertical filters `k_f,z,L, k_s,z,L`, the vertical
-//! levels shared) once the filter states lie in the local saturation set, and goes back only if
+//! vertical channel apart, optionally its own vertical channel: filters `k_f,z,L, k_s,z,L` and
+//! levels `M_up,L, M_down,L`) once the filter states lie in the local saturation set, and goes back only if
 //! `E > E_out > E_in` (which the nominal model never does: `E` does not increase). At the switch to the local gains
 //! the inner filter state is re-timed so that `u̇ = −k_f(u_f − u_s)` keeps its value
 //! ([`retime`]): `ω_d` does not jump, and neither does `E`. The re-timed state lies between `u_f`
@@ -44,22 +44,14 @@ pub struct LocalGains<T: Scalar> {
     pub energy_in: T,
     /// `E_out` \[J\], `> E_in`: the global gains take back over above this.
     pub energy_out: T,
-    /// The local regime's own vertical filter bandwidths, with the vertical channel apart
-    /// ([`crate::vertical_channel`]); `None`: the global vertical filters in both regimes.
-    pub vertical_filters: Option<LocalVerticalFilters<T>>,
-}
-
-/// The local regime's vertical filter bandwidths (the vertical channel's `k_f,z, k_s,z` while
-/// the local regime flies; its levels `M_up, M_down` are the global ones). Near the reference
-/// the tilt is small, and a vertical change of `u` turns the thrust direction only through the
-/// tilt (docs/vertical-channel.md), so faster vertical filters cost little torque there
-/// (extension, docs/envelope-design.md).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LocalVerticalFilters<T: Scalar> {
-    /// `k_f,z,L` [1/s]: the vertical output filter's bandwidth (at least the global `k_f,z`).
-    pub kf: T,
-    /// `k_s,z,L` [1/s]: the vertical inner filter's bandwidth.
-    pub ks: T,
+    /// The local regime's own vertical channel (filters `k_f,z,L, k_s,z,L` and levels
+    /// `M_up,L, M_down,L`), with the vertical channel apart ([`crate::vertical_channel`]);
+    /// `None`: the global vertical channel in both regimes. Near the reference the tilt is small,
+    /// and a vertical change of `u` turns the thrust direction only through the tilt
+    /// (docs/vertical-channel.md), so faster vertical filters cost little torque there; smaller
+    /// levels shrink the span `M_up + M_down` every vertical rate of Lemma 1 is proportional to,
+    /// so the same torque pays for faster filters (extension, docs/envelope-design.md).
+    pub vertical: Option<VerticalChannel<T>>,
 }
 
 /// Which position gains fly.
@@ -77,7 +69,7 @@ impl<T: Scalar> LocalGains<T> {
     /// exceed `M_p`: the certificate then checks Theorem 1 for the local level too); local
     /// vertical filters only with `global`'s vertical channel, and `k_f,z,L` at least its `k_f,z`.
     /// Errors: [`ParameterError::NotPositive`] naming the gain (`"local k_p"`, …, `"E_in"`,
-    /// `"local k_f,z"`, `"local k_s,z"`), [`ParameterError::OutOfRange`] naming `"E_out"` (not
+    /// `"local k_f,z"`, `"local k_s,z"`, `"local M_up"`, `"local M_down"`), [`ParameterError::OutOfRange`] naming `"E_out"` (not
     /// above `E_in`), `"local k_f"` (below the global `k_f`) or `"local k_f,z"` (below the global
     /// `k_f,z`, or without a vertical channel: the range is then empty).
     pub fn validate(&self, global: &PositionGains<T>) -> Result<(), ParameterError> {
@@ -107,7 +99,7 @@ impl<T: Scalar> LocalGains<T> {
                 high: f64::INFINITY,
             });
         }
-        if let Some(f) = &self.vertical_filters {
+        if let Some(f) = &self.vertical {
             positive("local k_f,z", f.kf)?;
             positive("local k_s,z", f.ks)?;
             let (low, high) = match &global.vertical {
@@ -122,20 +114,17 @@ impl<T: Scalar> LocalGains<T> {
                     high,
                 });
             }
+            positive("local M_up", f.up)?;
+            positive("local M_down", f.down)?;
         }
         Ok(())
     }
 
     /// The local regime's position gains: these `k_p, k_v, k_f, k_s, M_p,L` with `global`'s
-    /// saturation shape, and `global`'s vertical channel with the local vertical filters when
-    /// there are.
+    /// saturation shape, and the local vertical channel when there is one (`global`'s otherwise).
     pub fn position(&self, global: &PositionGains<T>) -> PositionGains<T> {
-        let vertical = match (global.vertical, self.vertical_filters) {
-            (Some(v), Some(f)) => Some(VerticalChannel {
-                kf: f.kf,
-                ks: f.ks,
-                ..v
-            }),
+        let vertical = match (global.vertical, self.vertical) {
+            (Some(_), Some(f)) => Some(f),
             (v, _) => v,
         };
         PositionGains {

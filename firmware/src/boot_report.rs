@@ -7,8 +7,7 @@
 
 use controller_core::{
     certify, Certificate, Condition, Controller, FilterStart, Gains, Limits, LocalGains,
-    LocalVerticalFilters, ParameterError, ReferenceTrajectory, Trajectory, TrajectoryConstants,
-    Vehicle, VerticalChannel,
+    ParameterError, ReferenceTrajectory, Trajectory, TrajectoryConstants, Vehicle, VerticalChannel,
 };
 
 /// The parameters the firmware flies with.
@@ -117,12 +116,14 @@ pub fn local_values(l: &LocalGains<f32>) -> [Value; 7] {
     ]
 }
 
-/// The local regime's own vertical filter bandwidths (extension, docs/envelope-design.md; the
-/// vertical levels are the global ones).
-pub fn local_vertical_values(f: &LocalVerticalFilters<f32>) -> [Value; 2] {
+/// The local regime's own vertical channel: its filter bandwidths and its levels (extension,
+/// docs/envelope-design.md).
+pub fn local_vertical_values(f: &VerticalChannel<f32>) -> [Value; 4] {
     [
         value("k_f_z_local", f.kf, "1/s"),
         value("k_s_z_local", f.ks, "1/s"),
+        value("M_up_local", f.up, "m/s^2"),
+        value("M_down_local", f.down, "m/s^2"),
     ]
 }
 
@@ -395,7 +396,12 @@ mod tests {
             saturation: 2.0,
             energy_in: 1.0e-4,
             energy_out: 2.0e-4,
-            vertical_filters: Some(LocalVerticalFilters { kf: 6.0, ks: 20.0 }),
+            vertical: Some(VerticalChannel {
+                up: 2.0,
+                down: 0.5,
+                kf: 6.0,
+                ks: 20.0,
+            }),
         };
         let v = local_values(&l);
         let named: Vec<_> = v.iter().map(|v| (v.name, v.value, v.unit)).collect();
@@ -413,7 +419,12 @@ mod tests {
         );
         let table_i = gains_values(&Gains::paper());
         assert!(v.iter().all(|v| table_i.iter().all(|g| g.name != v.name)));
-        let vertical = local_vertical_values(&LocalVerticalFilters { kf: 6.0, ks: 20.0 });
+        let vertical = local_vertical_values(&VerticalChannel {
+            up: 2.0,
+            down: 0.5,
+            kf: 6.0,
+            ks: 20.0,
+        });
         let global_vertical = vertical_values(&VerticalChannel {
             up: 4.0,
             down: 1.0,
@@ -422,7 +433,12 @@ mod tests {
         });
         assert_eq!(
             vertical.map(|v| (v.name, v.value)),
-            [("k_f_z_local", 6.0), ("k_s_z_local", 20.0)]
+            [
+                ("k_f_z_local", 6.0),
+                ("k_s_z_local", 20.0),
+                ("M_up_local", 2.0),
+                ("M_down_local", 0.5)
+            ]
         );
         assert!(vertical
             .iter()

@@ -3,7 +3,7 @@
 use nalgebra::Vector3;
 use proptest::prelude::*;
 
-use super::{retime, LocalGains, LocalVerticalFilters, Regime};
+use super::{retime, LocalGains, Regime};
 use crate::position::{FilterState, PositionGains};
 use crate::position_saturation::PositionSaturation;
 use crate::vertical_channel::VerticalChannel;
@@ -58,8 +58,8 @@ fn global(vertical: Option<VerticalChannel<f64>>) -> PositionGains<f64> {
 }
 
 /// A local regime eight times faster (`k_f,L` 4 1/s) with a smaller level (1.5 m/s²), `E_in`
-/// 0.01 J, `E_out` 0.02 J, and the local vertical filters `vertical_filters`.
-fn local(vertical_filters: Option<LocalVerticalFilters<f64>>) -> LocalGains<f64> {
+/// 0.01 J, `E_out` 0.02 J, and the local vertical filters `vertical`.
+fn local(vertical: Option<VerticalChannel<f64>>) -> LocalGains<f64> {
     LocalGains {
         kp: 9.0,
         kv: 6.0,
@@ -68,7 +68,7 @@ fn local(vertical_filters: Option<LocalVerticalFilters<f64>>) -> LocalGains<f64>
         saturation: 1.5,
         energy_in: 0.01,
         energy_out: 0.02,
-        vertical_filters,
+        vertical,
     }
 }
 
@@ -132,21 +132,31 @@ fn the_switch_has_its_hysteresis() {
     assert!(format!("{}", inverted.validate(&global).unwrap_err()).contains("E_out"));
 }
 
-/// Given the vertical channel apart and a local regime with its own vertical filters, when the
-/// switch enters and leaves the local regime, then each channel's `u̇ = −k_f(u_f − u_s)` keeps
-/// its value with its own bandwidth, the local gains fly the local vertical filters with the
-/// global vertical levels, and local vertical filters slower than the global ones, or without a
-/// vertical channel, are refused by name.
-#[test]
-fn local_vertical_filters_are_retimed_by_their_own_bandwidth() {
-    let vertical = VerticalChannel {
+/// The global vertical channel of the tests below: levels 4 up and 1 down [m/s²], filters 1.5
+/// and 2.5 1/s.
+fn global_vertical() -> VerticalChannel<f64> {
+    VerticalChannel {
         up: 4.0,
         down: 1.0,
         kf: 1.5,
         ks: 2.5,
-    };
+    }
+}
+
+/// Given the vertical channel apart and a local regime with its own vertical filters (at the
+/// global levels), when the switch enters and leaves the local regime, then each channel's
+/// `u̇ = −k_f(u_f − u_s)` keeps its value with its own bandwidth, the local gains fly the local
+/// vertical channel, and local vertical filters slower than the global ones, or without a
+/// vertical channel, are refused by name.
+#[test]
+fn local_vertical_filters_are_retimed_by_their_own_bandwidth() {
+    let vertical = global_vertical();
     let global = global(Some(vertical));
-    let l = local(Some(LocalVerticalFilters { kf: 6.0, ks: 20.0 }));
+    let l = local(Some(VerticalChannel {
+        kf: 6.0,
+        ks: 20.0,
+        ..vertical
+    }));
     assert!(l.validate(&global).is_ok());
     let local = l.position(&global);
     assert_eq!(
@@ -174,7 +184,11 @@ fn local_vertical_filters_are_retimed_by_their_own_bandwidth() {
     assert_eq!(r, Regime::Global);
     assert!((rate(&back, 0.5, 1.5) - rate(&inside, 4.0, 6.0)).norm() < 1e-12);
     let slow = LocalGains {
-        vertical_filters: Some(LocalVerticalFilters { kf: 1.0, ks: 20.0 }),
+        vertical: Some(VerticalChannel {
+            kf: 1.0,
+            ks: 20.0,
+            ..vertical
+        }),
         ..l
     };
     assert!(format!("{}", slow.validate(&global).unwrap_err()).contains("local k_f,z"));
@@ -184,4 +198,57 @@ fn local_vertical_filters_are_retimed_by_their_own_bandwidth() {
     };
     assert!(format!("{}", l.validate(&flat).unwrap_err()).contains("local k_f,z"));
     assert_eq!(l.position(&flat).vertical, None);
+}
+
+/// Given the vertical channel apart (levels 4 up, 1 down) and a local regime with smaller
+/// vertical levels (1 up, 0.5 down), when the attitude energy falls below `E_in` with a vertical
+/// filter state outside the local levels, then the global gains keep flying; once the states lie
+/// inside them, the local gains take over with the local levels (the vertical saturation clips
+/// at them); back above `E_out` the states are in the global set as they are (the local set lies
+/// inside it); a local level that is not positive is refused by name.
+#[test]
+fn local_vertical_levels_wait_for_the_filters_and_bound_the_feedback() {
+    let vertical = global_vertical();
+    let global = global(Some(vertical));
+    let own = VerticalChannel {
+        up: 1.0,
+        down: 0.5,
+        kf: 6.0,
+        ks: 20.0,
+    };
+    let l = local(Some(own));
+    assert!(l.validate(&global).is_ok());
+    let braking = FilterState {
+        u_f: Vector3::new(0.1, 0.0, 2.0),
+        u_s: Vector3::new(0.1, 0.0, 1.8),
+    };
+    assert_eq!(
+        l.switch(&global, Regime::Global, 0.001, &braking),
+        (Regime::Global, braking)
+    );
+    let near = FilterState {
+        u_f: Vector3::new(0.1, 0.0, 0.4),
+        u_s: Vector3::new(0.1, 0.0, -0.3),
+    };
+    let (r, inside) = l.switch(&global, Regime::Global, 0.001, &near);
+    assert_eq!(r, Regime::Local);
+    let flown = l.position(&global);
+    assert_eq!(flown.vertical, Some(own));
+    assert!(flown.contains(&inside.u_f) && flown.contains(&inside.u_s));
+    let push = flown.feedback_of(&Vector3::new(0.0, 0.0, -50.0));
+    let pull = flown.feedback_of(&Vector3::new(0.0, 0.0, 50.0));
+    assert!((push.z - own.up).abs() < 1e-9 && (pull.z + own.down).abs() < 1e-9);
+    let (r, back) = l.switch(&global, Regime::Local, 0.03, &inside);
+    assert_eq!(r, Regime::Global);
+    assert_eq!(back.u_f, inside.u_f);
+    for (name, bad) in [
+        ("local M_up", VerticalChannel { up: 0.0, ..own }),
+        ("local M_down", VerticalChannel { down: -1.0, ..own }),
+    ] {
+        let refused = LocalGains {
+            vertical: Some(bad),
+            ..l
+        };
+        assert!(format!("{}", refused.validate(&global).unwrap_err()).contains(name));
+    }
 }

@@ -125,21 +125,41 @@ pub struct LocalTable {
     pub energy_in_J: f64,
     /// `E_out` \[J\], above `E_in`: the global gains take back over above this.
     pub energy_out_J: f64,
-    /// `[gains.local.vertical]`: the local regime's own vertical filters, with `[gains.vertical]`
-    /// (absent = the global vertical filters in both regimes).
+    /// `[gains.local.vertical]`: the local regime's own vertical channel, with `[gains.vertical]`
+    /// (absent = the global vertical channel in both regimes).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vertical: Option<LocalVerticalTable>,
 }
 
-/// `[gains.local.vertical]`: the local regime's vertical filter bandwidths (the levels are
-/// `[gains.vertical]`'s; controller-core's `LocalVerticalFilters`).
+/// `[gains.local.vertical]`: the local regime's vertical filter bandwidths and, optionally, its
+/// vertical levels (absent: `[gains.vertical]`'s; controller-core's `VerticalChannel`).
 #[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
 pub struct LocalVerticalTable {
     /// `k_f,z,L` [1/s]: the vertical output filter's bandwidth, at least `[gains.vertical] kf`.
     pub kf: f64,
     /// `k_s,z,L` [1/s]: the vertical inner filter's bandwidth.
     pub ks: f64,
+    /// `M_up,L` [m/s²]: the largest upward `ubar_p,z` while the local regime flies (absent:
+    /// `[gains.vertical] up_m_s2`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub up_m_s2: Option<f64>,
+    /// `M_down,L` [m/s²]: the largest downward `ubar_p,z` while the local regime flies (absent:
+    /// `[gains.vertical] down_m_s2`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub down_m_s2: Option<f64>,
+}
+
+impl LocalVerticalTable {
+    /// `(M_up,L, M_down,L)` [m/s²]: this table's levels, each `global`'s (`[gains.vertical]`'s
+    /// `(up_m_s2, down_m_s2)`) where absent.
+    pub fn levels(&self, global: (f64, f64)) -> (f64, f64) {
+        (
+            self.up_m_s2.unwrap_or(global.0),
+            self.down_m_s2.unwrap_or(global.1),
+        )
+    }
 }
 
 /// `[gains.heading_compensator]`: the heading state whose rate cancels the desired frame's

@@ -240,7 +240,7 @@ pub fn log_identity(config: &crate::config::FlightConfig) {
                  most E_in, the global ones again above E_out (docs/envelope-design.md)"
             );
             log_values("local", &report::local_values(l));
-            if let Some(f) = &l.vertical_filters {
+            if let Some(f) = &l.vertical {
                 log_values("local vertical", &report::local_vertical_values(f));
             }
         }

@@ -98,9 +98,20 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
             M_p_m_s2: l.saturation,
             energy_in_J: l.energy_in,
             energy_out_J: l.energy_out,
-            vertical: l
-                .vertical_filters
-                .map(|v| firmware::flight_tables::LocalVerticalTable { kf: v.kf, ks: v.ks }),
+            vertical: l.vertical.map(|v| {
+                // The levels are written only where they are not the global ones, so a file
+                // without local levels reads as it always did.
+                let global = g.position.vertical;
+                let own = |level: f64, of: fn(&controller_core::VerticalChannel<f64>) -> f64| {
+                    global.filter(|c| of(c) == level).is_none().then_some(level)
+                };
+                firmware::flight_tables::LocalVerticalTable {
+                    kf: v.kf,
+                    ks: v.ks,
+                    up_m_s2: own(v.up, |c| c.up),
+                    down_m_s2: own(v.down, |c| c.down),
+                }
+            }),
         }),
         heading_compensator: g.heading_compensator.map(|h| {
             firmware::flight_tables::HeadingCompensatorTable {

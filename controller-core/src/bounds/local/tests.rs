@@ -21,6 +21,30 @@ fn gains(tilt: bool) -> Gains<f64> {
     g
 }
 
+/// The bounds of the local position gains `local` alone (over `g`'s), the filters anywhere in
+/// their saturation set: what the local certificate computes, computed again.
+fn local_alone(
+    v: &Vehicle<f64>,
+    g: &Gains<f64>,
+    local: &crate::local_regime::LocalGains<f64>,
+    constants: &TrajectoryConstants<f64>,
+) -> crate::Bounds<f64> {
+    let gains = Gains {
+        position: local.position(&g.position),
+        local: None,
+        ..*g
+    };
+    certify(
+        v,
+        &Limits::paper(),
+        &gains,
+        constants,
+        FilterStart::InSaturationBox,
+    )
+    .unwrap()
+    .bounds
+}
+
 fn unit3() -> impl Strategy<Value = Vector3<f64>> {
     (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64)
         .prop_map(|(x, y, z)| Vector3::new(x, y, z))
@@ -98,23 +122,11 @@ fn a_wider_local_level_widens_the_certified_thrust_interval() {
         saturation: 3.5,
         energy_in: 1e-4,
         energy_out: 2e-4,
-        vertical_filters: None,
+        vertical: None,
     };
     let global_only = certify(&v, &Limits::paper(), &g, &constants, FilterStart::Zero).unwrap();
     g.local = Some(local);
-    let local_alone = certify(
-        &v,
-        &Limits::paper(),
-        &Gains {
-            position: local.position(&g.position),
-            local: None,
-            ..g
-        },
-        &constants,
-        FilterStart::InSaturationBox,
-    )
-    .unwrap()
-    .bounds;
+    let local_alone = local_alone(&v, &g, &local, &constants);
     let both = |thrust_max: f64| {
         let limits = Limits {
             thrust_max,
@@ -194,4 +206,65 @@ fn the_joint_feedback_radius_bounds_every_split() {
             assert!(r < 0.95 * (radial(c) + damping(c)), "c {c}: {r}");
         }
     }
+}
+
+/// Given global gains with the vertical channel apart (levels 4 up, 1 down) and a local regime
+/// with its own vertical filters, when its vertical levels shrink to 1.5 up and 0.5 down, then
+/// the local certificate is the one of the local position gains alone with those levels (the
+/// same bounds, computed again here), the span `M_up + M_down` that every vertical rate of
+/// Lemma 1 is proportional to shrinks, and with it the local `|ω̇_d|` bound and the local torque
+/// set's roll extent; the global certificate does not change.
+#[test]
+fn smaller_local_vertical_levels_shrink_the_local_set() {
+    let mut g = gains(false);
+    g.position.saturation = 1.0;
+    g.position.vertical = Some(crate::VerticalChannel {
+        up: 4.0,
+        down: 1.0,
+        kf: 2.0,
+        ks: 5.0,
+    });
+    let v = Vehicle::<f64>::paper();
+    let constants = TrajectoryConstants::<f64>::zero();
+    let with_levels = |up: f64, down: f64| {
+        let local = crate::local_regime::LocalGains {
+            kp: 9.0,
+            kv: 6.0,
+            kf: 4.0,
+            ks: 10.0,
+            saturation: 1.0,
+            energy_in: 1e-4,
+            energy_out: 2e-4,
+            vertical: Some(crate::VerticalChannel {
+                up,
+                down,
+                kf: 12.0,
+                ks: 24.0,
+            }),
+        };
+        let gains = Gains {
+            local: Some(local),
+            ..g
+        };
+        let c = certify(&v, &Limits::paper(), &gains, &constants, FilterStart::Zero).unwrap();
+        let alone = local_alone(&v, &g, &local, &constants);
+        (c, alone)
+    };
+    let (wide, _) = with_levels(4.0, 1.0);
+    let (narrow, alone) = with_levels(1.5, 0.5);
+    let (lw, ln) = (wide.local.unwrap(), narrow.local.unwrap());
+    assert_eq!(ln.bounds.angular_acceleration, alone.angular_acceleration);
+    assert_eq!(ln.bounds.desired_frame, alone.desired_frame);
+    assert!(
+        ln.bounds.angular_acceleration < 0.6 * lw.bounds.angular_acceleration,
+        "{} against {}",
+        ln.bounds.angular_acceleration,
+        lw.bounds.angular_acceleration
+    );
+    assert!(ln.torque_set.axis_extents().x < lw.torque_set.axis_extents().x);
+    assert_eq!(
+        narrow.bounds.angular_acceleration,
+        wide.bounds.angular_acceleration
+    );
+    assert_eq!(narrow.bounds.torque_max, wide.bounds.torque_max);
 }

@@ -360,7 +360,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         g.lemma1,
         // `[gains.local]` (absent = None, one set of position gains).
         g.local.map_or("None".to_string(), |l| format!(
-            "Some(controller_core::LocalGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {}, energy_in: {}, energy_out: {}, vertical_filters: {} }})",
+            "Some(controller_core::LocalGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {}, energy_in: {}, energy_out: {}, vertical: {} }})",
             lit(l.kp),
             lit(l.kv),
             lit(l.kf),
@@ -368,11 +368,17 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
             lit(l.M_p_m_s2),
             lit(l.energy_in_J),
             lit(l.energy_out_J),
-            l.vertical.map_or("None".to_string(), |v| format!(
-                "Some(controller_core::LocalVerticalFilters {{ kf: {}, ks: {} }})",
-                lit(v.kf),
-                lit(v.ks)
-            ))
+            l.vertical.map_or("None".to_string(), |v| {
+                // Absent levels are `[gains.vertical]`'s (0 without it: refused by `certify`).
+                let (up, down) = v.levels(g.vertical.map_or((0.0, 0.0), |c| (c.up_m_s2, c.down_m_s2)));
+                format!(
+                    "Some(controller_core::VerticalChannel {{ up: {}, down: {}, kf: {}, ks: {} }})",
+                    lit(up),
+                    lit(down),
+                    lit(v.kf),
+                    lit(v.ks)
+                )
+            })
         )),
         // `[gains.heading_compensator]` (absent = None, the reference heading).
         g.heading_compensator.map_or("None".to_string(), |h| format!(

@@ -258,7 +258,7 @@ fn local_flight(airmode: bool) -> FlightConfig {
         saturation: c.gains.position.saturation,
         energy_in: 0.5,
         energy_out: 1.0,
-        vertical_filters: None,
+        vertical: None,
     });
     c
 }

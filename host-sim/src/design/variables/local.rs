@@ -3,7 +3,7 @@
 //! until the set fits.
 
 use controller_core::bounds::certify_without_joint_bound;
-use controller_core::{FilterStart, Gains, Limits, LocalGains, LocalVerticalFilters};
+use controller_core::{FilterStart, Gains, Limits, LocalGains, VerticalChannel};
 use nalgebra::Vector3;
 
 use super::interval::{unit_in, value_in, Interval};
@@ -224,9 +224,10 @@ pub(super) fn local_gains(
     l: &LocalChoices,
 ) -> Option<LocalGains<f64>> {
     let own = match (l.vertical_kf_ratio, g.position.vertical) {
-        (Some(r), Some(v)) if r > 1.0 => Some(LocalVerticalFilters {
+        (Some(r), Some(v)) if r > 1.0 => Some(VerticalChannel {
             kf: v.kf * r,
             ks: v.ks * r,
+            ..v
         }),
         _ => None,
     };
@@ -238,15 +239,15 @@ pub(super) fn local_gains(
     };
     tried
         .iter()
-        .find_map(|&vertical_filters| local_gains_with(ctx, g, l, vertical_filters))
+        .find_map(|&vertical| local_gains_with(ctx, g, l, vertical))
 }
 
-/// [`local_gains`] with the local vertical filters `vertical_filters`.
+/// [`local_gains`] with the local vertical filters `vertical`.
 fn local_gains_with(
     ctx: &Context<'_>,
     g: &Gains<f64>,
     l: &LocalChoices,
-    vertical_filters: Option<LocalVerticalFilters<f64>>,
+    vertical: Option<VerticalChannel<f64>>,
 ) -> Option<LocalGains<f64>> {
     let wp = l.position_frequency_rad_s;
     let build = |ratio: f64, fraction: f64, tilt_out_deg: f64| {
@@ -260,7 +261,7 @@ fn local_gains_with(
             saturation: fraction * g.position.saturation,
             energy_in: 0.5 * e_out,
             energy_out: e_out,
-            vertical_filters,
+            vertical,
         }
     };
     let fractions = [l.saturation_fraction, l.saturation_fraction.min(1.0)];

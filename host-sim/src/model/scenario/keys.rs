@@ -56,6 +56,8 @@ fn key_of(name: &str) -> &'static str {
         "E_in" => "gains.local.energy_in_J",
         "E_out" => "gains.local.energy_out_J",
         "local k_f,z" => "gains.local.vertical.kf",
+        "local M_up" => "gains.local.vertical.up_m_s2",
+        "local M_down" => "gains.local.vertical.down_m_s2",
         "local k_s,z" => "gains.local.vertical.ks",
         "L_psi" => "gains.heading_compensator.level_rad_s",
         "k_psi" => "gains.heading_compensator.gain_1_s",

@@ -332,9 +332,16 @@ impl Scenario {
             saturation: lit(l.M_p_m_s2),
             energy_in: lit(l.energy_in_J),
             energy_out: lit(l.energy_out_J),
-            vertical_filters: l.vertical.map(|v| controller_core::LocalVerticalFilters {
-                kf: lit(v.kf),
-                ks: lit(v.ks),
+            vertical: l.vertical.map(|v| {
+                // Absent levels are `[gains.vertical]`'s (0 without it: refused by `certify`).
+                let (up, down) =
+                    v.levels(g.vertical.map_or((0.0, 0.0), |c| (c.up_m_s2, c.down_m_s2)));
+                controller_core::VerticalChannel {
+                    kf: lit(v.kf),
+                    ks: lit(v.ks),
+                    up: lit(up),
+                    down: lit(down),
+                }
             }),
         });
         out.heading_compensator =

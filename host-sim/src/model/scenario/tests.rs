@@ -104,8 +104,9 @@ fn heading_compensator_table_is_read_and_checked() {
 }
 
 /// Given the vertical channel apart and `[gains.local]` with `[gains.local.vertical]`, when it
-/// parses, then the local gains carry the vertical filters; local vertical filters slower than
-/// the global ones are refused naming their key and value.
+/// parses, then the local gains carry the vertical filters and, where the table gives none, the
+/// global vertical levels; given levels are read as given; local vertical filters slower than
+/// the global ones, and a level that is not positive, are refused naming their key and value.
 #[test]
 fn local_vertical_filters_are_read_and_checked() {
     let table = |kf: &str| {
@@ -117,8 +118,19 @@ fn local_vertical_filters_are_read_and_checked() {
     };
     let s = Scenario::parse(&table("6.0"), "l.toml").unwrap();
     let l = s.gains::<f64>().local.expect("the local regime is on");
-    let f = l.vertical_filters.expect("its own vertical filters");
-    assert_eq!((f.kf, f.ks), (6.0, 20.0));
+    let f = l.vertical.expect("its own vertical filters");
+    assert_eq!((f.kf, f.ks, f.up, f.down), (6.0, 20.0, 4.0, 1.0));
+    let levels = format!("{}up_m_s2 = 1.5\ndown_m_s2 = 0.5\n", table("6.0"));
+    let s = Scenario::parse(&levels, "l.toml").unwrap();
+    let f = s.gains::<f64>().local.and_then(|l| l.vertical).unwrap();
+    assert_eq!((f.kf, f.ks, f.up, f.down), (6.0, 20.0, 1.5, 0.5));
+    let e = Scenario::parse(&format!("{}up_m_s2 = -0.5\n", table("6.0")), "l.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("gains.local.vertical.up_m_s2") && e.contains("-0.5"),
+        "{e}"
+    );
     let e = Scenario::parse(&table("1.25"), "l.toml")
         .unwrap_err()
         .to_string();

@@ -107,7 +107,7 @@ fn narrowed_local_regimes_certified_with(
         };
         with_local += 1;
         carrying += usize::from(m.gains.heading_compensator == heading);
-        if let (Some(f), Some(global)) = (l.vertical_filters, m.gains.position.vertical) {
+        if let (Some(f), Some(global)) = (l.vertical, m.gains.position.vertical) {
             assert!(vertical && f.kf > global.kf, "{f:?} {global:?}");
             assert!((f.ks / f.kf - global.ks / global.kf).abs() < 1e-12);
             own_vertical += 1;
