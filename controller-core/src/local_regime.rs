@@ -5,16 +5,16 @@
 //! **The switch.** The controller flies the global gains until `E ≤ E_in`, then the local ones
 //! (`k_p, k_v, k_f, k_s` and the level `M_p,L`: faster filters, the shape is shared; with the
 //! vertical channel apart, optionally its own vertical channel: filters `k_f,z,L, k_s,z,L` and
-//! levels `M_up,L, M_down,L`) once the filter states lie in the local saturation set, and goes back only if
-//! `E > E_out > E_in` (which the nominal model never does: `E` does not increase). At the switch to the local gains
-//! the inner filter state is re-timed so that `u̇ = −k_f(u_f − u_s)` keeps its value
-//! ([`retime`]): `ω_d` does not jump, and neither does `E`. The re-timed state lies between `u_f`
-//! and `u_s` (the local `k_f` is at least the global one), so it stays in the saturation set
-//! Lemma 1 assumes.
+//! levels `M_up,L, M_down,L`) once the filter states lie in the local saturation set, and goes
+//! back only if `E > E_out > E_in` (which the nominal model never does: `E` does not
+//! increase). At the switch to the local gains the inner filter state is re-timed so that
+//! `u̇ = −k_f(u_f − u_s)` keeps its value ([`retime`]): `ω_d` does not jump, and neither does
+//! `E`. The re-timed state lies between `u_f` and `u_s` (the local `k_f` is at least the global
+//! one), so it stays in the saturation set Lemma 1 assumes.
 //!
 //! **What it certifies.** Inside `{E ≤ E_out}` the MRP error, the rotation error and `ω̃` are
-//! bounded ([`crate::attitude_energy::EnergyLimits`]), so the local regime's torque is bounded by the feedback at those
-//! errors plus the feedforward of the local gains' Lemma 1, turned by at most that rotation
+//! bounded ([`crate::attitude_energy::EnergyLimits`]), so the local regime's torque is bounded
+//! by the feedback at those errors plus the feedforward of the local gains' Lemma 1, turned by at most that rotation
 //! (`crate::bounds`' local certificate): much less than Theorem 2's worst case over every
 //! attitude, so faster filters fit the same rotors.
 
@@ -69,8 +69,8 @@ impl<T: Scalar> LocalGains<T> {
     /// exceed `M_p`: the certificate then checks Theorem 1 for the local level too); local
     /// vertical filters only with `global`'s vertical channel, and `k_f,z,L` at least its `k_f,z`.
     /// Errors: [`ParameterError::NotPositive`] naming the gain (`"local k_p"`, …, `"E_in"`,
-    /// `"local k_f,z"`, `"local k_s,z"`, `"local M_up"`, `"local M_down"`), [`ParameterError::OutOfRange`] naming `"E_out"` (not
-    /// above `E_in`), `"local k_f"` (below the global `k_f`) or `"local k_f,z"` (below the global
+    /// `"local k_f,z"`, `"local k_s,z"`, `"local M_up"`, `"local M_down"`),
+    /// [`ParameterError::OutOfRange`] naming `"E_out"` (not above `E_in`), `"local k_f"` (below the global `k_f`) or `"local k_f,z"` (below the global
     /// `k_f,z`, or without a vertical channel: the range is then empty).
     pub fn validate(&self, global: &PositionGains<T>) -> Result<(), ParameterError> {
         for (name, v) in [
