@@ -14,9 +14,9 @@
 //!
 //! **What it certifies.** Inside `{E ≤ E_out}` the MRP error, the rotation error and `ω̃` are
 //! bounded ([`crate::attitude_energy::EnergyLimits`]), so the local regime's torque is bounded
-//! by the feedback at those errors plus the feedforward of the local gains' Lemma 1, turned by at most that rotation
-//! (`crate::bounds`' local certificate): much less than Theorem 2's worst case over every
-//! attitude, so faster filters fit the same rotors.
+//! by the feedback at those errors plus the feedforward of the local gains' Lemma 1, turned by
+//! at most that rotation (`crate::bounds`' local certificate): much less than Theorem 2's worst
+//! case over every attitude, so faster filters fit the same rotors.
 
 use crate::parameter_error::{positive, ParameterError};
 use crate::position::{FilterState, PositionGains};
@@ -70,8 +70,9 @@ impl<T: Scalar> LocalGains<T> {
     /// vertical filters only with `global`'s vertical channel, and `k_f,z,L` at least its `k_f,z`.
     /// Errors: [`ParameterError::NotPositive`] naming the gain (`"local k_p"`, …, `"E_in"`,
     /// `"local k_f,z"`, `"local k_s,z"`, `"local M_up"`, `"local M_down"`),
-    /// [`ParameterError::OutOfRange`] naming `"E_out"` (not above `E_in`), `"local k_f"` (below the global `k_f`) or `"local k_f,z"` (below the global
-    /// `k_f,z`, or without a vertical channel: the range is then empty).
+    /// [`ParameterError::OutOfRange`] naming `"E_out"` (not above `E_in`), `"local k_f"` (below
+    /// the global `k_f`) or `"local k_f,z"` (below the global `k_f,z`, or without a vertical
+    /// channel: the range is then empty).
     pub fn validate(&self, global: &PositionGains<T>) -> Result<(), ParameterError> {
         for (name, v) in [
             ("local k_p", self.kp),
