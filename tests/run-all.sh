@@ -67,8 +67,8 @@ for preset in crazyflie-2.1 hummingbird x500; do
     cargo test -p firmware --lib built_config_is_certified_and_arms
 done
 
-step "firmware built with the test fixtures' flight files (airmode and a local regime; a local regime with the compensated heading): the gate certifies each and it arms"
-for fixture in crazyflie-airmode-local x500-compensated-local; do
+step "firmware built with the test fixtures' flight files (airmode and a local regime; a local regime with the compensated heading; a local regime with its own vertical levels): the gate certifies each and it arms"
+for fixture in crazyflie-airmode-local x500-compensated-local x500-local-vertical-levels; do
   FIRMWARE_FLIGHT_FILE="firmware/flights/fixtures/$fixture.toml" \
     cargo test -p firmware --lib built_config_is_certified_and_arms
 done
