@@ -21,6 +21,7 @@
 use crate::parameter_error::{positive, ParameterError};
 use crate::position::{FilterState, PositionGains};
 use crate::scalar::{to_f64, Scalar};
+use crate::velocity_limit::VelocityLimit;
 use crate::vertical_channel::VerticalChannel;
 
 /// The local regime's position gains and the energy levels of its switch.
@@ -137,6 +138,25 @@ impl<T: Scalar> LocalGains<T> {
             vertical,
             ..*global
         }
+    }
+
+    /// The velocity limit the local regime flies, for the global gains `global` and their
+    /// velocity limit `limit`: each braking acceleration times `min(1, local level / global
+    /// level)` of its axis (`M_p,L / M_p`, and with the local vertical channel `M_up,L / M_up`
+    /// and `M_down,L / M_down`), so it keeps its share of a smaller local level and stays below
+    /// it, and is `limit` itself, bit for bit, where no local level is smaller. No errors.
+    /// Source: extension (docs/envelope-design.md).
+    pub fn velocity_limit(
+        &self,
+        global: &PositionGains<T>,
+        limit: &VelocityLimit<T>,
+    ) -> VelocityLimit<T> {
+        let share = |local: T, of: T| (local / of).min(T::one());
+        let vertical = match (global.vertical, self.vertical) {
+            (Some(g), Some(l)) => (share(l.up, g.up), share(l.down, g.down)),
+            _ => (T::one(), T::one()),
+        };
+        limit.scaled(share(self.saturation, global.saturation), vertical)
     }
 
     /// The regime after a sample whose attitude energy is `energy` \[J\], from `current`, with the

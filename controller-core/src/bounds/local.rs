@@ -27,6 +27,9 @@ pub(super) fn local_certificate<T: Scalar>(
 ) -> Result<LocalCertificate<T>, ParameterError> {
     let local_gains = Gains {
         position: l.position(&gains.position),
+        velocity_limit: gains
+            .velocity_limit
+            .map(|v| l.velocity_limit(&gains.position, &v)),
         local: None,
         ..*gains
     };

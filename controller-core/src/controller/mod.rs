@@ -294,12 +294,15 @@ impl<T: Scalar> Controller<T> {
         let g = &self.gains;
         // The envelope design's local gains while its regime is on (extension,
         // crate::local_regime); the paper's gains otherwise.
-        let position_gains = match (&g.local, self.regime) {
-            (Some(l), Regime::Local) => l.position(&g.position),
-            _ => g.position,
+        let (position_gains, velocity_limit) = match (&g.local, self.regime) {
+            (Some(l), Regime::Local) => (
+                l.position(&g.position),
+                g.velocity_limit.map(|v| l.velocity_limit(&g.position, &v)),
+            ),
+            _ => (g.position, g.velocity_limit),
         };
         let mut position = position_gains.evaluate(
-            g.velocity_limit.as_ref(),
+            velocity_limit.as_ref(),
             &(state.position - reference.position),
             &(state.velocity - reference.velocity),
             &self.filter,

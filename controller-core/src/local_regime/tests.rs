@@ -252,3 +252,40 @@ fn local_vertical_levels_wait_for_the_filters_and_bound_the_feedback() {
         assert!(format!("{}", refused.validate(&global).unwrap_err()).contains(name));
     }
 }
+
+/// Given the global gains (levels 2.5 horizontally, 4 up and 1 down) and their velocity limit
+/// (braking 1.75, 2.8 up, 0.7 down: 0.7 of each level), when the local regime's levels are
+/// smaller (1.5; 1 up and 0.5 down), then the local regime flies each braking at the same 0.7
+/// of its local level, which validates against the local levels where the global braking would
+/// not; when no local level is smaller (a wider horizontal level, the global vertical levels) the
+/// velocity limit is the global one bit for bit.
+#[test]
+fn the_local_regime_brakes_at_its_share_of_smaller_levels() {
+    use crate::velocity_limit::{VelocityLimit, VerticalBraking};
+    let g = global(Some(global_vertical()));
+    let limit = VelocityLimit {
+        speed: 5.0,
+        braking: 1.75,
+        vertical: Some(VerticalBraking { up: 2.8, down: 0.7 }),
+    };
+    assert!(limit.validate(g.saturation, g.vertical.as_ref()).is_ok());
+    let small = local(Some(VerticalChannel {
+        up: 1.0,
+        down: 0.5,
+        ..global_vertical()
+    }));
+    let flown = small.velocity_limit(&g, &limit);
+    let b = flown.vertical.unwrap();
+    assert!((flown.braking - 0.7 * 1.5).abs() < 1e-12);
+    assert!((b.up - 0.7 * 1.0).abs() < 1e-12 && (b.down - 0.7 * 0.5).abs() < 1e-12);
+    assert_eq!(flown.speed, limit.speed);
+    let p = small.position(&g);
+    assert!(flown.validate(p.saturation, p.vertical.as_ref()).is_ok());
+    assert!(limit.validate(p.saturation, p.vertical.as_ref()).is_err());
+    let wide = LocalGains {
+        saturation: 3.0,
+        vertical: Some(global_vertical()),
+        ..small
+    };
+    assert_eq!(wide.velocity_limit(&g, &limit), limit);
+}

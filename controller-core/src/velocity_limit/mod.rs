@@ -72,6 +72,23 @@ pub struct VerticalBraking<T: Scalar> {
 }
 
 impl<T: Scalar> VelocityLimit<T> {
+    /// This profile with its braking accelerations multiplied by `horizontal` (the horizontal
+    /// one, and the vertical one without the vertical channel apart) and by `vertical = (up,
+    /// down)` (the vertical channel's two) (dimensionless); the speed limit unchanged. With
+    /// factors in `(0, 1]` a profile that [`Self::validate`]s against some levels also validates
+    /// against those levels times the same factors. No errors. Source: extension
+    /// (docs/envelope-design.md: the local regime's smaller levels).
+    pub fn scaled(&self, horizontal: T, vertical: (T, T)) -> Self {
+        Self {
+            speed: self.speed,
+            braking: self.braking * horizontal,
+            vertical: self.vertical.map(|b| VerticalBraking {
+                up: b.up * vertical.0,
+                down: b.down * vertical.1,
+            }),
+        }
+    }
+
     /// Checks `V > 0` and `0 < a < M_p` (finite), `M_p` \[m/s²\] being the position saturation
     /// level; with the vertical channel apart (`vertical`), `0 < a_up < M_up` and
     /// `0 < a_down < M_down`.

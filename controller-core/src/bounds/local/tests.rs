@@ -268,3 +268,49 @@ fn smaller_local_vertical_levels_shrink_the_local_set() {
     );
     assert_eq!(narrow.bounds.torque_max, wide.bounds.torque_max);
 }
+
+/// Given global gains with the vertical channel apart and a velocity limit whose vertical
+/// braking (2.8 up) lies above a local regime's own up level (1.5), when certified, then the
+/// certificate holds: the local regime flies the braking at its share of the local levels
+/// (`LocalGains::velocity_limit`), which validates there.
+#[test]
+fn a_local_level_below_the_global_braking_is_certified() {
+    use crate::velocity_limit::{VelocityLimit, VerticalBraking};
+    let mut g = gains(false);
+    g.position.vertical = Some(crate::VerticalChannel {
+        up: 4.0,
+        down: 1.0,
+        kf: 2.0,
+        ks: 5.0,
+    });
+    g.velocity_limit = Some(VelocityLimit {
+        speed: 5.0,
+        braking: 0.7 * g.position.saturation,
+        vertical: Some(VerticalBraking { up: 2.8, down: 0.7 }),
+    });
+    g.local = Some(crate::local_regime::LocalGains {
+        kp: 9.0,
+        kv: 6.0,
+        kf: 4.0,
+        ks: 10.0,
+        saturation: g.position.saturation,
+        energy_in: 1e-4,
+        energy_out: 2e-4,
+        vertical: Some(crate::VerticalChannel {
+            up: 1.5,
+            down: 0.5,
+            kf: 12.0,
+            ks: 24.0,
+        }),
+    });
+    let v = Vehicle::<f64>::paper();
+    let c = certify(
+        &v,
+        &Limits::paper(),
+        &g,
+        &TrajectoryConstants::zero(),
+        FilterStart::Zero,
+    );
+    assert!(c.is_ok(), "{:?}", c.err());
+    assert!(c.unwrap().local.is_some());
+}
