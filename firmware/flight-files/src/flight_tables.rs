@@ -152,13 +152,12 @@ pub struct LocalVerticalTable {
 }
 
 impl LocalVerticalTable {
-    /// `(M_up,L, M_down,L)` [m/s²]: this table's levels, each `global`'s (`[gains.vertical]`'s
-    /// `(up_m_s2, down_m_s2)`) where absent.
-    pub fn levels(&self, global: (f64, f64)) -> (f64, f64) {
-        (
-            self.up_m_s2.unwrap_or(global.0),
-            self.down_m_s2.unwrap_or(global.1),
-        )
+    /// `(M_up,L, M_down,L)` [m/s²]: this table's levels, each `global`'s (`[gains.vertical]`)
+    /// where absent; 0 where absent without `[gains.vertical]`, which `certify` refuses (a local
+    /// vertical channel needs the global one).
+    pub fn levels(&self, global: Option<&VerticalTable>) -> (f64, f64) {
+        let (up, down) = global.map_or((0.0, 0.0), |c| (c.up_m_s2, c.down_m_s2));
+        (self.up_m_s2.unwrap_or(up), self.down_m_s2.unwrap_or(down))
     }
 }
 

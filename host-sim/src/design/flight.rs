@@ -102,14 +102,13 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
                 // The levels are written only where they are not the global ones, so a file
                 // without local levels reads as it always did.
                 let global = g.position.vertical;
-                let own = |level: f64, of: fn(&controller_core::VerticalChannel<f64>) -> f64| {
-                    global.filter(|c| of(c) == level).is_none().then_some(level)
-                };
+                let own =
+                    |level: f64, global: Option<f64>| (global != Some(level)).then_some(level);
                 firmware::flight_tables::LocalVerticalTable {
                     kf: v.kf,
                     ks: v.ks,
-                    up_m_s2: own(v.up, |c| c.up),
-                    down_m_s2: own(v.down, |c| c.down),
+                    up_m_s2: own(v.up, global.map(|c| c.up)),
+                    down_m_s2: own(v.down, global.map(|c| c.down)),
                 }
             }),
         }),

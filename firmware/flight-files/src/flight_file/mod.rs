@@ -369,8 +369,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
             lit(l.energy_in_J),
             lit(l.energy_out_J),
             l.vertical.map_or("None".to_string(), |v| {
-                // Absent levels are `[gains.vertical]`'s (0 without it: refused by `certify`).
-                let (up, down) = v.levels(g.vertical.map_or((0.0, 0.0), |c| (c.up_m_s2, c.down_m_s2)));
+                let (up, down) = v.levels(g.vertical.as_ref());
                 format!(
                     "Some(controller_core::VerticalChannel {{ up: {}, down: {}, kf: {}, ks: {} }})",
                     lit(up),

@@ -333,9 +333,7 @@ impl Scenario {
             energy_in: lit(l.energy_in_J),
             energy_out: lit(l.energy_out_J),
             vertical: l.vertical.map(|v| {
-                // Absent levels are `[gains.vertical]`'s (0 without it: refused by `certify`).
-                let (up, down) =
-                    v.levels(g.vertical.map_or((0.0, 0.0), |c| (c.up_m_s2, c.down_m_s2)));
+                let (up, down) = v.levels(g.vertical.as_ref());
                 controller_core::VerticalChannel {
                     kf: lit(v.kf),
                     ks: lit(v.ks),
