@@ -14,8 +14,10 @@
 
 use nalgebra::{Matrix3, Vector3};
 
+use crate::attitude_control::AttitudeGains;
 use crate::gains::Gains;
 use crate::scalar::{lit, Scalar};
+use crate::tilt_priority::TiltPriorityGains;
 
 /// Bounds on the attitude error inside `{E ≤ c}`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -34,21 +36,23 @@ pub struct EnergyLimits<T: Scalar> {
 /// The attitude energy `E = ½ ω̃ᵀJω̃ + Ψ(ϑ̃) (+ ½ tr(G(I − R̃)) + Ψ_t(ϑ̃) with tilt priority and its
 /// turn-over term, docs/turn-over.md)` \[J\] of the
 /// MRP error `mrp_error`, the angular velocity error `omega_error` [rad/s] (body) and the error
-/// rotation `error_rotation` (`R̃ = R_dᵀR`) for `gains` and the inertia diagonal `inertia`
-/// [kg m²] (module documentation). Non-increasing along the closed loop with the exact
-/// feedforward. Source: extension of Theorem 2's argument (docs/envelope-design.md).
+/// rotation `error_rotation` (`R̃ = R_dᵀR`) for the attitude law of `attitude` and
+/// `tilt_priority` (a [`Gains`]' own, or the local regime's, [`crate::LocalAttitude`]) and the
+/// inertia diagonal `inertia` [kg m²] (module documentation). Non-increasing along the closed
+/// loop flying that law with the exact feedforward. No errors. Source: extension of Theorem 2's
+/// argument (docs/envelope-design.md).
 pub fn attitude_energy<T: Scalar>(
-    gains: &Gains<T>,
+    attitude: &AttitudeGains<T>,
+    tilt_priority: Option<&TiltPriorityGains<T>>,
     inertia: &Vector3<T>,
     mrp_error: &Vector3<T>,
     omega_error: &Vector3<T>,
     error_rotation: &Matrix3<T>,
 ) -> T {
-    let a = &gains.attitude;
-    let (m, k) = (a.mrp_saturation, a.k_mrp);
+    let (m, k) = (attitude.mrp_saturation, attitude.k_mrp);
     let kinetic = omega_error.dot(&inertia.component_mul(omega_error)) * lit(0.5);
     let potential = (m / k) * ((m * m + k * k * mrp_error.norm_squared()).sqrt() - m);
-    let trace = match &gains.tilt_priority {
+    let trace = match tilt_priority {
         None => T::zero(),
         Some(t) => {
             let g = &t.trace_weights;

@@ -118,6 +118,15 @@ impl<T: Scalar> Gains<T> {
         }
         if let Some(l) = &self.local {
             l.validate(&self.position)?;
+            if let (Some(b), None) = (l.braking, &self.velocity_limit) {
+                // Braking belongs to the velocity limit: without it the key would do nothing.
+                return Err(ParameterError::OutOfRange {
+                    name: "local braking",
+                    value: to_f64(b),
+                    low: 0.0,
+                    high: 0.0,
+                });
+            }
         }
         if let Some(h) = &self.heading_compensator {
             h.validate()?;
@@ -164,24 +173,53 @@ impl<T: Scalar> Gains<T> {
         desired_angular_acceleration: &Vector3<T>,
         inertia: &Vector3<T>,
     ) -> TorqueOutput<T> {
-        match &self.tilt_priority {
-            None => self.attitude.evaluate(
-                mrp_error,
-                angular_velocity,
-                error_rotation,
-                desired_angular_velocity,
-                desired_angular_acceleration,
-                inertia,
-            ),
-            Some(tilt) => tilt.evaluate(
-                &self.attitude,
-                mrp_error,
-                angular_velocity,
-                error_rotation,
-                desired_angular_velocity,
-                desired_angular_acceleration,
-                inertia,
-            ),
-        }
+        torque_law(
+            &self.attitude,
+            self.tilt_priority.as_ref(),
+            mrp_error,
+            angular_velocity,
+            error_rotation,
+            desired_angular_velocity,
+            desired_angular_acceleration,
+            inertia,
+        )
+    }
+}
+
+/// The torque law of `attitude` alone (the paper's, Section V) or with `tilt_priority` (its
+/// per-axis variant, docs/tilt-priority.md): what [`Gains::attitude_torque`] flies with the
+/// global gains and the envelope design's local regime with its own
+/// ([`crate::LocalAttitude`]). Inputs and output as
+/// [`AttitudeGains::evaluate`](crate::attitude_control::AttitudeGains::evaluate). No errors.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn torque_law<T: Scalar>(
+    attitude: &AttitudeGains<T>,
+    tilt_priority: Option<&TiltPriorityGains<T>>,
+    mrp_error: &Vector3<T>,
+    angular_velocity: &Vector3<T>,
+    error_rotation: &Matrix3<T>,
+    desired_angular_velocity: &Vector3<T>,
+    desired_angular_acceleration: &Vector3<T>,
+    inertia: &Vector3<T>,
+) -> TorqueOutput<T> {
+    match tilt_priority {
+        None => attitude.evaluate(
+            mrp_error,
+            angular_velocity,
+            error_rotation,
+            desired_angular_velocity,
+            desired_angular_acceleration,
+            inertia,
+        ),
+        Some(tilt) => tilt.evaluate(
+            attitude,
+            mrp_error,
+            angular_velocity,
+            error_rotation,
+            desired_angular_velocity,
+            desired_angular_acceleration,
+            inertia,
+        ),
     }
 }

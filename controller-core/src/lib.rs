@@ -86,7 +86,7 @@ pub use gains::Gains;
 pub use heading_compensator::HeadingCompensatorGains;
 pub use integral::{IntegralGains, IntegralState};
 pub use lemma1_form::Lemma1Form;
-pub use local_regime::{LocalGains, Regime};
+pub use local_regime::{LocalAttitude, LocalGains, Regime};
 pub use parameter_error::ParameterError;
 pub use path_lifting::JumpCounters;
 pub use position_saturation::PositionSaturation;

@@ -7,8 +7,11 @@
 //! vertical channel apart, optionally its own vertical channel: filters `k_f,z,L, k_s,z,L` and
 //! levels `M_up,L, M_down,L`) once the filter states lie in the local saturation set, and goes
 //! back only if `E > E_out > E_in` (which the nominal model never does: `E` does not
-//! increase). At the switch to the local gains the inner filter state is re-timed so that
-//! `u̇ = −k_f(u_f − u_s)` keeps its value ([`retime`]): `ω_d` does not jump, and neither does
+//! increase). The local regime may fly its own attitude law too ([`LocalAttitude`]: stiffer
+//! and better damped than the global gains afford at every attitude), and then `E` is that
+//! law's energy; and its own horizontal braking ([`LocalGains::braking`]). At the switch to
+//! the local gains the inner filter state is re-timed so that `u̇ = −k_f(u_f − u_s)` keeps its
+//! value ([`retime`]): `ω_d` does not jump, and neither does
 //! `E`. The re-timed state lies between `u_f` and `u_s` (the local `k_f` is at least the global
 //! one), so it stays in the saturation set Lemma 1 assumes.
 //!
@@ -23,6 +26,9 @@ use crate::position::{FilterState, PositionGains};
 use crate::scalar::{to_f64, Scalar};
 use crate::velocity_limit::VelocityLimit;
 use crate::vertical_channel::VerticalChannel;
+
+mod attitude;
+pub use attitude::LocalAttitude;
 
 /// The local regime's position gains and the energy levels of its switch.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,6 +59,14 @@ pub struct LocalGains<T: Scalar> {
     /// levels shrink the span `M_up + M_down` every vertical rate of Lemma 1 is proportional to,
     /// so the same torque pays for faster filters (extension, docs/envelope-design.md).
     pub vertical: Option<VerticalChannel<T>>,
+    /// The local regime's own attitude law ([`LocalAttitude`]); `None`: the global law in both
+    /// regimes. With it, the switch measures the attitude energy of this law.
+    pub attitude: Option<LocalAttitude<T>>,
+    /// The local regime's horizontal braking acceleration `a_L` [m/s²], `0 < a_L < M_p,L`
+    /// (the vertical one too without the vertical channel apart), with the global velocity
+    /// limit ([`crate::velocity_limit`]); `None`: the global braking at the local level's share
+    /// ([`Self::velocity_limit`]). A larger level brakes no harder without it.
+    pub braking: Option<T>,
 }
 
 /// Which position gains fly.
@@ -70,7 +84,9 @@ impl<T: Scalar> LocalGains<T> {
     /// exceed `M_p`: the certificate then checks Theorem 1 for the local level too); local
     /// vertical filters only with `global`'s vertical channel, and `k_f,z,L` at least its `k_f,z`.
     /// Errors: [`ParameterError::NotPositive`] naming the gain (`"local k_p"`, …, `"E_in"`,
-    /// `"local k_f,z"`, `"local k_s,z"`, `"local M_up"`, `"local M_down"`),
+    /// `"local k_f,z"`, `"local k_s,z"`, `"local M_up"`, `"local M_down"`, `"local braking"`,
+    /// the local attitude law's, [`LocalAttitude::validate`]), `"local braking"` not below
+    /// `M_p,L` ([`ParameterError::OutOfRange`]),
     /// [`ParameterError::OutOfRange`] naming `"E_out"` (not above `E_in`), `"local k_f"` (below
     /// the global `k_f`) or `"local k_f,z"` (below the global `k_f,z`, or without a vertical
     /// channel: the range is then empty).
@@ -119,6 +135,20 @@ impl<T: Scalar> LocalGains<T> {
             positive("local M_up", f.up)?;
             positive("local M_down", f.down)?;
         }
+        if let Some(a) = &self.attitude {
+            a.validate()?;
+        }
+        if let Some(b) = self.braking {
+            positive("local braking", b)?;
+            if b >= self.saturation {
+                return Err(ParameterError::OutOfRange {
+                    name: "local braking",
+                    value: to_f64(b),
+                    low: 0.0,
+                    high: to_f64(self.saturation),
+                });
+            }
+        }
         Ok(())
     }
 
@@ -144,8 +174,9 @@ impl<T: Scalar> LocalGains<T> {
     /// velocity limit `limit`: each braking acceleration times `min(1, local level / global
     /// level)` of its axis (`M_p,L / M_p`, and with the local vertical channel `M_up,L / M_up`
     /// and `M_down,L / M_down`), so it keeps its share of a smaller local level and stays below
-    /// it, and is `limit` itself, bit for bit, where no local level is smaller. No errors.
-    /// Source: extension (docs/envelope-design.md).
+    /// it, and is `limit` itself, bit for bit, where no local level is smaller; with the local
+    /// regime's own braking ([`Self::braking`]) its horizontal braking is that one instead.
+    /// No errors. Source: extension (docs/envelope-design.md).
     pub fn velocity_limit(
         &self,
         global: &PositionGains<T>,
@@ -156,7 +187,11 @@ impl<T: Scalar> LocalGains<T> {
             (Some(g), Some(l)) => (share(l.up, g.up), share(l.down, g.down)),
             _ => (T::one(), T::one()),
         };
-        limit.scaled(share(self.saturation, global.saturation), vertical)
+        let scaled = limit.scaled(share(self.saturation, global.saturation), vertical);
+        match self.braking {
+            Some(braking) => VelocityLimit { braking, ..scaled },
+            None => scaled,
+        }
     }
 
     /// The regime after a sample whose attitude energy is `energy` \[J\], from `current`, with the

@@ -6,8 +6,9 @@
 //! flattened here into a name, an `f32` and a unit.
 
 use controller_core::{
-    certify, Certificate, Condition, Controller, FilterStart, Gains, Limits, LocalGains,
-    ParameterError, ReferenceTrajectory, Trajectory, TrajectoryConstants, Vehicle, VerticalChannel,
+    certify, Certificate, Condition, Controller, FilterStart, Gains, Limits, LocalAttitude,
+    LocalGains, ParameterError, ReferenceTrajectory, Trajectory, TrajectoryConstants, Vehicle,
+    VerticalChannel,
 };
 
 /// The parameters the firmware flies with.
@@ -124,6 +125,22 @@ pub fn local_vertical_values(f: &VerticalChannel<f32>) -> [Value; 4] {
         value("k_s_z_local", f.ks, "1/s"),
         value("M_up_local", f.up, "m/s^2"),
         value("M_down_local", f.down, "m/s^2"),
+    ]
+}
+
+/// The local regime's own attitude law (extension, docs/envelope-design.md): its radial MRP
+/// gain and level, and its roll damping gain and level (tilt priority's first axis, or the
+/// paper's radial `k_ω`, `M_ω`).
+pub fn local_attitude_values(a: &LocalAttitude<f32>) -> [Value; 4] {
+    let (gain, level) = match &a.tilt_priority {
+        Some(t) => (t.omega_gains.x, t.omega_levels.x),
+        None => (a.attitude.k_omega, a.attitude.omega_saturation),
+    };
+    [
+        value("k_theta_local", a.attitude.k_mrp, "N m"),
+        value("M_theta_local", a.attitude.mrp_saturation, "N m"),
+        value("k_omega_roll_local", gain, "N m s/rad"),
+        value("M_omega_roll_local", level, "N m"),
     ]
 }
 
@@ -383,6 +400,45 @@ mod tests {
         assert_eq!(all.len(), n);
     }
 
+    /// The local attitude law's banner values are its radial MRP gain and level and its roll
+    /// damping, tilt priority's where it has one (the paper's `k_ω`, `M_ω` are then unused).
+    #[test]
+    fn local_attitude_banner_values() {
+        let attitude = controller_core::attitude_control::AttitudeGains {
+            k_mrp: 40.0,
+            k_omega: 0.3,
+            mrp_saturation: 0.2,
+            omega_saturation: 0.4,
+        };
+        let paper = local_attitude_values(&LocalAttitude {
+            attitude,
+            tilt_priority: None,
+        });
+        let tilt = local_attitude_values(&LocalAttitude {
+            attitude,
+            tilt_priority: Some(controller_core::TiltPriorityGains {
+                trace_weights: nalgebra::Vector3::new(0.01, 0.01, 0.8),
+                omega_gains: nalgebra::Vector3::new(0.25, 0.25, 0.05),
+                omega_levels: nalgebra::Vector3::new(0.6, 0.6, 0.01),
+                turn_over: None,
+            }),
+        });
+        let read = |v: &[Value; 4]| v.map(|x| (x.name, x.value));
+        assert_eq!(
+            read(&paper),
+            [
+                ("k_theta_local", 40.0),
+                ("M_theta_local", 0.2),
+                ("k_omega_roll_local", 0.3),
+                ("M_omega_roll_local", 0.4)
+            ]
+        );
+        assert_eq!(
+            read(&tilt)[2..],
+            [("k_omega_roll_local", 0.25), ("M_omega_roll_local", 0.6)]
+        );
+    }
+
     /// The local regime's banner values are its gains and energy levels, with units, and their
     /// names differ from Table I's; airmode's convergence verdict needs the aligned fit to leave
     /// the required margin.
@@ -402,6 +458,8 @@ mod tests {
                 kf: 6.0,
                 ks: 20.0,
             }),
+            attitude: None,
+            braking: None,
         };
         let v = local_values(&l);
         let named: Vec<_> = v.iter().map(|v| (v.name, v.value, v.unit)).collect();

@@ -81,7 +81,7 @@ proptest! {
             let lifted = lifting.lift(&re);
             let (wd, wdd) = omega_d(&amp, &freq, t);
             let out = g.attitude_torque(&lifted.mrp, &w, &re, &wd, &wdd, &j);
-            let e = attitude_energy(&g, &j, &lifted.mrp, &out.omega_error, &re);
+            let e = attitude_energy(&g.attitude, g.tilt_priority.as_ref(), &j, &lifted.mrp, &out.omega_error, &re);
             prop_assert!(
                 e <= last + 2e-7 * (1.0 + last.abs().min(1e3)),
                 "t = {t:.4}: energy {e} after {last}"
@@ -120,7 +120,7 @@ proptest! {
         prop_assume!(direction.norm() > 1e-3);
         let mrp = direction.normalize() * size;
         let re = rotation_from_mrp(&mrp);
-        let e = attitude_energy(&g, &j, &mrp, &w, &re);
+        let e = attitude_energy(&g.attitude, g.tilt_priority.as_ref(), &j, &mrp, &w, &re);
         let c = e * (1.0 + extra);
         let l = energy_limits(&g, &j, c);
         prop_assert!(mrp.norm() <= l.mrp * (1.0 + 1e-12));

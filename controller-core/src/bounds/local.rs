@@ -1,6 +1,7 @@
 //! The local regime's certificate (extension, docs/envelope-design.md): Lemma 1 for the local
-//! position gains, the attitude error inside the energy level `E_out`, and the torque set they
-//! confine the law to.
+//! position gains, the attitude error inside the energy level `E_out` of the law the local
+//! regime flies (its own, [`crate::LocalAttitude`], or the global one), and the torque set they
+//! confine that law to.
 
 use nalgebra::{Vector2, Vector3};
 
@@ -51,8 +52,10 @@ pub(super) fn local_certificate<T: Scalar>(
             .unwrap_or_else(|| Condition::strict(name, "", T::zero(), T::zero()));
         Condition { name, ..c }
     };
-    let energy = energy_limits(gains, &vehicle.inertia, l.energy_out);
-    let torque_set = local_torque_set(gains, &vehicle.inertia, &bounds, &energy);
+    // The law the local regime flies: its energy bounds the errors, its feedback the torque.
+    let law = l.attitude.map_or(*gains, |a| a.in_gains(gains));
+    let energy = energy_limits(&law, &vehicle.inertia, l.energy_out);
+    let torque_set = local_torque_set(&law, &vehicle.inertia, &bounds, &energy);
     let extents = torque_set.axis_extents();
     let tau = &limits.torque_max;
     let strict = Condition::strict;

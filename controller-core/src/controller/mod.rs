@@ -374,7 +374,22 @@ impl<T: Scalar> Controller<T> {
         let error_rotation = desired.rotation.transpose() * rotation;
         let mut lifting = self.lifting;
         let lifted = lifting.lift(&error_rotation);
-        let torque = g.attitude_torque(
+        // The local regime's own attitude law where it has one (extension, crate::local_regime);
+        // the switch measures that law's energy in both regimes.
+        let local_law = g
+            .local
+            .as_ref()
+            .and_then(|l| l.attitude.as_ref())
+            .map(|a| (&a.attitude, a.tilt_priority.as_ref()));
+        let (energy_attitude, energy_tilt) =
+            local_law.unwrap_or((&g.attitude, g.tilt_priority.as_ref()));
+        let (attitude, tilt_priority) = match (local_law, self.regime) {
+            (Some(law), Regime::Local) => law,
+            _ => (&g.attitude, g.tilt_priority.as_ref()),
+        };
+        let torque = crate::gains::torque_law(
+            attitude,
+            tilt_priority,
             &lifted.mrp,
             &state.angular_velocity,
             &error_rotation,
@@ -399,7 +414,8 @@ impl<T: Scalar> Controller<T> {
         // that u̇ (hence ω_d) does not jump into the local regime.
         let energy = g.local.as_ref().map(|_| {
             attitude_energy(
-                g,
+                energy_attitude,
+                energy_tilt,
                 &self.vehicle.inertia,
                 &lifted.mrp,
                 &torque.omega_error,

@@ -67,7 +67,9 @@ pub struct Diagnostics<T: Scalar> {
     /// without it).
     pub regime: crate::local_regime::Regime,
     /// The attitude energy `½ω̃ᵀJω̃ + Ψ(ϑ̃)` \[J\] of this sample (with tilt priority plus its trace
-    /// potential; [`crate::attitude_energy::attitude_energy`]), zero without the envelope design.
+    /// potential; [`crate::attitude_energy::attitude_energy`]), zero without the envelope design;
+    /// the local regime's own attitude law's energy where it has one ([`crate::LocalAttitude`]:
+    /// what its switch measures).
     pub attitude_energy: T,
     /// Path-lifting jumps applied at this sample.
     pub jumps: JumpCounters,

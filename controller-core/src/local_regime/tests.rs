@@ -3,7 +3,8 @@
 use nalgebra::Vector3;
 use proptest::prelude::*;
 
-use super::{retime, LocalGains, Regime};
+use super::{retime, LocalAttitude, LocalGains, Regime};
+use crate::parameter_error::ParameterError;
 use crate::position::{FilterState, PositionGains};
 use crate::position_saturation::PositionSaturation;
 use crate::vertical_channel::VerticalChannel;
@@ -69,6 +70,8 @@ fn local(vertical: Option<VerticalChannel<f64>>) -> LocalGains<f64> {
         energy_in: 0.01,
         energy_out: 0.02,
         vertical,
+        attitude: None,
+        braking: None,
     }
 }
 
@@ -288,4 +291,102 @@ fn the_local_regime_brakes_at_its_share_of_smaller_levels() {
         ..small
     };
     assert_eq!(wide.velocity_limit(&g, &limit), limit);
+}
+
+/// Given a local regime with its own braking, when it flies, then its horizontal braking is
+/// that one whatever the levels (above the global braking too), the vertical ones keep their
+/// share, and the profile validates against the local levels; a braking not below `M_p,L` is
+/// refused by name, and so is one without a velocity limit to brake with.
+#[test]
+fn the_local_regime_brakes_at_its_own_braking() {
+    use crate::velocity_limit::{VelocityLimit, VerticalBraking};
+    let g = global(Some(global_vertical()));
+    let limit = VelocityLimit {
+        speed: 5.0,
+        braking: 1.75,
+        vertical: Some(VerticalBraking { up: 2.8, down: 0.7 }),
+    };
+    let wide = LocalGains {
+        saturation: 4.0,
+        braking: Some(3.0),
+        vertical: Some(global_vertical()),
+        ..local(None)
+    };
+    assert!(wide.validate(&g).is_ok());
+    let flown = wide.velocity_limit(&g, &limit);
+    assert_eq!(flown.braking, 3.0);
+    assert_eq!(flown.vertical, limit.vertical);
+    let p = wide.position(&g);
+    assert!(flown.validate(p.saturation, p.vertical.as_ref()).is_ok());
+    let too_hard = LocalGains {
+        braking: Some(4.0),
+        ..wide
+    };
+    assert!(matches!(
+        too_hard.validate(&g),
+        Err(ParameterError::OutOfRange { name: "local braking", high, .. }) if high == 4.0
+    ));
+    let mut gains = crate::Gains::<f64>::paper();
+    gains.position = g;
+    gains.local = Some(wide);
+    assert!(matches!(
+        gains.validate(),
+        Err(ParameterError::OutOfRange {
+            name: "local braking",
+            ..
+        })
+    ));
+    gains.velocity_limit = Some(limit);
+    assert!(gains.validate().is_ok());
+}
+
+/// Given a local attitude law with a gain that is not positive, when validated, then it is
+/// refused with the local law's name for it (`"local k_theta"`, `"local g_3"`), not the global
+/// gain's.
+#[test]
+fn a_bad_local_attitude_law_is_refused_by_its_own_name() {
+    use crate::attitude_control::AttitudeGains;
+    let g = global(None);
+    let attitude = AttitudeGains {
+        k_mrp: 0.0,
+        k_omega: 0.1,
+        mrp_saturation: 0.2,
+        omega_saturation: 0.1,
+    };
+    let bad = LocalGains {
+        attitude: Some(LocalAttitude {
+            attitude,
+            tilt_priority: None,
+        }),
+        ..local(None)
+    };
+    assert!(matches!(
+        bad.validate(&g),
+        Err(ParameterError::NotPositive {
+            name: "local k_theta",
+            ..
+        })
+    ));
+    let bad_trace = LocalGains {
+        attitude: Some(LocalAttitude {
+            attitude: AttitudeGains {
+                k_mrp: 1.0,
+                ..attitude
+            },
+            tilt_priority: Some(crate::TiltPriorityGains {
+                trace_weights: Vector3::new(0.0, 0.0, -1.0),
+                omega_gains: Vector3::repeat(0.1),
+                omega_levels: Vector3::repeat(0.1),
+                turn_over: None,
+            }),
+        }),
+        ..local(None)
+    };
+    assert!(matches!(
+        bad_trace.validate(&g),
+        Err(ParameterError::NotPositive {
+            name: "local g_3",
+            ..
+        })
+    ));
 }

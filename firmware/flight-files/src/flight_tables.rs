@@ -65,7 +65,7 @@ pub struct GainsTable {
     /// extension, docs/integral-action.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub integral: Option<IntegralTable>,
-    /// `[gains.tilt_priority]`: per-axis attitude feedback with tilt priority (absent = off, the
+    /// `[gains.tilt_priority]` (and `[gains.local.attitude.tilt_priority]`): per-axis attitude feedback with tilt priority (absent = off, the
     /// paper's radial feedback; extension, docs/tilt-priority.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tilt_priority: Option<TiltPriorityTable>,
@@ -129,6 +129,35 @@ pub struct LocalTable {
     /// (absent = the global vertical channel in both regimes).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vertical: Option<LocalVerticalTable>,
+    /// `braking_m_s2`: the local regime's horizontal braking acceleration [m/s²], below
+    /// `M_p_m_s2`, with `[gains.velocity_limit]` (absent: the global braking at the local
+    /// level's share, never above it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub braking_m_s2: Option<f64>,
+    /// `[gains.local.attitude]`: the local regime's own attitude law (absent: the global law in
+    /// both regimes).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub attitude: Option<LocalAttitudeTable>,
+}
+
+/// `[gains.local.attitude]`: the attitude law the local regime flies (controller-core's
+/// `LocalAttitude`): the `[gains]` attitude keys, and optionally its own tilt priority.
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct LocalAttitudeTable {
+    /// `k_ϑ` [N m] of the local law.
+    pub k_theta: f64,
+    /// `k_ω` [N m s/rad] of the local law (unused with its tilt priority).
+    pub k_omega: f64,
+    /// `M_ϑ` [N m] of the local law.
+    pub M_theta: f64,
+    /// `M_ω` [N m] of the local law (unused with its tilt priority).
+    pub M_omega: f64,
+    /// `[gains.local.attitude.tilt_priority]`: the local law's tilt priority (absent: the
+    /// paper's radial feedback with the gains above).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tilt_priority: Option<TiltPriorityTable>,
 }
 
 /// `[gains.local.vertical]`: the local regime's vertical filter bandwidths and, optionally, its

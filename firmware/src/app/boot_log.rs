@@ -243,6 +243,13 @@ pub fn log_identity(config: &crate::config::FlightConfig) {
             if let Some(f) = &l.vertical {
                 log_values("local vertical", &report::local_vertical_values(f));
             }
+            if let Some(a) = &l.attitude {
+                info!("flight: local regime: its own attitude law (E is that law's energy)");
+                log_values("local attitude", &report::local_attitude_values(a));
+            }
+            if let Some(b) = l.braking {
+                info!("flight: local regime: its own braking {=f32} m/s^2", b);
+            }
         }
     }
     match config.gains.lemma1 {

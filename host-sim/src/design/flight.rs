@@ -64,15 +64,7 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
                 }
             }),
         }),
-        tilt_priority: g
-            .tilt_priority
-            .map(|t| firmware::flight_tables::TiltPriorityTable {
-                trace_weights_Nm: t.trace_weights.into(),
-                omega_gains_Nm_s: t.omega_gains.into(),
-                omega_levels_Nm: t.omega_levels.into(),
-                turn_over_level_Nm: t.turn_over.map(|o| o.level),
-                turn_over_onset: t.turn_over.map(|o| o.onset),
-            }),
+        tilt_priority: g.tilt_priority.as_ref().map(tilt_priority_table),
         velocity_limit: g
             .velocity_limit
             .map(|v| firmware::flight_tables::VelocityLimitTable {
@@ -111,6 +103,16 @@ pub fn gains_config(g: &Gains<f64>) -> GainsConfig {
                     down_m_s2: own(v.down, global.map(|c| c.down)),
                 }
             }),
+            braking_m_s2: l.braking,
+            attitude: l
+                .attitude
+                .map(|a| firmware::flight_tables::LocalAttitudeTable {
+                    k_theta: a.attitude.k_mrp,
+                    k_omega: a.attitude.k_omega,
+                    M_theta: a.attitude.mrp_saturation,
+                    M_omega: a.attitude.omega_saturation,
+                    tilt_priority: a.tilt_priority.as_ref().map(tilt_priority_table),
+                }),
         }),
         heading_compensator: g.heading_compensator.map(|h| {
             firmware::flight_tables::HeadingCompensatorTable {
@@ -258,4 +260,17 @@ pub fn with_motor_lag(scenario: &Scenario, tau_m: f64, nominal: f64) -> Scenario
     let mut s = scenario.clone();
     s.perturbations.motor_time_constant_s = if tau_m == nominal { 0.0 } else { tau_m };
     s
+}
+
+/// The `[gains.tilt_priority]` table (or the local law's) of tilt-priority gains.
+fn tilt_priority_table(
+    t: &controller_core::TiltPriorityGains<f64>,
+) -> firmware::flight_tables::TiltPriorityTable {
+    firmware::flight_tables::TiltPriorityTable {
+        trace_weights_Nm: t.trace_weights.into(),
+        omega_gains_Nm_s: t.omega_gains.into(),
+        omega_levels_Nm: t.omega_levels.into(),
+        turn_over_level_Nm: t.turn_over.map(|o| o.level),
+        turn_over_onset: t.turn_over.map(|o| o.onset),
+    }
 }

@@ -340,6 +340,32 @@ pub fn markdown(r: &Report, plots: &[&str]) -> String {
                 v.kf, v.ks
             )
         });
+        let vertical = match l.vertical.and_then(|v| v.up_m_s2.zip(v.down_m_s2)) {
+            Some((up, down)) => {
+                format!("{vertical} and levels M_up,L = {up:.4} m/s^2, M_down,L = {down:.4} m/s^2")
+            }
+            None => vertical,
+        };
+        let braking = l.braking_m_s2.map_or(String::new(), |b| {
+            format!(", its own horizontal braking {b:.4} m/s^2")
+        });
+        let attitude = l.attitude.map_or(String::new(), |a| {
+            let damping = a.tilt_priority.map_or(
+                format!("k_omega = {:.4e}, M_omega = {:.4e}", a.k_omega, a.M_omega),
+                |t| {
+                    format!(
+                        "roll and pitch damping {:.4e} N m s/rad up to {:.4e} N m",
+                        t.omega_gains_Nm_s[0], t.omega_levels_Nm[0]
+                    )
+                },
+            );
+            format!(
+                ", its own attitude law (`[gains.local.attitude]`: k_theta = {:.4e}, M_theta = \
+                 {:.4e}, {damping}; the energies below are this law's)",
+                a.k_theta, a.M_theta
+            )
+        });
+        let vertical = format!("{vertical}{braking}{attitude}");
         let _ = writeln!(
             s,
             "Envelope design (`[gains.local]`, docs/envelope-design.md): the local position gains \

@@ -20,6 +20,7 @@ use anyhow::Result;
 use super::optimise::{minimise, Optimum};
 use super::variables::Layout;
 
+pub mod local_agility;
 pub mod local_loop;
 pub mod turn_over;
 

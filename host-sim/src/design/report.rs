@@ -269,6 +269,9 @@ pub struct Report {
     /// (`crate::design::refine::local_loop`, docs/envelope-design.md): the objectives before and
     /// after, and whether the polished loop is this design's; `null` without a local regime.
     pub local_loop_refinement: Option<super::refine::Refinement>,
+    /// The local regime's agility refined last ([`super::refine::local_agility`]), when it ran.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub local_agility_refinement: Option<super::refine::Refinement>,
     /// Gains (scenario `[gains]`).
     pub gains: GainsConfig,
     /// Limits (scenario `[limits]`): what the rotors deliver.
@@ -481,6 +484,7 @@ impl Report {
             local_refinement: None,
             turn_over_refinement: None,
             local_loop_refinement: None,
+            local_agility_refinement: None,
         }
     }
 }

@@ -57,6 +57,19 @@ fn score(
     trace: bool,
 ) -> std::result::Result<Scored, f64> {
     let mapped = map(ctx, &Choices::from_unit(x, layout)).ok_or(10.0 * PENALTY)?;
+    score_mapped(vehicle, ctx, reference, (settings, boxes), mapped, trace)
+}
+
+/// [`score`] of gains already mapped (`mapped`): certifies and flies them. `Err` carries the
+/// cost of a refusal.
+fn score_mapped(
+    vehicle: &DesignVehicle,
+    ctx: &Context<'_>,
+    reference: &Reference,
+    (settings, boxes): (FlightSettings, usize),
+    mapped: super::variables::Mapped,
+    trace: bool,
+) -> std::result::Result<Scored, f64> {
     let certified = certify_mapped(
         vehicle,
         ctx.constants,
@@ -214,7 +227,13 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
             heading: HeadingSearch::one(compensated),
             ..o.clone()
         };
-        attempts.push(design_every_attempt(&one, started)?);
+        let attempt = design_every_attempt(&one, started)?;
+        // Each heading's candidate refined last before they are compared: the local regime's
+        // agility is what the step a pilot sees is flown with.
+        attempts.push(Attempts {
+            design: attempt.design.refine_last()?,
+            ..attempt
+        });
     }
     let searched: Vec<HeadingCandidate> = attempts
         .iter()
@@ -243,7 +262,7 @@ pub fn run_design(o: &DesignOptions) -> Result<DesignOutcome> {
         })
         .ok_or_else(|| anyhow::anyhow!("no heading to search (bug)"))?;
     let law_search = chosen.law_search;
-    // Only the design kept is polished and reported.
+    // Only the design kept is reported.
     let finished = chosen.design.finish()?;
     let mut report = finished.report;
     report.law_search = law_search;
@@ -294,6 +313,10 @@ struct Designed {
     refinement: Option<Refinement>,
     /// The turn-over term's refinement, when it ran.
     turn_over_refinement: Option<Refinement>,
+    /// The local position loop's polish, when it ran ([`Designed::refine_last`]).
+    local_loop_refinement: Option<Refinement>,
+    /// The local regime's agility refinement, when it ran ([`Designed::refine_last`]).
+    local_agility_refinement: Option<Refinement>,
     /// `optimum` flown for the report.
     best: Scored,
 }
@@ -304,12 +327,12 @@ impl Designed {
         self.setup.law
     }
 
-    /// The design kept, finished: the local position loop polished last (kept only where it
-    /// scores lower), then what the report shows beside the objective (the largest motor lag
-    /// that converges, the baselines' nominal tasks, the helix tracked), computed once, for
-    /// this design only. Errors: the polished point cannot be flown again (a bug), or the
-    /// baselines cannot be flown.
-    fn finish(self) -> Result<Finished> {
+    /// The design refined last, each step kept only where it scores lower (so never worse):
+    /// the local position loop polished on a grid, then the local regime's agility
+    /// (docs/envelope-design.md, "What `design` searches"). Run on each heading's candidate
+    /// before they are compared. Errors: a refined design cannot be flown again (a bug), or
+    /// the optimiser's.
+    fn refine_last(self) -> Result<Designed> {
         let Designed {
             setup,
             optimum,
@@ -317,15 +340,66 @@ impl Designed {
             refinement,
             turn_over_refinement,
             best,
+            ..
         } = self;
         // The local position loop's frequency and damping, on which no bound depends, polished
-        // last on a grid (docs/envelope-design.md, "What `design` searches"): never worse.
+        // last on a grid: never worse.
         let cost_in = |x: &[f64], layout: Layout| setup.cost_in(x, layout);
         let (optimum, layout, local_loop_refinement) = refine_local_loop(&cost_in, optimum, layout);
         let best = match &local_loop_refinement {
             Some(r) if r.kept => setup.final_score(&optimum.x, layout)?,
             _ => best,
         };
+        // The local regime's agility (its filters, level, braking, attitude law, envelope and
+        // vertical channel) refined last with every global gain held (docs/envelope-design.md,
+        // "What `design` searches"): never worse.
+        let (agile, local_agility_refinement) = super::refine::local_agility::refine_local_agility(
+            &|gains: &controller_core::Gains<f64>| {
+                setup.cost_of(super::variables::Mapped {
+                    gains: *gains,
+                    ..best.mapped
+                })
+            },
+            &best.mapped.gains,
+            &setup.vehicle.body.inertia,
+            // Compared on the search's box budget, as its candidates are scored (the
+            // report's objective takes the final one).
+            setup.cost_of(best.mapped),
+            setup.o.seed,
+        )?;
+        let best = match agile {
+            Some(gains) => setup.final_score_mapped(super::variables::Mapped {
+                gains,
+                ..best.mapped
+            })?,
+            None => best,
+        };
+        Ok(Designed {
+            setup,
+            optimum,
+            layout,
+            refinement,
+            turn_over_refinement,
+            local_loop_refinement,
+            local_agility_refinement,
+            best,
+        })
+    }
+
+    /// The design kept, finished: what the report shows beside the objective (the largest
+    /// motor lag that converges, the baselines' nominal tasks, the helix tracked), computed
+    /// once, for this design only. Errors: the baselines cannot be flown.
+    fn finish(self) -> Result<Finished> {
+        let Designed {
+            setup,
+            optimum,
+            layout,
+            refinement,
+            turn_over_refinement,
+            local_loop_refinement,
+            local_agility_refinement,
+            best,
+        } = self;
         let (vehicle, o, ctx) = (&setup.vehicle, &setup.o, setup.ctx());
         let (scenario, _) = scenarios(
             vehicle,
@@ -362,6 +436,7 @@ impl Designed {
         report.local_refinement = refinement;
         report.turn_over_refinement = turn_over_refinement;
         report.local_loop_refinement = local_loop_refinement;
+        report.local_agility_refinement = local_agility_refinement;
         report.what_binds = Some(super::binding::WhatBinds {
             saturation: super::binding::saturation_cap(
                 ctx.bounds,
@@ -430,6 +505,8 @@ fn design_with(o: &DesignOptions, law: AttitudeLaw) -> Result<Designed> {
         layout,
         refinement,
         turn_over_refinement,
+        local_loop_refinement: None,
+        local_agility_refinement: None,
         best,
     })
 }

@@ -79,7 +79,7 @@ proptest! {
         let mut mrp = mrp_dir * (mrp_share * l.mrp.min(1.0));
         let mut w = w_dir.component_mul(&l.omega_error) * w_share;
         let energy = |m: &Vector3<f64>, w: &Vector3<f64>| {
-            attitude_energy(&g, &j, m, w, &rotation_from_mrp(m))
+            attitude_energy(&g.attitude, g.tilt_priority.as_ref(), &j, m, w, &rotation_from_mrp(m))
         };
         while energy(&mrp, &w) > c {
             mrp *= 0.9;
@@ -123,6 +123,8 @@ fn a_wider_local_level_widens_the_certified_thrust_interval() {
         energy_in: 1e-4,
         energy_out: 2e-4,
         vertical: None,
+        attitude: None,
+        braking: None,
     };
     let global_only = certify(&v, &Limits::paper(), &g, &constants, FilterStart::Zero).unwrap();
     g.local = Some(local);
@@ -241,6 +243,8 @@ fn smaller_local_vertical_levels_shrink_the_local_set() {
                 kf: 12.0,
                 ks: 24.0,
             }),
+            attitude: None,
+            braking: None,
         };
         let gains = Gains {
             local: Some(local),
@@ -302,6 +306,8 @@ fn a_local_level_below_the_global_braking_is_certified() {
             kf: 12.0,
             ks: 24.0,
         }),
+        attitude: None,
+        braking: None,
     });
     let v = Vehicle::<f64>::paper();
     let c = certify(
@@ -313,4 +319,67 @@ fn a_local_level_below_the_global_braking_is_certified() {
     );
     assert!(c.is_ok(), "{:?}", c.err());
     assert!(c.unwrap().local.is_some());
+}
+
+/// Given global gains and a local regime with its own, stiffer attitude law, when certified,
+/// then the local certificate's energy limits and torque set are those of the local law
+/// (computed again here from a gain set whose global law is the local law), they differ from
+/// what the global law would give at the same energy, and the global certificate's own bounds
+/// are those of the gains without the local law.
+#[test]
+fn the_local_certificate_bounds_the_law_the_local_regime_flies() {
+    let g = gains(true);
+    let v = Vehicle::<f64>::paper();
+    let constants = TrajectoryConstants::<f64>::zero();
+    let law = crate::LocalAttitude {
+        attitude: crate::attitude_control::AttitudeGains {
+            k_mrp: 3.0 * g.attitude.k_mrp,
+            mrp_saturation: 2.0 * g.attitude.mrp_saturation,
+            ..g.attitude
+        },
+        tilt_priority: g.tilt_priority.map(|t| crate::TiltPriorityGains {
+            omega_gains: t.omega_gains * 2.0,
+            omega_levels: t.omega_levels * 1.5,
+            ..t
+        }),
+    };
+    let local = crate::local_regime::LocalGains {
+        kp: 4.0,
+        kv: 4.0,
+        kf: 4.0,
+        ks: 10.0,
+        saturation: 3.0,
+        energy_in: 1e-3,
+        energy_out: 2e-3,
+        vertical: None,
+        attitude: None,
+        braking: None,
+    };
+    let certify_local = |g: &Gains<f64>, local| {
+        let gains = Gains {
+            local: Some(local),
+            ..*g
+        };
+        certify(&v, &Limits::paper(), &gains, &constants, FilterStart::Zero).unwrap()
+    };
+    let own = certify_local(
+        &g,
+        crate::local_regime::LocalGains {
+            attitude: Some(law),
+            ..local
+        },
+    );
+    let global_law = certify_local(&g, local);
+    let independent = certify_local(&law.in_gains(&g), local);
+    let (l, i, gl) = (
+        own.local.unwrap(),
+        independent.local.unwrap(),
+        global_law.local.unwrap(),
+    );
+    assert_eq!(l.energy, i.energy);
+    assert_eq!(l.torque_set.axis_extents(), i.torque_set.axis_extents());
+    assert_ne!(l.energy, gl.energy);
+    assert_ne!(l.torque_set.axis_extents(), gl.torque_set.axis_extents());
+    assert_eq!(own.bounds.torque_set, global_law.bounds.torque_set);
+    assert_eq!(own.conditions, global_law.conditions);
 }

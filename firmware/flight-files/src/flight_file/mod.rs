@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use crate::control_rate::ControlRate;
-use crate::flight_tables::{GainsTable, LimitsTable, TrajectoryTable};
+use crate::flight_tables::{GainsTable, LimitsTable, TiltPriorityTable, TrajectoryTable};
 use crate::vehicle_file::VehicleFile;
 
 mod source;
@@ -334,17 +334,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
             ),
         },
         // `[gains.tilt_priority]` (absent = None, the paper's radial feedback).
-        g.tilt_priority.map_or("None".to_string(), |t| format!(
-            "Some(controller_core::TiltPriorityGains {{ trace_weights: {}, omega_gains: {}, omega_levels: {}, turn_over: {} }})",
-            vec3(t.trace_weights_Nm),
-            vec3(t.omega_gains_Nm_s),
-            vec3(t.omega_levels_Nm),
-            t.turn_over().map_or("None".to_string(), |(level, onset)| format!(
-                "Some(controller_core::TurnOver {{ level: {}, onset: {} }})",
-                lit(level),
-                lit(onset)
-            ))
-        )),
+        g.tilt_priority.as_ref().map_or("None".to_string(), tilt_priority_source),
         // `[gains.velocity_limit]` (absent = None, the paper's position feedback).
         g.velocity_limit.map_or("None".to_string(), |v| format!(
             "Some(controller_core::VelocityLimit {{ speed: {}, braking: {}, vertical: {} }})",
@@ -360,7 +350,7 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
         g.lemma1,
         // `[gains.local]` (absent = None, one set of position gains).
         g.local.map_or("None".to_string(), |l| format!(
-            "Some(controller_core::LocalGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {}, energy_in: {}, energy_out: {}, vertical: {} }})",
+            "Some(controller_core::LocalGains {{ kp: {}, kv: {}, kf: {}, ks: {}, saturation: {}, energy_in: {}, energy_out: {}, vertical: {}, attitude: {}, braking: {} }})",
             lit(l.kp),
             lit(l.kv),
             lit(l.kf),
@@ -377,7 +367,18 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
                     lit(v.kf),
                     lit(v.ks)
                 )
-            })
+            }),
+            // `[gains.local.attitude]` (absent = None, the global law in both regimes).
+            l.attitude.as_ref().map_or("None".to_string(), |a| format!(
+                "Some(controller_core::LocalAttitude {{ attitude: controller_core::attitude_control::AttitudeGains {{ k_mrp: {}, k_omega: {}, mrp_saturation: {}, omega_saturation: {} }}, tilt_priority: {} }})",
+                lit(a.k_theta),
+                lit(a.k_omega),
+                lit(a.M_theta),
+                lit(a.M_omega),
+                a.tilt_priority.as_ref().map_or("None".to_string(), tilt_priority_source)
+            )),
+            l.braking_m_s2
+                .map_or("None".to_string(), |b| format!("Some({})", lit(b)))
         )),
         // `[gains.heading_compensator]` (absent = None, the reference heading).
         g.heading_compensator.map_or("None".to_string(), |h| format!(
@@ -433,4 +434,20 @@ pub fn write(manifest_dir: &Path, out_dir: &Path) {
     ));
     let dest = out_dir.join("flight.rs");
     fs::write(&dest, code).unwrap_or_else(|e| panic!("cannot write {}: {e}", dest.display()));
+}
+
+/// Rust source of a `[gains.tilt_priority]` table (or the local law's): a
+/// `Some(controller_core::TiltPriorityGains { .. })` expression.
+fn tilt_priority_source(t: &TiltPriorityTable) -> String {
+    format!(
+        "Some(controller_core::TiltPriorityGains {{ trace_weights: {}, omega_gains: {}, omega_levels: {}, turn_over: {} }})",
+        vec3(t.trace_weights_Nm),
+        vec3(t.omega_gains_Nm_s),
+        vec3(t.omega_levels_Nm),
+        t.turn_over().map_or("None".to_string(), |(level, onset)| format!(
+            "Some(controller_core::TurnOver {{ level: {}, onset: {} }})",
+            lit(level),
+            lit(onset)
+        ))
+    )
 }

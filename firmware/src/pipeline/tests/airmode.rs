@@ -259,6 +259,8 @@ fn local_flight(airmode: bool) -> FlightConfig {
         energy_in: 0.5,
         energy_out: 1.0,
         vertical: None,
+        attitude: None,
+        braking: None,
     });
     c
 }

@@ -86,4 +86,21 @@ pub(super) fn write(s: &mut String, r: &Report) {
             }
         );
     }
+    if let Some(f) = &r.local_agility_refinement {
+        let _ = writeln!(
+            s,
+            "Local regime's agility refined last (docs/envelope-design.md, \"What `design` \
+             searches\"): every global gain held, {} more evaluations over the local filters, \
+             level and braking, the local position loop, the local attitude law, the envelope \
+             and the local vertical channel; objective {:.3} -> {:.3}: {}.\n",
+            f.evaluations,
+            f.searched,
+            f.refined,
+            if f.kept {
+                "kept, this design's local regime"
+            } else {
+                "not kept, the design before scores lower"
+            }
+        );
+    }
 }

@@ -6,7 +6,7 @@ use std::time::Instant;
 use anyhow::{Context as _, Result};
 use controller_core::TrajectoryConstants;
 
-use super::{load_reference, score, with_idle_airmode, Scored};
+use super::{load_reference, score, score_mapped, with_idle_airmode, Scored};
 use crate::design::authority::{PositionLaw, RotorSet};
 use crate::design::feasibility::*;
 use crate::design::flight::FlightSettings;
@@ -14,7 +14,7 @@ use crate::design::options::*;
 use crate::design::reference::{largest_certifiable_scale, Reference};
 use crate::design::thrust::ThrustDesign;
 use crate::design::tight::SEARCH_BOXES;
-use crate::design::variables::{AttitudeLaw, Context, Layout};
+use crate::design::variables::{map, AttitudeLaw, Choices, Context, Layout, Mapped};
 use crate::design::vehicle::DesignVehicle;
 use crate::model::scenario::ControllerConfig;
 
@@ -151,12 +151,39 @@ impl Setup {
         }
     }
 
-    /// Point `x` under `layout` flown for the report (traced), with the final tight bounds'
-    /// default budget (never looser than the search's), and with airmode's margin above the
-    /// rotors' least thrust where that scores lower ([`with_idle_airmode`]). Errors: `x` cannot
-    /// be certified and flown (a bug: the search only keeps points that can).
+    /// The objective of gains already mapped (`mapped`; the refusal's cost when they cannot be
+    /// certified or flown), with the search's box budget: how the refinements that change
+    /// gains outside the unit box score them.
+    pub(super) fn cost_of(&self, mapped: Mapped) -> f64 {
+        match score_mapped(
+            &self.vehicle,
+            &self.ctx(),
+            &self.reference,
+            (self.settings, SEARCH_BOXES),
+            mapped,
+            false,
+        ) {
+            Ok(s) => s.evaluation.cost,
+            Err(c) => c,
+        }
+    }
+
+    /// Point `x` under `layout` flown for the report ([`Self::final_score_mapped`]). Errors: `x`
+    /// cannot be mapped, certified and flown (a bug: the search only keeps points that can).
     pub(super) fn final_score(&self, x: &[f64], layout: Layout) -> Result<Scored> {
+        let mapped = map(&self.ctx(), &Choices::from_unit(x, layout)).ok_or_else(|| {
+            anyhow::anyhow!("the best design found could not be mapped to gains (bug)")
+        })?;
+        self.final_score_mapped(mapped)
+    }
+
+    /// Gains `mapped` flown for the report (traced), with the final tight bounds' default
+    /// budget (never looser than the search's), and with airmode's margin above the rotors'
+    /// least thrust where that scores lower ([`with_idle_airmode`]). Errors: they cannot be
+    /// certified and flown (a bug: the search only keeps gains that can).
+    pub(super) fn final_score_mapped(&self, mapped: Mapped) -> Result<Scored> {
         let final_boxes = crate::bounds::tight::TightOptions::default().max_boxes;
+        let ctx = self.ctx();
         // `low`: airmode's margin above the rotors' least thrust (`None`: the design margin).
         let flown = |low: Option<f64>| {
             let settings = FlightSettings {
@@ -166,12 +193,12 @@ impl Setup {
                 },
                 ..self.settings
             };
-            score(
+            score_mapped(
                 &self.vehicle,
-                (&self.ctx(), layout),
+                &ctx,
                 &self.reference,
                 (settings, final_boxes),
-                x,
+                mapped,
                 true,
             )
         };

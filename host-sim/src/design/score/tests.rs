@@ -65,14 +65,14 @@ fn the_committed_x500_design_scores_as_design_scored_it() {
     ));
 }
 
-/// Given the x500 design with its local position level raised to 2.5 m/s² (a user chasing a
-/// faster step), when it is scored, then it is refused and the report names the local regime's
+/// Given the x500 design with its local position level raised to 4 m/s² (a user chasing a
+/// faster step; at 2.5 m/s² its set no longer fits, every condition still holding), when it is scored, then it is refused and the report names the local regime's
 /// yaw condition with its numbers (the local torque set asks more yaw torque than the rotors
 /// give), and the local set's headroom is negative.
 #[test]
 fn a_local_level_the_yaw_cannot_pay_for_is_refused_by_name() {
     let (mut scenario, _) = x500();
-    scenario.gains.local.as_mut().unwrap().M_p_m_s2 = 2.5;
+    scenario.gains.local.as_mut().unwrap().M_p_m_s2 = 4.0;
     let s = score_scenario(&scenario, None, 0.05).unwrap();
     assert!(!s.certified && !s.gate_certified);
     let yaw = s

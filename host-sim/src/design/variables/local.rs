@@ -262,6 +262,11 @@ fn local_gains_with(
             energy_in: 0.5 * e_out,
             energy_out: e_out,
             vertical,
+            attitude: None,
+            // The search's local regimes brake at the global braking (refused below it): a
+            // level under it would brake a step more slowly than the global regime. The
+            // agility refinement sets a braking of the local level's own.
+            braking: g.velocity_limit.map(|v| v.braking),
         }
     };
     let fractions = [l.saturation_fraction, l.saturation_fraction.min(1.0)];

@@ -59,6 +59,22 @@ fn key_of(name: &str) -> &'static str {
         "local M_up" => "gains.local.vertical.up_m_s2",
         "local M_down" => "gains.local.vertical.down_m_s2",
         "local k_s,z" => "gains.local.vertical.ks",
+        "local braking" => "gains.local.braking_m_s2",
+        "local k_theta" => "gains.local.attitude.k_theta",
+        "local k_omega" => "gains.local.attitude.k_omega",
+        "local M_theta" => "gains.local.attitude.M_theta",
+        "local M_omega" => "gains.local.attitude.M_omega",
+        "local g_1" | "local g_2" | "local g_3" => {
+            "gains.local.attitude.tilt_priority.trace_weights_Nm"
+        }
+        "local k_omega_1" | "local k_omega_2" | "local k_omega_3" => {
+            "gains.local.attitude.tilt_priority.omega_gains_Nm_s"
+        }
+        "local M_omega_1" | "local M_omega_2" | "local M_omega_3" => {
+            "gains.local.attitude.tilt_priority.omega_levels_Nm"
+        }
+        "local turn_over_level" => "gains.local.attitude.tilt_priority.turn_over_level_Nm",
+        "local turn_over_onset" => "gains.local.attitude.tilt_priority.turn_over_onset",
         "L_psi" => "gains.heading_compensator.level_rad_s",
         "k_psi" => "gains.heading_compensator.gain_1_s",
         "thrust_floor" => "controller.thrust_floor_N",

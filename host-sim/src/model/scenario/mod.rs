@@ -30,6 +30,7 @@ mod edit;
 mod keys;
 pub use controller::{ControllerConfig, ControllerOverrides, ThrustKind};
 pub use edit::{apply_edits, describe_edits, KeyEdit};
+use firmware::flight_tables::TiltPriorityTable;
 pub use keys::describe;
 use serde::{Deserialize, Serialize};
 
@@ -305,15 +306,7 @@ impl Scenario {
         out.attitude.omega_saturation = lit(g.M_omega);
         out.hysteresis = lit(g.delta);
         out.reset_threshold = lit(g.alpha);
-        out.tilt_priority = g.tilt_priority.map(|t| TiltPriorityGains {
-            trace_weights: v3(&t.trace_weights_Nm),
-            omega_gains: v3(&t.omega_gains_Nm_s),
-            omega_levels: v3(&t.omega_levels_Nm),
-            turn_over: t.turn_over().map(|(level, onset)| TurnOver {
-                level: lit(level),
-                onset: lit(onset),
-            }),
-        });
+        out.tilt_priority = g.tilt_priority.as_ref().map(tilt_priority_gains);
         out.velocity_limit = g.velocity_limit.map(|v| VelocityLimit {
             speed: lit(v.speed_m_s),
             braking: lit(v.braking_m_s2),
@@ -341,6 +334,16 @@ impl Scenario {
                     down: lit(down),
                 }
             }),
+            attitude: l.attitude.map(|a| controller_core::LocalAttitude {
+                attitude: controller_core::attitude_control::AttitudeGains {
+                    k_mrp: lit(a.k_theta),
+                    k_omega: lit(a.k_omega),
+                    mrp_saturation: lit(a.M_theta),
+                    omega_saturation: lit(a.M_omega),
+                },
+                tilt_priority: a.tilt_priority.as_ref().map(tilt_priority_gains),
+            }),
+            braking: l.braking_m_s2.map(lit),
         });
         out.heading_compensator =
             g.heading_compensator
@@ -533,5 +536,17 @@ impl Scenario {
     }
 }
 
+/// The tilt-priority gains of a `[gains.tilt_priority]` table (or the local law's) in scalar `T`.
+fn tilt_priority_gains<T: Scalar>(t: &TiltPriorityTable) -> TiltPriorityGains<T> {
+    TiltPriorityGains {
+        trace_weights: v3(&t.trace_weights_Nm),
+        omega_gains: v3(&t.omega_gains_Nm_s),
+        omega_levels: v3(&t.omega_levels_Nm),
+        turn_over: t.turn_over().map(|(level, onset)| TurnOver {
+            level: lit(level),
+            onset: lit(onset),
+        }),
+    }
+}
 #[cfg(test)]
 mod tests;

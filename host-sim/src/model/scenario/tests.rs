@@ -140,6 +140,45 @@ fn local_vertical_filters_are_read_and_checked() {
     );
 }
 
+/// Given `[gains.local]` with `braking_m_s2` and `[gains.local.attitude]` (with its own tilt
+/// priority), when it parses, then the local gains carry that braking and that law; a local
+/// law's gain that is not positive and a braking above `M_p_m_s2` are refused naming their key.
+#[test]
+fn local_attitude_and_braking_are_read_and_checked() {
+    let table = |braking: &str, g3: &str| {
+        format!(
+            "{PAPER_SCENARIO}\n[gains.velocity_limit]\nspeed_m_s = 5.0\nbraking_m_s2 = 1.4\n\
+             \n[gains.local]\nkp = 9.0\nkv = 6.0\nkf = 4.0\nks = 30.0\nM_p_m_s2 = 3.0\n\
+             energy_in_J = 0.01\nenergy_out_J = 0.02\nbraking_m_s2 = {braking}\n\
+             \n[gains.local.attitude]\nk_theta = 40.0\nk_omega = 0.2\nM_theta = 0.3\n\
+             M_omega = 0.1\n\n[gains.local.attitude.tilt_priority]\n\
+             trace_weights_Nm = [0.01, 0.01, {g3}]\nomega_gains_Nm_s = [0.1, 0.1, 0.05]\n\
+             omega_levels_Nm = [0.3, 0.3, 0.02]\n"
+        )
+    };
+    let s = Scenario::parse(&table("2.1", "0.5"), "a.toml").unwrap();
+    let l = s.gains::<f64>().local.expect("the local regime is on");
+    assert_eq!(l.braking, Some(2.1));
+    let a = l.attitude.expect("its own attitude law");
+    assert_eq!((a.attitude.k_mrp, a.attitude.mrp_saturation), (40.0, 0.3));
+    let t = a.tilt_priority.expect("its own tilt priority");
+    assert_eq!((t.trace_weights.z, t.omega_levels.x), (0.5, 0.3));
+    let e = Scenario::parse(&table("2.1", "-0.5"), "a.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("gains.local.attitude.tilt_priority.trace_weights_Nm") && e.contains("-0.5"),
+        "{e}"
+    );
+    let e = Scenario::parse(&table("3.5", "0.5"), "a.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("gains.local.braking_m_s2") && e.contains("3.5"),
+        "{e}"
+    );
+}
+
 #[test]
 fn wrong_type_is_named() {
     let text = PAPER_SCENARIO.replace("duration_s = 30.0", "duration_s = \"long\"");
