@@ -81,6 +81,17 @@ impl<T: Scalar> Gains<T> {
 }
 
 impl<T: Scalar> Gains<T> {
+    /// These gains with the attitude law `law` in place of their own (everything else
+    /// unchanged): what the local certificate evaluates the energy limits and the feedback of
+    /// the local regime's own law with ([`crate::LocalAttitude`]). No errors.
+    pub fn with_attitude_law(&self, law: &crate::LocalAttitude<T>) -> Self {
+        Self {
+            attitude: law.attitude,
+            tilt_priority: law.tilt_priority,
+            ..*self
+        }
+    }
+
     /// The Assumption 1 constants of the reference as the law applies it: `k` itself, or with the
     /// feedforward scale on ([`crate::feedforward_scale`], extension, docs/integral-action.md)
     /// the constants of the scaled feedforward `(1 + μ_f) p̈_d`

@@ -53,7 +53,7 @@ pub(super) fn local_certificate<T: Scalar>(
         Condition { name, ..c }
     };
     // The law the local regime flies: its energy bounds the errors, its feedback the torque.
-    let law = l.attitude.map_or(*gains, |a| a.in_gains(gains));
+    let law = l.attitude.map_or(*gains, |a| gains.with_attitude_law(&a));
     let energy = energy_limits(&law, &vehicle.inertia, l.energy_out);
     let torque_set = local_torque_set(&law, &vehicle.inertia, &bounds, &energy);
     let extents = torque_set.axis_extents();

@@ -11,7 +11,6 @@
 //! state.
 
 use crate::attitude_control::AttitudeGains;
-use crate::gains::Gains;
 use crate::parameter_error::{positive, ParameterError};
 use crate::scalar::Scalar;
 use crate::tilt_priority::TiltPriorityGains;
@@ -29,7 +28,7 @@ pub struct LocalAttitude<T: Scalar> {
 }
 
 impl<T: Scalar> LocalAttitude<T> {
-    /// Checks the local law's gains as [`Gains::validate`] checks the global ones.
+    /// Checks the local law's gains as `Gains::validate` checks the global ones.
     /// Errors: [`ParameterError::NotPositive`] naming `"local k_theta"`, `"local k_omega"`,
     /// `"local M_theta"`, `"local M_omega"`, or the tilt-priority gain with `"local "` before
     /// its name (`"local g_1"`, `"local k_omega_1"`, ...).
@@ -63,16 +62,6 @@ impl<T: Scalar> LocalAttitude<T> {
                 },
                 other => other,
             }),
-        }
-    }
-
-    /// `global` with this attitude law in place of its own (everything else unchanged): what the
-    /// local certificate evaluates the energy limits and the feedback with. No errors.
-    pub fn in_gains(&self, global: &Gains<T>) -> Gains<T> {
-        Gains {
-            attitude: self.attitude,
-            tilt_priority: self.tilt_priority,
-            ..*global
         }
     }
 }

@@ -370,7 +370,7 @@ fn the_local_certificate_bounds_the_law_the_local_regime_flies() {
         },
     );
     let global_law = certify_local(&g, local);
-    let independent = certify_local(&law.in_gains(&g), local);
+    let independent = certify_local(&g.with_attitude_law(&law), local);
     let (l, i, gl) = (
         own.local.unwrap(),
         independent.local.unwrap(),
