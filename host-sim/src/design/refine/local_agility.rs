@@ -27,6 +27,7 @@ use nalgebra::Vector3;
 
 use super::super::evaluate::PENALTY;
 use super::super::optimise::{minimise, Optimum};
+use super::super::variables::interval::{unit_in, value_in, Interval};
 use super::Refinement;
 
 /// Evaluations of the refinement (one swarm start at the design's local regime among them).
@@ -54,7 +55,7 @@ pub const AGILITY_BUDGET: usize = 240;
 ///
 /// The ranges are where the x500's certified steps near 2 s lie (docs/results.md, "The local
 /// regime's agility refined last"), each with the design's own value or near it.
-pub const AGILITY_RANGES: [(f64, f64, bool); 14] = [
+pub const AGILITY_RANGES: [Interval; 14] = [
     (1.0, 2.5, true),
     (1.5, 4.0, true),
     (1.0, 2.5, true),
@@ -70,30 +71,6 @@ pub const AGILITY_RANGES: [(f64, f64, bool); 14] = [
     (0.5, 1.0, true),
     (0.4, 1.5, true),
 ];
-
-/// The value at unit coordinate `u` (clamped to `[0, 1]`) of a range.
-fn value_in((low, high, log): (f64, f64, bool), u: f64) -> f64 {
-    let u = u.clamp(0.0, 1.0);
-    if log {
-        (low.ln() + u * (high.ln() - low.ln())).exp()
-    } else {
-        low + u * (high - low)
-    }
-}
-
-/// The unit coordinate of `v` in a range (clamped).
-fn unit_in((low, high, log): (f64, f64, bool), v: f64) -> f64 {
-    let u = if log {
-        (v.ln() - low.ln()) / (high.ln() - low.ln())
-    } else {
-        (v - low) / (high - low)
-    };
-    if u.is_finite() {
-        u.clamp(0.0, 1.0)
-    } else {
-        0.0
-    }
-}
 
 /// The stiffness [N m/rad] of the law of `attitude` and `trace` about the roll axis at
 /// `R̃ = I`: the radial MRP term's `k_ϑ/16` (a rotation by `φ` has the MRP `tan(φ/4)`, and

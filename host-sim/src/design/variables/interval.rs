@@ -4,10 +4,10 @@
 
 /// `(low, high, logarithmic)`: the values a variable takes, `low` at 0 and `high` at 1; with a
 /// log scale equal steps in `[0, 1]` are equal ratios (`low > 0` then).
-pub(super) type Interval = (f64, f64, bool);
+pub(crate) type Interval = (f64, f64, bool);
 
 /// The value at `x` (clamped into `[0, 1]`) of `interval`.
-pub(super) fn value_in((lo, hi, log): Interval, x: f64) -> f64 {
+pub(crate) fn value_in((lo, hi, log): Interval, x: f64) -> f64 {
     let x = x.clamp(0.0, 1.0);
     if log {
         (lo.ln() + x * (hi.ln() - lo.ln())).exp()
@@ -17,7 +17,7 @@ pub(super) fn value_in((lo, hi, log): Interval, x: f64) -> f64 {
 }
 
 /// Where `v` sits in `interval`, clamped into `[0, 1]` (the inverse of [`value_in`] inside it).
-pub(super) fn unit_in((lo, hi, log): Interval, v: f64) -> f64 {
+pub(crate) fn unit_in((lo, hi, log): Interval, v: f64) -> f64 {
     let x = if log {
         (v.ln() - lo.ln()) / (hi.ln() - lo.ln())
     } else {

@@ -53,7 +53,7 @@ use super::authority::{
 };
 use super::binding::IotaCap;
 
-mod interval;
+pub(crate) mod interval;
 mod local;
 mod tilt;
 mod vertical;
